@@ -1,0 +1,14 @@
+#include "host/scene_registry.h"
+
+namespace ardcell {
+
+const SceneRegistry& builtin_scenes() {
+  static const SceneRegistry registry = [] {
+    SceneRegistry r;
+    register_fluid_scenes(r);
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace ardcell

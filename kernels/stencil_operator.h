@@ -1,0 +1,53 @@
+#pragma once
+// The linear systems every implicit step of ardcell solves: a symmetric 5-point operator with
+// one coefficient per cell face (seed 000, Eqn 13 isotropic, Eqns 17/19 anisotropic; Stam's
+// implicit viscosity and pressure projection).
+//
+//   (A x)(i,j) = diag(i,j) x(i,j) - wx(i,j) x(i-1,j) - wx(i+1,j) x(i+1,j)
+//                                 - wy(i,j) x(i,j-1) - wy(i,j+1) x(i,j+1)
+//
+// wx(i,j) is the coefficient of the face between cells (i-1,j) and (i,j), for 0 <= i <= nx;
+// wy(i,j) that of the face between (i,j-1) and (i,j), for 0 <= j <= ny. Because each face has
+// one coefficient shared by both cells, A is symmetric (the face average of Eqn 17 gives this).
+// Domain boundaries are folded in when the operator is assembled:
+//   periodic  - faces at i = 0 and i = nx are the same face and couple cell 0 to cell nx-1;
+//   neumann   - boundary faces carry weight 0 (no flux);
+//   dirichlet - ghost value fixed: the boundary face weight moves to diag, the fixed value to b.
+#include <cstdint>
+
+#include "runtime/field.h"
+
+namespace ardcell {
+
+enum class BoundaryKind : uint8_t {
+  kPeriodic,   // wrap around
+  kNeumann,    // zero normal derivative (copy)
+  kDirichlet,  // fixed value (zero unless a value is given)
+};
+
+struct StencilOperator {
+  Int2 size;
+  FieldF diag;  // [0,nx) x [0,ny), halo 1
+  FieldF wx;    // [0,nx] x [0,ny), halo 1 (field of size nx+1 by ny)
+  FieldF wy;    // [0,nx) x [0,ny], halo 1 (field of size nx by ny+1)
+  BoundaryKind boundary_x = BoundaryKind::kNeumann;
+  BoundaryKind boundary_y = BoundaryKind::kNeumann;
+};
+
+// Builds identity*I - scale * div(k grad .) on a grid of `size` cells, with per-cell
+// conductivity k averaged onto faces ((k_a + k_b) / 2, Eqn 17). A null conductivity means k = 1.
+// identity = 1, scale = dt*nu/h^2 gives implicit diffusion (Eqn 13);
+// identity = 0, scale = 1 gives the (negated) Poisson operator of the pressure projection.
+StencilOperator assemble_stencil_operator(Int2 size, double identity, double scale,
+                                          const FieldF* conductivity, BoundaryKind boundary_x,
+                                          BoundaryKind boundary_y);
+
+// Re-assembles in place (same size and boundaries) without allocating: for operators whose
+// coefficients change every frame (anisotropic diffusion).
+void reassemble_stencil_operator(StencilOperator& op, double identity, double scale,
+                                 const FieldF* conductivity);
+
+// y = A x over the interior (x's halo is not read; boundaries are in A).
+void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y);
+
+}  // namespace ardcell
