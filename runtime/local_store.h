@@ -1,0 +1,58 @@
+#pragma once
+// LocalStore: a worker's fixed arena, as an SPE's 256 KiB local store. Allocated once when the
+// worker starts; a tile program lays its buffers out in it with a bump cursor, reset per tile.
+// It is split into two halves (slots) for double buffering: tile i+1 is fetched into one slot
+// while tile i computes in the other.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "runtime/box.h"
+#include "runtime/field.h"
+
+namespace ardcell {
+
+inline constexpr std::size_t kDefaultLocalStoreBytes = 256 * 1024;
+
+class LocalStore {
+ public:
+  static constexpr int kSlots = 2;
+  explicit LocalStore(std::size_t capacity_bytes = kDefaultLocalStoreBytes);
+  LocalStore(const LocalStore&) = delete;
+  LocalStore& operator=(const LocalStore&) = delete;
+
+  std::size_t capacity() const { return capacity_; }
+  std::size_t slot_bytes() const { return slot_bytes_; }
+  std::byte* base() const { return data_.get(); }
+  // Start of double-buffer slot s (0 or 1), 128-byte aligned.
+  std::byte* slot(int s) const;
+
+ private:
+  struct FreeDeleter {
+    void operator()(std::byte* p) const { std::free(p); }
+  };
+  std::size_t capacity_;
+  std::size_t slot_bytes_;
+  std::unique_ptr<std::byte, FreeDeleter> data_;
+};
+
+// Bump allocator over one slot of a LocalStore. Hands out 128-byte aligned buffers; running out
+// is a broken tile plan and stops with a message naming the sizes.
+class SlotArena {
+ public:
+  SlotArena(const LocalStore& store, int slot)
+      : begin_(store.slot(slot)), end_(begin_ + store.slot_bytes()), cursor_(begin_) {}
+  std::byte* allocate(std::size_t bytes);
+  std::size_t used() const { return std::size_t(cursor_ - begin_); }
+
+ private:
+  std::byte* begin_;
+  std::byte* end_;
+  std::byte* cursor_;
+};
+
+// Bytes a local copy of `box` takes when its rows are fetched as whole 128-byte lines of a
+// field whose row starts are 128-byte aligned and whose halo is `field_halo` (see Dma).
+std::size_t local_copy_bytes(const Box2& box, int field_halo);
+
+}  // namespace ardcell

@@ -1,0 +1,95 @@
+#include "runtime/thread/thread_backend.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <algorithm>
+
+#include "runtime/check.h"
+
+namespace ardcell {
+
+struct ThreadBackend::Worker {
+  Worker(int index, std::size_t store_bytes) : store(store_bytes) { ctx.worker = index; }
+  int index = 0;
+  int count = 1;
+  LocalStore store;
+  Dma dma;
+  WorkerContext ctx;
+  Mailbox<Command, 64> inbox;
+  Mailbox<int, 64> outbox;
+  std::thread thread;
+};
+
+ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
+    : store_bytes_(options.local_store_bytes) {
+  int n = options.workers;
+  if (n <= 0) n = std::max(1u, std::thread::hardware_concurrency());
+  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  workers_.reserve(std::size_t(n));
+  for (int i = 0; i < n; ++i) {
+    auto w = std::make_unique<Worker>(i, store_bytes_);
+    w->index = i;
+    w->count = n;
+    w->ctx.store = &w->store;
+    w->ctx.dma = &w->dma;
+    workers_.push_back(std::move(w));
+  }
+  for (auto& w : workers_) {
+    w->thread = std::thread(run_worker, std::ref(*w));
+    if (options.pin) {
+      cpu_set_t set;
+      CPU_ZERO(&set);
+      CPU_SET(w->index % cores, &set);
+      // Pinning is a performance hint: a container without the right keeps the default mask.
+      (void)pthread_setaffinity_np(w->thread.native_handle(), sizeof(set), &set);
+    }
+  }
+}
+
+ThreadBackend::~ThreadBackend() {
+  sync();
+  for (auto& w : workers_) w->inbox.push(Command{});
+  for (auto& w : workers_) w->thread.join();
+}
+
+void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {
+  ARDCELL_CHECK(pass.fetch != nullptr && pass.compute != nullptr,
+                "threads back end needs a tile program (fetch and compute)");
+  for (auto& w : workers_) w->inbox.push(Command{&pass, tiles.data(), tiles.size()});
+  ++outstanding_;
+}
+
+void ThreadBackend::sync() {
+  for (; outstanding_ > 0; --outstanding_)
+    for (auto& w : workers_) (void)w->outbox.pop();
+}
+
+std::uint64_t ThreadBackend::dma_bytes() const {
+  std::uint64_t total = 0;
+  for (const auto& w : workers_) total += w->dma.bytes_in() + w->dma.bytes_out();
+  return total;
+}
+
+void ThreadBackend::run_worker(Worker& w) {
+  for (;;) {
+    const Command cmd = w.inbox.pop();
+    if (cmd.pass == nullptr) return;
+    const Pass& pass = *cmd.pass;
+    // The w-th contiguous share of the tiles.
+    const std::size_t begin = cmd.count * std::size_t(w.index) / std::size_t(w.count);
+    const std::size_t end = cmd.count * std::size_t(w.index + 1) / std::size_t(w.count);
+    if (begin < end) {
+      pass.fetch(pass.program, cmd.tiles[begin], 0, w.ctx);
+      for (std::size_t i = begin; i < end; ++i) {
+        const int slot = int((i - begin) & 1);
+        if (i + 1 < end) pass.fetch(pass.program, cmd.tiles[i + 1], slot ^ 1, w.ctx);
+        pass.compute(pass.program, cmd.tiles[i], slot, w.ctx);
+      }
+      w.dma.wait_all();
+    }
+    w.outbox.push(w.index);
+  }
+}
+
+}  // namespace ardcell
