@@ -50,4 +50,20 @@ void reassemble_stencil_operator(StencilOperator& op, double identity, double sc
 // y = A x over the interior (x's halo is not read; boundaries are in A).
 void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y);
 
+// The four sides of the domain (y grows upward: bottom is j = 0, top is j = ny - 1).
+enum class BoundarySide : uint8_t { kLeft, kRight, kBottom, kTop };
+
+// Adds `weight` to the diagonal of the cells along one side. Folds a per-side ghost rule into an
+// operator assembled with Neumann on that axis: weight = scale * k gives a fixed ghost value
+// (Dirichlet at the ghost centre), weight = 2 * scale * k a value fixed on the wall face (the
+// ghost mirrored, as Stam's negated normal velocity and no-slip walls). The boundary value
+// itself goes into b (weight * value) by the caller.
+void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight);
+
+// Cuts the faces of the solid cells (solid(i, j) != 0) out of the operator: a fluid neighbour
+// keeps wall_factor times the cut face weight on its diagonal (0: Neumann, zero flux through the
+// obstacle, for pressure; 2: the mirrored no-slip wall, for viscosity), and a solid cell's row
+// becomes the identity (so with b = 0 there, x = 0 in solids).
+void isolate_solid_cells(StencilOperator& op, const Field<uint8_t>& solid, double wall_factor);
+
 }  // namespace ardcell

@@ -1,0 +1,178 @@
+// Conjugate gradients preconditioned by the incomplete Cholesky factorisation IC(0) of the
+// 5-point operator (seed 000's choice for the implicit diffusion). The factor keeps A's sparsity:
+// with natural ordering, M = (P - L) P^-1 (P - L^T), where -L holds A's lower neighbour weights
+// and the pivots are p(i,j) = diag - wx(i,j)^2 / p(i-1,j) - wy(i,j)^2 / p(i,j-1). Periodic wrap
+// couplings stay in A but not in M (M only has to be symmetric positive definite). The vectors
+// are kept in double so the iteration converges to float32 round-off of x.
+#include <vector>
+
+#include "kernels/solver_common.h"
+
+namespace ardcell::solver_detail {
+namespace {
+
+class IccgSolver final : public LinearSolver {
+ public:
+  IccgSolver(const SolverSettings& s, Int2 size)
+      : LinearSolver(s),
+        size_(size),
+        n_(std::size_t(size.x) * size.y),
+        pivot_(n_),
+        x_(n_),
+        r_(n_),
+        z_(n_),
+        p_(n_),
+        q_(n_),
+        wx_(std::size_t(size.x + 1) * size.y),
+        wy_(std::size_t(size.x) * (size.y + 1)),
+        diag_(n_),
+        rf_(size, 1),
+        null_space_(size) {}
+
+  void prepare(const StencilOperator& op) override {
+    ARDCELL_CHECK(op.size == size_, "iccg: size mismatch");
+    null_space_.analyse(op);
+    const int nx = size_.x, ny = size_.y;
+    periodic_x_ = op.boundary_x == BoundaryKind::kPeriodic;
+    periodic_y_ = op.boundary_y == BoundaryKind::kPeriodic;
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i <= nx; ++i) wx_[std::size_t(j) * (nx + 1) + i] = op.wx(i, j);
+      for (int i = 0; i < nx; ++i) diag_[idx(i, j)] = op.diag(i, j);
+    }
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i < nx; ++i) wy_[std::size_t(j) * nx + i] = op.wy(i, j);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        double d = diag_[idx(i, j)];
+        if (i > 0) d -= sq(wxf(i, j)) / pivot_[idx(i - 1, j)];
+        if (j > 0) d -= sq(wyf(i, j)) / pivot_[idx(i, j - 1)];
+        // Guard against breakdown (the singular Neumann Poisson matrix drives the last pivot to 0).
+        const double floor = 1e-3 * diag_[idx(i, j)];
+        if (!(d > floor)) d = diag_[idx(i, j)] > 0.0 ? diag_[idx(i, j)] : 1.0;
+        pivot_[idx(i, j)] = d;
+      }
+  }
+
+  SolveReport solve(const StencilOperator& op, const FieldF& b, FieldF& x) override {
+    ARDCELL_CHECK(op.size == size_ && b.size() == size_ && x.size() == size_,
+                  "iccg: size mismatch");
+    const int nx = size_.x, ny = size_.y;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) x_[idx(i, j)] = x(i, j);
+    multiply(x_, q_);
+    double bb = 0.0;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        r_[idx(i, j)] = double(b(i, j)) - q_[idx(i, j)];
+        bb += double(b(i, j)) * b(i, j);
+      }
+    if (null_space_.singular()) {
+      project(r_);
+      bb = null_space_.consistent_norm2(b);
+    }
+    const double b_norm = std::sqrt(bb);
+    SolveReport report;
+    precondition(r_, z_);
+    double rz = dot(r_, z_);
+    p_ = z_;
+    const double target = settings_.tolerance * (b_norm > 0.0 ? b_norm : 1.0);
+    for (int k = 0; k < settings_.max_iterations; ++k) {
+      if (std::sqrt(dot(r_, r_)) <= target || rz <= 0.0) break;
+      multiply(p_, q_);
+      const double pq = dot(p_, q_);
+      if (!(pq > 0.0)) break;
+      const double alpha = rz / pq;
+      for (std::size_t m = 0; m < n_; ++m) {
+        x_[m] += alpha * p_[m];
+        r_[m] -= alpha * q_[m];
+      }
+      ++report.iterations;
+      precondition(r_, z_);
+      const double rz_next = dot(r_, z_);
+      const double beta = rz_next / rz;
+      rz = rz_next;
+      for (std::size_t m = 0; m < n_; ++m) p_[m] = z_[m] + beta * p_[m];
+    }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) x(i, j) = float(x_[idx(i, j)]);
+    null_space_.remove_mean(x);
+    report.relative_residual = relative_residual(op, b, x, rf_, null_space_);
+    return report;
+  }
+
+ private:
+  static double sq(double v) { return v * v; }
+  std::size_t idx(int i, int j) const { return std::size_t(j) * size_.x + i; }
+  double wxf(int i, int j) const { return wx_[std::size_t(j) * (size_.x + 1) + i]; }
+  double wyf(int i, int j) const { return wy_[std::size_t(j) * size_.x + i]; }
+
+  double dot(const std::vector<double>& a, const std::vector<double>& c) const {
+    double s = 0.0;
+    for (std::size_t m = 0; m < n_; ++m) s += a[m] * c[m];
+    return s;
+  }
+
+  // out = A in (wrap couplings included).
+  void multiply(const std::vector<double>& in, std::vector<double>& out) const {
+    const int nx = size_.x, ny = size_.y;
+    for (int j = 0; j < ny; ++j) {
+      const int jb = j > 0 ? j - 1 : (periodic_y_ ? ny - 1 : j);
+      const int ja = j < ny - 1 ? j + 1 : (periodic_y_ ? 0 : j);
+      for (int i = 0; i < nx; ++i) {
+        const int il = i > 0 ? i - 1 : (periodic_x_ ? nx - 1 : i);
+        const int ir = i < nx - 1 ? i + 1 : (periodic_x_ ? 0 : i);
+        out[idx(i, j)] = diag_[idx(i, j)] * in[idx(i, j)] -
+                         (wxf(i, j) * in[idx(il, j)] + wxf(i + 1, j) * in[idx(ir, j)] +
+                          wyf(i, j) * in[idx(i, jb)] + wyf(i, j + 1) * in[idx(i, ja)]);
+      }
+    }
+  }
+
+  // z = M^-1 r: forward then backward substitution.
+  void precondition(const std::vector<double>& r, std::vector<double>& z) const {
+    const int nx = size_.x, ny = size_.y;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        double t = r[idx(i, j)];
+        if (i > 0) t += wxf(i, j) * z[idx(i - 1, j)];
+        if (j > 0) t += wyf(i, j) * z[idx(i, j - 1)];
+        z[idx(i, j)] = t / pivot_[idx(i, j)];
+      }
+    for (int j = ny - 1; j >= 0; --j)
+      for (int i = nx - 1; i >= 0; --i) {
+        double t = 0.0;
+        if (i < nx - 1) t += wxf(i + 1, j) * z[idx(i + 1, j)];
+        if (j < ny - 1) t += wyf(i, j + 1) * z[idx(i, j + 1)];
+        z[idx(i, j)] += t / pivot_[idx(i, j)];
+      }
+    if (null_space_.singular()) project(z);
+  }
+
+  // Removes the null-space component (the mean over Z) from a vector.
+  void project(std::vector<double>& v) const {
+    const Field<uint8_t>& z = null_space_.mask();
+    double sum = 0.0;
+    for (int j = 0; j < size_.y; ++j)
+      for (int i = 0; i < size_.x; ++i)
+        if (z(i, j)) sum += v[idx(i, j)];
+    const double mean = sum / double(null_space_.count());
+    for (int j = 0; j < size_.y; ++j)
+      for (int i = 0; i < size_.x; ++i)
+        if (z(i, j)) v[idx(i, j)] -= mean;
+  }
+
+  Int2 size_;
+  std::size_t n_;
+  std::vector<double> pivot_, x_, r_, z_, p_, q_, wx_, wy_, diag_;
+  FieldF rf_;
+  stencil::NullSpace null_space_;
+  bool periodic_x_ = false, periodic_y_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size) {
+  return std::make_unique<IccgSolver>(s, size);
+}
+
+}  // namespace ardcell::solver_detail

@@ -1,0 +1,26 @@
+#pragma once
+// Pieces shared by the LinearSolver implementations (kernels/*_solver.cpp).
+#include <cmath>
+#include <memory>
+
+#include "kernels/linear_solver.h"
+#include "kernels/stencil_sweeps.h"
+
+namespace ardcell::solver_detail {
+
+// |b - A x| / |b| over the consistent part (see NullSpace); |b - A x| when b is zero.
+// r is scratch of the operator's size.
+inline double relative_residual(const StencilOperator& op, const FieldF& b, const FieldF& x,
+                                FieldF& r, const stencil::NullSpace& null_space) {
+  stencil::residual(op, b, x, &r);
+  const double rr = null_space.consistent_norm2(r);
+  const double bb = null_space.consistent_norm2(b);
+  return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
+}
+
+std::unique_ptr<LinearSolver> make_jacobi_solver(const SolverSettings& s, Int2 size);
+std::unique_ptr<LinearSolver> make_rbgs_solver(const SolverSettings& s, Int2 size);
+std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size);
+std::unique_ptr<LinearSolver> make_multigrid_solver(const SolverSettings& s, Int2 size);
+
+}  // namespace ardcell::solver_detail

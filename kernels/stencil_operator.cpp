@@ -1,0 +1,154 @@
+#include "kernels/stencil_operator.h"
+
+#include <cmath>
+
+#include "kernels/stencil_sweeps.h"
+
+namespace ardcell {
+
+namespace {
+
+inline double conductivity_at(const FieldF* k, int x, int y) {
+  return k ? double((*k)(x, y)) : 1.0;
+}
+
+void fill_coefficients(StencilOperator& op, double identity, double scale, const FieldF* k) {
+  const int nx = op.size.x, ny = op.size.y;
+  if (k) {
+    ARDCELL_CHECK(k->size() == op.size, "conductivity must have the operator's size");
+  }
+  // Faces in x: wx(i, j) between cells (i-1, j) and (i, j).
+  for (int j = 0; j < ny; ++j) {
+    float* w = op.wx.row(j);
+    for (int i = 1; i < nx; ++i)
+      w[i] = float(scale * 0.5 * (conductivity_at(k, i - 1, j) + conductivity_at(k, i, j)));
+    float edge = 0.0f;
+    if (op.boundary_x == BoundaryKind::kPeriodic && nx > 0)
+      edge = float(scale * 0.5 * (conductivity_at(k, nx - 1, j) + conductivity_at(k, 0, j)));
+    w[0] = edge;
+    w[nx] = edge;
+  }
+  for (int j = 0; j <= ny; ++j) {
+    float* w = op.wy.row(j);
+    for (int i = 0; i < nx; ++i) {
+      if (j > 0 && j < ny) {
+        w[i] = float(scale * 0.5 * (conductivity_at(k, i, j - 1) + conductivity_at(k, i, j)));
+      } else if (op.boundary_y == BoundaryKind::kPeriodic && ny > 0) {
+        w[i] = float(scale * 0.5 * (conductivity_at(k, i, ny - 1) + conductivity_at(k, i, 0)));
+      } else {
+        w[i] = 0.0f;
+      }
+    }
+  }
+  for (int j = 0; j < ny; ++j) {
+    float* d = op.diag.row(j);
+    const float* wx = op.wx.row(j);
+    const float* wyb = op.wy.row(j);
+    const float* wya = op.wy.row(j + 1);
+    for (int i = 0; i < nx; ++i) {
+      double sum = identity + double(wx[i]) + double(wx[i + 1]) + double(wyb[i]) + double(wya[i]);
+      // Dirichlet: the ghost is fixed, so the boundary face keeps its weight on the diagonal
+      // but couples to nothing (its value goes into b).
+      if (op.boundary_x == BoundaryKind::kDirichlet) {
+        if (i == 0) sum += scale * conductivity_at(k, i, j);
+        if (i == nx - 1) sum += scale * conductivity_at(k, i, j);
+      }
+      if (op.boundary_y == BoundaryKind::kDirichlet) {
+        if (j == 0) sum += scale * conductivity_at(k, i, j);
+        if (j == ny - 1) sum += scale * conductivity_at(k, i, j);
+      }
+      d[i] = float(sum);
+    }
+  }
+}
+
+}  // namespace
+
+StencilOperator assemble_stencil_operator(Int2 size, double identity, double scale,
+                                          const FieldF* conductivity, BoundaryKind boundary_x,
+                                          BoundaryKind boundary_y) {
+  ARDCELL_CHECK(size.x > 0 && size.y > 0, "operator size must be positive");
+  StencilOperator op{size,
+                     FieldF(size, 1),
+                     FieldF(Int2{size.x + 1, size.y}, 1),
+                     FieldF(Int2{size.x, size.y + 1}, 1),
+                     boundary_x,
+                     boundary_y};
+  fill_coefficients(op, identity, scale, conductivity);
+  return op;
+}
+
+void reassemble_stencil_operator(StencilOperator& op, double identity, double scale,
+                                 const FieldF* conductivity) {
+  fill_coefficients(op, identity, scale, conductivity);
+}
+
+void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y) {
+  ARDCELL_CHECK(x.size() == op.size && y.size() == op.size, "apply: size mismatch");
+  const int nx = op.size.x, ny = op.size.y;
+  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  const bool py = op.boundary_y == BoundaryKind::kPeriodic;
+  for (int j = 0; j < ny; ++j) {
+    const float* xb = x.row(j > 0 ? j - 1 : (py ? ny - 1 : j));
+    const float* xa = x.row(j < ny - 1 ? j + 1 : (py ? 0 : j));
+    const float* x0 = x.row(j);
+    const float* d = op.diag.row(j);
+    const float* wx = op.wx.row(j);
+    const float* wyb = op.wy.row(j);
+    const float* wya = op.wy.row(j + 1);
+    float* out = y.row(j);
+    auto cell = [&](int i, int il, int ir) {
+      return d[i] * x0[i] - (wx[i] * x0[il] + wx[i + 1] * x0[ir] + wyb[i] * xb[i] + wya[i] * xa[i]);
+    };
+    const int last = nx - 1;
+    const float first_value = cell(0, px ? last : 0, nx > 1 ? 1 : (px ? 0 : 0));
+    for (int i = 1; i < last; ++i)
+      out[i] = d[i] * x0[i] -
+               (wx[i] * x0[i - 1] + wx[i + 1] * x0[i + 1] + wyb[i] * xb[i] + wya[i] * xa[i]);
+    if (last > 0) out[last] = cell(last, last - 1, px ? 0 : last);
+    out[0] = first_value;
+  }
+}
+
+void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight) {
+  const int nx = op.size.x, ny = op.size.y;
+  const float w = float(weight);
+  switch (side) {
+    case BoundarySide::kLeft:
+      for (int j = 0; j < ny; ++j) op.diag(0, j) += w;
+      break;
+    case BoundarySide::kRight:
+      for (int j = 0; j < ny; ++j) op.diag(nx - 1, j) += w;
+      break;
+    case BoundarySide::kBottom:
+      for (int i = 0; i < nx; ++i) op.diag(i, 0) += w;
+      break;
+    case BoundarySide::kTop:
+      for (int i = 0; i < nx; ++i) op.diag(i, ny - 1) += w;
+      break;
+  }
+}
+
+void isolate_solid_cells(StencilOperator& op, const Field<uint8_t>& solid, double wall_factor) {
+  ARDCELL_CHECK(solid.size() == op.size, "solid mask must have the operator's size");
+  const int nx = op.size.x, ny = op.size.y;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      if (!solid(i, j)) continue;
+      // Cut every face of the solid cell; the fluid neighbour keeps `wall_factor` on its diagonal
+      // in place of the face weight (0: Neumann wall, 2w: no-slip mirror), and the solid cell's
+      // row becomes the identity.
+      auto cut = [&](float& face, int fx, int fy) {
+        const bool inside = fx >= 0 && fx < nx && fy >= 0 && fy < ny;
+        if (inside && !solid(fx, fy)) op.diag(fx, fy) += float(wall_factor * face) - face;
+        face = 0.0f;
+      };
+      cut(op.wx(i, j), i - 1, j);
+      cut(op.wx(i + 1, j), i + 1, j);
+      cut(op.wy(i, j), i, j - 1);
+      cut(op.wy(i, j + 1), i, j + 1);
+      op.diag(i, j) = 1.0f;
+    }
+}
+
+}  // namespace ardcell

@@ -1,0 +1,178 @@
+#include "kernels/stencil_sweeps.h"
+
+#include <cmath>
+
+namespace ardcell::stencil {
+
+namespace {
+
+// Row pointers of the operator and of x for row j, with the edge rows resolved: periodic wraps,
+// otherwise the row itself (its boundary face weight is 0, so any finite value will do).
+struct RowRefs {
+  const float* xb;
+  const float* x0;
+  const float* xa;
+  const float* d;
+  const float* wx;
+  const float* wyb;
+  const float* wya;
+};
+
+inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j) {
+  const int ny = op.size.y;
+  const bool py = op.boundary_y == BoundaryKind::kPeriodic;
+  return {x.row(j > 0 ? j - 1 : (py ? ny - 1 : j)),
+          x.row(j),
+          x.row(j < ny - 1 ? j + 1 : (py ? 0 : j)),
+          op.diag.row(j),
+          op.wx.row(j),
+          op.wy.row(j),
+          op.wy.row(j + 1)};
+}
+
+// Sum of the weighted neighbours of cell i with left/right neighbour indices il/ir.
+inline float neighbours(const RowRefs& r, int i, int il, int ir) {
+  return r.wx[i] * r.x0[il] + r.wx[i + 1] * r.x0[ir] + r.wyb[i] * r.xb[i] + r.wya[i] * r.xa[i];
+}
+
+inline int left_of(int i, int nx, bool px) { return i > 0 ? i - 1 : (px ? nx - 1 : 0); }
+inline int right_of(int i, int nx, bool px) { return i < nx - 1 ? i + 1 : (px ? 0 : nx - 1); }
+
+}  // namespace
+
+void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out) {
+  const int nx = op.size.x, ny = op.size.y;
+  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  for (int j = 0; j < ny; ++j) {
+    const RowRefs r = row_refs(op, x_in, j);
+    const float* bj = b.row(j);
+    float* out = x_out.row(j);
+    for (int i = 1; i < nx - 1; ++i)
+      out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
+                r.wya[i] * r.xa[i]) /
+               r.d[i];
+    out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
+    if (nx > 1) {
+      const int i = nx - 1;
+      out[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+    }
+  }
+}
+
+void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color) {
+  const int nx = op.size.x, ny = op.size.y;
+  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  for (int j = 0; j < ny; ++j) {
+    const RowRefs r = row_refs(op, x, j);
+    const float* bj = b.row(j);
+    float* xj = x.row(j);
+    const int first = (color + j) & 1;  // first i with (i + j) % 2 == color
+    auto update = [&](int i) {
+      xj[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+    };
+    int i = first;
+    if (i == 0) {
+      update(0);
+      i = 2;
+    }
+    for (; i < nx - 1; i += 2)
+      xj[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
+               r.wya[i] * r.xa[i]) /
+              r.d[i];
+    if (i == nx - 1) update(i);
+  }
+}
+
+void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x) {
+  rbgs_half_sweep(op, b, x, 0);
+  rbgs_half_sweep(op, b, x, 1);
+}
+
+double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* res) {
+  const int nx = op.size.x, ny = op.size.y;
+  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  double total = 0.0;
+  for (int j = 0; j < ny; ++j) {
+    const RowRefs r = row_refs(op, x, j);
+    const float* bj = b.row(j);
+    float* out = res ? res->row(j) : nullptr;
+    double row_total = 0.0;
+    for (int i = 0; i < nx; ++i) {
+      const int il = i > 0 ? i - 1 : left_of(i, nx, px);
+      const int ir = i < nx - 1 ? i + 1 : right_of(i, nx, px);
+      const double ri = double(bj[i]) - double(r.d[i]) * r.x0[i] +
+                        (double(r.wx[i]) * r.x0[il] + double(r.wx[i + 1]) * r.x0[ir] +
+                         double(r.wyb[i]) * r.xb[i] + double(r.wya[i]) * r.xa[i]);
+      if (out) out[i] = float(ri);
+      row_total += ri * ri;
+    }
+    total += row_total;
+  }
+  return total;
+}
+
+double norm2_squared(const FieldF& f) {
+  double total = 0.0;
+  for (int j = 0; j < f.ny(); ++j) {
+    const float* r = f.row(j);
+    double row_total = 0.0;
+    for (int i = 0; i < f.nx(); ++i) row_total += double(r[i]) * r[i];
+    total += row_total;
+  }
+  return total;
+}
+
+void NullSpace::analyse(const StencilOperator& op) {
+  const int nx = op.size.x, ny = op.size.y;
+  ARDCELL_CHECK(in_null_.size() == op.size, "NullSpace: size mismatch");
+  count_ = 0;
+  bool others_decoupled = true;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const double faces =
+          double(op.wx(i, j)) + op.wx(i + 1, j) + double(op.wy(i, j)) + op.wy(i, j + 1);
+      const double row_sum = double(op.diag(i, j)) - faces;
+      const bool zero =
+          std::abs(row_sum) <= 1e-6 * std::abs(double(op.diag(i, j))) && op.diag(i, j) > 0.0f;
+      in_null_(i, j) = zero ? 1 : 0;
+      if (zero) {
+        ++count_;
+      } else if (faces != 0.0) {
+        others_decoupled = false;
+      }
+    }
+  singular_ = count_ > 0 && others_decoupled;
+}
+
+void NullSpace::remove_mean(FieldF& f) const {
+  if (!singular_) return;
+  double sum = 0.0;
+  for (int j = 0; j < f.ny(); ++j) {
+    const float* r = f.row(j);
+    const uint8_t* z = in_null_.row(j);
+    for (int i = 0; i < f.nx(); ++i)
+      if (z[i]) sum += r[i];
+  }
+  const float mean = float(sum / double(count_));
+  for (int j = 0; j < f.ny(); ++j) {
+    float* r = f.row(j);
+    const uint8_t* z = in_null_.row(j);
+    for (int i = 0; i < f.nx(); ++i)
+      if (z[i]) r[i] -= mean;
+  }
+}
+
+double NullSpace::consistent_norm2(const FieldF& f) const {
+  const double all = norm2_squared(f);
+  if (!singular_) return all;
+  double sum = 0.0;
+  for (int j = 0; j < f.ny(); ++j) {
+    const float* r = f.row(j);
+    const uint8_t* z = in_null_.row(j);
+    for (int i = 0; i < f.nx(); ++i)
+      if (z[i]) sum += r[i];
+  }
+  return std::max(0.0, all - sum * sum / double(count_));
+}
+
+}  // namespace ardcell::stencil

@@ -1,0 +1,46 @@
+#pragma once
+// Whole-field sweeps over a StencilOperator (kernels/stencil_operator.h), shared by the linear
+// solvers: y = A x, residual, Jacobi, red-black Gauss-Seidel. The loops run over rows with row
+// pointers; the first and last cell of a row take the (periodic or weight-0) edge neighbours
+// separately so the middle of the row vectorises. No halo of x is read.
+#include "kernels/stencil_operator.h"
+
+namespace ardcell::stencil {
+
+// x_out = D^-1 (b + (D - A) x_in) over the interior. x_in and x_out must differ.
+void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out);
+
+// One red-black Gauss-Seidel sweep in place: cells with (x + y) even, then odd.
+void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x);
+// Half a sweep: only the cells with (x + y) % 2 == color.
+void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color);
+
+// r = b - A x (when r is not null); returns |b - A x|_2^2 accumulated in double.
+double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* r);
+
+// Sum of squares over the interior, in double.
+double norm2_squared(const FieldF& f);
+
+// The constant null space of singular operators (pure Neumann or periodic Poisson, possibly
+// with isolated solid cells): Z = cells whose row sums to zero. When every other cell is
+// decoupled from Z, A is singular with null vector 1 on Z, and A x = b is solvable only when
+// b sums to zero over Z. Computed once per prepare(); uses no heap after construction.
+class NullSpace {
+ public:
+  explicit NullSpace(Int2 size) : in_null_(size, 0) {}
+  void analyse(const StencilOperator& op);
+  bool singular() const { return singular_; }
+  const Field<uint8_t>& mask() const { return in_null_; }  // 1 = cell of Z
+  int64_t count() const { return count_; }
+  // Subtracts the mean over Z from the cells of Z (no-op when not singular).
+  void remove_mean(FieldF& f) const;
+  // |f|^2 without its component along the null vector (|f|^2 when not singular).
+  double consistent_norm2(const FieldF& f) const;
+
+ private:
+  Field<uint8_t> in_null_;
+  bool singular_ = false;
+  int64_t count_ = 0;
+};
+
+}  // namespace ardcell::stencil

@@ -1,0 +1,196 @@
+#include "kernels/linear_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "kernels/stencil_sweeps.h"
+
+namespace ardcell {
+namespace {
+
+FieldF random_field(Int2 size, unsigned seed, float lo = -1.0f, float hi = 1.0f) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> dist(lo, hi);
+  FieldF f(size, 1);
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i) f(i, j) = dist(rng);
+  return f;
+}
+
+double dot(const FieldF& a, const FieldF& b) {
+  double s = 0.0;
+  for (int j = 0; j < a.ny(); ++j)
+    for (int i = 0; i < a.nx(); ++i) s += double(a(i, j)) * b(i, j);
+  return s;
+}
+
+// Reference y = A x straight from the definition in stencil_operator.h, in double.
+double reference_apply(const StencilOperator& op, const FieldF& x, int i, int j) {
+  const int nx = op.size.x, ny = op.size.y;
+  auto at = [&](int a, int c) -> double {
+    if (op.boundary_x == BoundaryKind::kPeriodic) a = (a + nx) % nx;
+    if (op.boundary_y == BoundaryKind::kPeriodic) c = (c + ny) % ny;
+    if (a < 0 || a >= nx || c < 0 || c >= ny) return 0.0;  // weight is 0 there anyway
+    return x(a, c);
+  };
+  return double(op.diag(i, j)) * x(i, j) - op.wx(i, j) * at(i - 1, j) -
+         op.wx(i + 1, j) * at(i + 1, j) - op.wy(i, j) * at(i, j - 1) -
+         op.wy(i, j + 1) * at(i, j + 1);
+}
+
+TEST(StencilOperator, ApplyMatchesDefinitionAndIsSymmetric) {
+  const Int2 size{13, 9};
+  const FieldF k = random_field(size, 1, 0.5f, 2.0f);
+  for (BoundaryKind bx :
+       {BoundaryKind::kPeriodic, BoundaryKind::kNeumann, BoundaryKind::kDirichlet})
+    for (BoundaryKind by :
+         {BoundaryKind::kPeriodic, BoundaryKind::kNeumann, BoundaryKind::kDirichlet}) {
+      const StencilOperator op = assemble_stencil_operator(size, 0.5, 3.0, &k, bx, by);
+      const FieldF x = random_field(size, 2), z = random_field(size, 3);
+      FieldF ax(size, 1), az(size, 1);
+      apply_stencil_operator(op, x, ax);
+      apply_stencil_operator(op, z, az);
+      for (int j = 0; j < size.y; ++j)
+        for (int i = 0; i < size.x; ++i)
+          ASSERT_NEAR(ax(i, j), reference_apply(op, x, i, j), 1e-4) << i << "," << j;
+      EXPECT_NEAR(dot(z, ax), dot(x, az), 1e-4 * std::abs(dot(x, ax)));
+    }
+}
+
+TEST(StencilOperator, FaceWeightsAverageConductivity) {
+  const Int2 size{4, 3};
+  FieldF k(size, 1);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 4; ++i) k(i, j) = float(1 + i + 10 * j);
+  const StencilOperator op = assemble_stencil_operator(size, 1.0, 2.0, &k, BoundaryKind::kNeumann,
+                                                       BoundaryKind::kDirichlet);
+  EXPECT_FLOAT_EQ(op.wx(2, 1), 2.0f * 0.5f * (k(1, 1) + k(2, 1)));
+  EXPECT_FLOAT_EQ(op.wy(3, 2), 2.0f * 0.5f * (k(3, 1) + k(3, 2)));
+  EXPECT_EQ(op.wx(0, 1), 0.0f);  // Neumann: no flux
+  EXPECT_EQ(op.wy(1, 0), 0.0f);  // Dirichlet: no coupling, weight on the diagonal
+  // Cell (0, 0): identity + right face + top face + Dirichlet bottom face (scale * k).
+  EXPECT_FLOAT_EQ(op.diag(0, 0), 1.0f + op.wx(1, 0) + op.wy(0, 1) + 2.0f * k(0, 0));
+}
+
+// Geometric-mean residual reduction per sweep between sweeps `from` and `to`.
+template <class Sweep>
+double measured_rate(const StencilOperator& op, FieldF x, int from, int to, Sweep sweep) {
+  const FieldF b(op.size, 1);
+  double r_from = 0.0;
+  for (int k = 1; k <= to; ++k) {
+    sweep(op, b, x);
+    if (k == from) r_from = std::sqrt(stencil::residual(op, b, x, nullptr));
+  }
+  const double r_to = std::sqrt(stencil::residual(op, b, x, nullptr));
+  return std::pow(r_to / r_from, 1.0 / (to - from));
+}
+
+// Model problem: Dirichlet Poisson (and implicit diffusion) on n x m cells. The Jacobi iteration
+// matrix I - D^-1 A has spectral radius rho_J = 2s (cos(pi/(n+1)) + cos(pi/(m+1))) / (c + 4s);
+// red-black Gauss-Seidel (consistently ordered) has rho_J^2 per full sweep.
+TEST(LinearSolver, JacobiAndRedBlackContractAtTheSpectralRadius) {
+  const Int2 size{16, 12};
+  for (double identity : {0.0, 1.0}) {
+    const double s = 1.0;
+    const StencilOperator op = assemble_stencil_operator(
+        size, identity, s, nullptr, BoundaryKind::kDirichlet, BoundaryKind::kDirichlet);
+    const double rho_j =
+        2.0 * s *
+        (std::cos(std::numbers::pi / (size.x + 1)) + std::cos(std::numbers::pi / (size.y + 1))) /
+        (identity + 4.0 * s);
+    const FieldF x0 = random_field(size, 7);
+    FieldF scratch(size, 1);
+    const double jacobi = measured_rate(op, x0, 200, 300, [&](auto& o, auto& b, FieldF& x) {
+      stencil::jacobi_sweep(o, b, x, scratch);
+      std::swap(x, scratch);
+    });
+    const double rbgs = measured_rate(
+        op, x0, 80, 130, [](auto& o, auto& b, FieldF& x) { stencil::rbgs_sweep(o, b, x); });
+    EXPECT_NEAR(jacobi, rho_j, 2e-3) << "identity " << identity;
+    EXPECT_NEAR(rbgs, rho_j * rho_j, 2e-3) << "identity " << identity;
+    std::printf("identity %.0f: Jacobi %.5f (theory %.5f), RBGS %.5f (theory %.5f)\n", identity,
+                jacobi, rho_j, rbgs, rho_j * rho_j);
+  }
+}
+
+TEST(LinearSolver, FixedSweepsReportIterationsAndReduceResidual) {
+  const Int2 size{24, 24};
+  const StencilOperator op = assemble_stencil_operator(
+      size, 1.0, 2.0, nullptr, BoundaryKind::kNeumann, BoundaryKind::kNeumann);
+  const FieldF b = random_field(size, 11);
+  for (SolverKind kind : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel}) {
+    auto solver = LinearSolver::make({kind, 20, 0.0}, size);
+    solver->prepare(op);
+    FieldF x(size, 1);
+    const SolveReport report = solver->solve(op, b, x);
+    EXPECT_EQ(report.iterations, 20);
+    EXPECT_LT(report.relative_residual, 0.1);
+    FieldF r(size, 1);
+    const double rr = std::sqrt(stencil::residual(op, b, x, &r) / stencil::norm2_squared(b));
+    EXPECT_NEAR(report.relative_residual, rr, 1e-6);
+  }
+}
+
+struct Case {
+  const char* name;
+  BoundaryKind bx, by;
+  double identity;
+  bool conductivity;
+};
+
+class AccurateSolvers : public ::testing::TestWithParam<Case> {};
+
+// ICCG and multigrid both reach the tolerance and agree with each other (and with A x = b).
+TEST_P(AccurateSolvers, IccgAndMultigridConvergeAndAgree) {
+  const Case c = GetParam();
+  const Int2 size{40, 28};
+  const FieldF k = random_field(size, 5, 0.2f, 3.0f);
+  const StencilOperator op =
+      assemble_stencil_operator(size, c.identity, 1.0, c.conductivity ? &k : nullptr, c.bx, c.by);
+  FieldF b = random_field(size, 9);
+  FieldF x_cg(size, 1), x_mg(size, 1);
+  auto cg = LinearSolver::make({SolverKind::kIccg, 500, 1e-6}, size);
+  auto mg = LinearSolver::make({SolverKind::kMultigrid, 60, 1e-6}, size);
+  cg->prepare(op);
+  mg->prepare(op);
+  const SolveReport rc = cg->solve(op, b, x_cg);
+  const SolveReport rm = mg->solve(op, b, x_mg);
+  std::printf("%s: ICCG %d iterations, residual %.2e; MG %d cycles, residual %.2e\n", c.name,
+              rc.iterations, rc.relative_residual, rm.iterations, rm.relative_residual);
+  EXPECT_LE(rc.relative_residual, 2e-6);
+  EXPECT_LE(rm.relative_residual, 2e-6);
+  EXPECT_LT(rm.iterations, 25);
+  double diff = 0.0, scale = 0.0;
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i) {
+      diff = std::max(diff, double(std::abs(x_cg(i, j) - x_mg(i, j))));
+      scale = std::max(scale, double(std::abs(x_cg(i, j))));
+    }
+  EXPECT_LT(diff, 1e-4 * scale) << c.name;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Boundaries, AccurateSolvers,
+    ::testing::Values(
+        Case{"NeumannPoisson", BoundaryKind::kNeumann, BoundaryKind::kNeumann, 0.0, false},
+        Case{"PeriodicPoisson", BoundaryKind::kPeriodic, BoundaryKind::kPeriodic, 0.0, false},
+        Case{"DirichletPoisson", BoundaryKind::kDirichlet, BoundaryKind::kDirichlet, 0.0, false},
+        Case{"MixedDiffusion", BoundaryKind::kPeriodic, BoundaryKind::kDirichlet, 0.1, true},
+        Case{"NeumannConductivity", BoundaryKind::kNeumann, BoundaryKind::kNeumann, 0.0, true}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(LinearSolver, ParsesSolverNames) {
+  SolverKind kind{};
+  for (SolverKind k : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel, SolverKind::kIccg,
+                       SolverKind::kMultigrid}) {
+    ASSERT_TRUE(parse_solver_kind(solver_kind_name(k), kind));
+    EXPECT_EQ(kind, k);
+  }
+  EXPECT_FALSE(parse_solver_kind("sor", kind));
+}
+
+}  // namespace
+}  // namespace ardcell
