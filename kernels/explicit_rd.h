@@ -1,0 +1,42 @@
+#pragma once
+// Forward Euler reaction-diffusion, the explicit schemes the implicit one is compared against.
+//
+// Eqn 5 (seed 000), 5-point Laplacian. Reads halo 1:
+//   A' = A + dt R_A(A, B) + (DA dt / h^2) (A_W + A_E + A_S + A_N - 4 A)
+// Seed 001's 9-point Laplacian (corners 0.05, edges 0.2, centre -1; it approximates
+// 0.3 h^2 lap, and seed 001 uses it unscaled with dt = 1, h = 1). Reads halo 1:
+//   A' = A + dt R_A(A, B) + (DA dt / h^2) L9(A)
+// Stable only for 2 DA dt / h^2 < 1 (5-point); the stability test shows the blow-up.
+#include "kernels/reaction.h"
+#include "runtime/field.h"
+
+namespace ardcell {
+
+struct ExplicitRdParams {
+  ReactionParams reaction;
+  float dt = 1.0f;
+  float diffusion_a = 1.0f;  // DA dt / h^2 multiplies the Laplacian stencil
+  float diffusion_b = 0.5f;  // DB dt / h^2
+};
+
+// a, b must cover region grown by 1. Outputs must not alias inputs.
+void explicit_rd5_tile(View<const float> a, View<const float> b, View<float> a_out,
+                       View<float> b_out, Box2 region, const ExplicitRdParams& p);
+void explicit_rd9_tile(View<const float> a, View<const float> b, View<float> a_out,
+                       View<float> b_out, Box2 region, const ExplicitRdParams& p);
+
+// Seed 001's Gray-Scott step, 9-point Laplacian, specialised for speed: rows are processed as
+// a separable (1 4 1) x (1 4 1) sum, L9 = 0.05 * S - 1.8 * c (seed 001's own rewrite), in
+// float, in contiguous row buffers the compiler vectorises. Reads halo 1.
+struct GrayScott9Params {
+  float F = 0.055f, k = 0.062f;
+  float dt = 1.0f;
+  float diffusion_a = 1.0f;  // DA dt / h^2
+  float diffusion_b = 0.5f;  // DB dt / h^2
+};
+// scratch: at least 2 * (region.width() + 2) floats (row sums), 64-byte aligned preferred.
+void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<float> a_out,
+                               View<float> b_out, Box2 region, const GrayScott9Params& p,
+                               float* scratch);
+
+}  // namespace ardcell
