@@ -153,6 +153,9 @@ inline void set_one_arg(cl_kernel k, cl_uint& i, const OpenClBuffer& b) {
   cl_mem m = b.get();
   opencl_check(clSetKernelArg(k, i++, sizeof(cl_mem), &m), "clSetKernelArg(buffer)");
 }
+inline void set_one_arg(cl_kernel k, cl_uint& i, const cl_float4& v) {
+  opencl_check(clSetKernelArg(k, i++, sizeof(cl_float4), &v), "clSetKernelArg(float4)");
+}
 // __local scratch of n bytes.
 struct LocalBytes {
   std::size_t bytes;

@@ -1,0 +1,66 @@
+// Shared by every ardcell OpenCL kernel (built first, into one program with the others).
+//
+// Layout: a field lives on the device with the host Field's layout: cell (x, y) at
+// f[origin + y * stride + x], origin = halo * stride + halo. All fields of one launch share
+// stride and origin (SimState's fields all have one size and halo 1).
+//
+// SPE style: a work-group plays an SPE and walks the tiles t = group, group + groups, ...; its
+// __local buffers are the local store, split in two slots. async_work_group_copy is the DMA: the
+// rows of tile t+groups stream into one slot while tile t computes from the other, and
+// wait_group_events is the tag wait. Results are written straight to global memory (the put).
+#if defined(cl_khr_fp64)
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double real;
+#define ARDCELL_REAL_IS_DOUBLE 1
+#else
+typedef float real;
+#define ARDCELL_REAL_IS_DOUBLE 0
+#endif
+
+typedef struct {
+  int x0, y0, x1, y1;  // half-open
+} box_t;
+
+inline box_t make_box(int x0, int y0, int x1, int y1) {
+  box_t b;
+  b.x0 = x0;
+  b.y0 = y0;
+  b.x1 = x1;
+  b.y1 = y1;
+  return b;
+}
+
+inline int box_w(box_t b) { return b.x1 - b.x0; }
+inline int box_h(box_t b) { return b.y1 - b.y0; }
+
+inline box_t box_grow_clip(box_t b, int n, box_t lim) {
+  return make_box(max(b.x0 - n, lim.x0), max(b.y0 - n, lim.y0), min(b.x1 + n, lim.x1),
+                  min(b.y1 + n, lim.y1));
+}
+
+inline int tile_count(box_t region, int tw, int th) {
+  return ((box_w(region) + tw - 1) / tw) * ((box_h(region) + th - 1) / th);
+}
+
+// Core of tile t of `region` cut into tw x th tiles, row-major; the last column and row take
+// what is left.
+inline box_t tile_core(int t, box_t region, int tw, int th) {
+  const int ntx = (box_w(region) + tw - 1) / tw;
+  const int x0 = region.x0 + (t % ntx) * tw;
+  const int y0 = region.y0 + (t / ntx) * th;
+  return make_box(x0, y0, min(x0 + tw, region.x1), min(y0 + th, region.y1));
+}
+
+// DMA get: box b of field f into dst (row pitch box_w(b)), chained onto event ev.
+inline event_t fetch_box(__local float* dst, __global const float* f, int stride, int origin,
+                         box_t b, event_t ev) {
+  const int w = box_w(b);
+  for (int y = b.y0; y < b.y1; ++y)
+    ev = async_work_group_copy(dst + (y - b.y0) * w, f + origin + y * stride + b.x0, (size_t)w,
+                               ev);
+  return ev;
+}
+
+// Index of global cell (x, y) in a local copy of box b.
+inline int local_index(box_t b, int x, int y) { return (y - b.y0) * box_w(b) + (x - b.x0); }
+inline int global_index(int stride, int origin, int x, int y) { return origin + y * stride + x; }

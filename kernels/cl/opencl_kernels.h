@@ -1,0 +1,59 @@
+#pragma once
+// Host side of the OpenCL twins in kernels/cl/*.cl: one program built once from every embedded
+// source (common.cl first), and one launcher per tile kernel, with the C++ kernel's parameters
+// passed as kernel arguments (changing one never rebuilds). A launcher takes device fields and
+// the region of cells to write, like its C++ twin takes Views and a Box2; it cuts the region
+// into tiles (Tiling) that the work-groups walk SPE-style, double-buffered in __local memory.
+// Launchers only enqueue: OpenClContext::finish() (or a read) waits.
+#if defined(ARDCELL_WITH_OPENCL)
+#include <memory>
+#include <string>
+
+#include "kernels/reaction.h"
+#include "runtime/opencl/opencl_context.h"
+
+namespace ardcell {
+
+// How a launch maps onto the device: tiles of tile_w x tile_h cells (the local store of one
+// work-group holds two slots of them, plus halos), work_group work-items per work-group, and
+// groups_per_unit persistent work-groups per compute unit (each walks many tiles).
+struct ClTiling {
+  int tile_w = 64;
+  int tile_h = 16;
+  int work_group = 64;
+  int groups_per_unit = 4;
+};
+
+class OpenClKernels {
+ public:
+  // The program's name in OpenClContext's cache: building it twice on one context is a no-op.
+  static constexpr const char* kProgramKey = "ardcell";
+
+  // Builds (once per context) the program of every embedded .cl file. Null + *error (summary
+  // line, then the build log) on failure.
+  static std::unique_ptr<OpenClKernels> create(OpenClContext& ctx, std::string* error);
+  // For choose_backend's OpenClPrepare: builds the program, true on success.
+  static bool prepare(OpenClContext& ctx, std::string* error);
+
+  OpenClContext& context() { return ctx_; }
+  cl_kernel kernel(const char* name);
+  ClTiling& tiling() { return tiling_; }
+
+  // Twin of reaction_implicit_tile (Eqn 6; gray_scott_implicit_tile when p.model is
+  // Gray-Scott). Outputs may alias inputs.
+  void reaction_implicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                         DeviceField& b_out, Box2 region, const ReactionParams& p, float dt);
+
+ private:
+  OpenClKernels(OpenClContext& ctx, cl_program program) : ctx_(ctx), program_(program) {}
+  // Work-groups for `tiles` tiles, and the global size.
+  std::size_t groups_for(int tiles) const;
+  void check_same_layout(const DeviceField& a, const DeviceField& b) const;
+
+  OpenClContext& ctx_;
+  cl_program program_;
+  ClTiling tiling_;
+};
+
+}  // namespace ardcell
+#endif

@@ -1,0 +1,254 @@
+// Twin of kernels/reaction.h: the implicit (backward Euler) reaction of seed 000, Eqn 6, per
+// cell by safeguarded Newton (Eqns 9-12, Appendix A). Reads halo 0. The arithmetic follows
+// kernels/reaction.cpp line by line, in double where the device has cl_khr_fp64.
+//
+// Model ids and parameters (p0..p4) as kernels/reaction.h's ReactionModel / ReactionParams:
+//   0 gray-scott       F, k
+//   1 turing           s, beta
+//   2 meinhardt        s, alpha, p1, p2, p3
+//   3 fitzhugh-nagumo  epsilon, a0, a1, M (the invariant box half-width)
+//   4 barkley          epsilon, a, b
+//   5 barkley-turbulent as 4
+
+#define RD_MAX_ITERATIONS 200
+#if ARDCELL_REAL_IS_DOUBLE
+#define RD_BRACKET_EPS 1e-15
+#define RD_MIN_TOL 0.0
+#else
+#define RD_BRACKET_EPS 1e-7f
+#define RD_MIN_TOL 1e-6f
+#endif
+
+typedef struct {
+  int model;
+  real dt, A, B;
+  real c0, c1, c2, c3, c4;  // per-model constants, see rd_setup
+  int turbulent;
+} rd_cell_t;
+
+inline void rd_eval(const rd_cell_t* s, real x, real* g, real* dg) {
+  switch (s->model) {
+    case 0: {  // gray-scott in B^: c0 = c, c1 = lin, c2 = d0
+      const real D = s->c2 + s->dt * x * x;
+      *g = x * s->c1 - s->B - s->dt * s->c0 * x * x / D;
+      *dg = s->c1 - s->dt * s->c0 * (real)2.0 * x * s->c2 / (D * D);
+      return;
+    }
+    case 1: {  // turing in A^: c0 = q, c1 = beta, c2 = C
+      const real q = s->c0;
+      const real den = (real)1.0 + q * x;
+      *g = x * ((real)1.0 + q) - s->A + q * s->c1 - q * s->c2 * x / den;
+      *dg = (real)1.0 + q - q * s->c2 / (den * den);
+      return;
+    }
+    case 2: {  // meinhardt in A^: c0 = q, c1 = m, c2 = p1, c3 = p3, c4 = P
+      const real q = s->c0, m = s->c1, P = s->c4;
+      const real den = s->B + q * m * x * x;
+      const real T = den > 0 ? m * x * x * P / den : (real)0.0;
+      const real dT = den > 0 ? (real)2.0 * m * P * s->B * x / (den * den) : (real)0.0;
+      *g = x - s->A - q * (s->c2 * x + T + s->c3);
+      *dg = (real)1.0 - q * s->c2 - q * dT;
+      return;
+    }
+    case 3: {  // fitzhugh-nagumo in A^: c0 = r, c1 = a0, c2 = P
+      const real bx = (s->B + s->c0 * (x - s->c1)) / s->c2;
+      *g = x - s->A - s->dt * (x - x * x * x - bx);
+      *dg = (real)1.0 - s->dt * ((real)1.0 - (real)3.0 * x * x - s->c0 / s->c2);
+      return;
+    }
+    default: {  // barkley in A^: c0 = 1/eps, c1 = a, c2 = b, c3 = w
+      const real bx =
+          (s->B + s->dt * (s->turbulent ? x * x * x : x)) / ((real)1.0 + s->dt);
+      const real u = (bx + s->c2) / s->c1;
+      const real du = (s->turbulent ? (real)3.0 * x * x * s->c3 : s->c3) / s->c1;
+      const real h = x * ((real)1.0 - x) * (x - u);
+      const real dh = ((real)1.0 - (real)2.0 * x) * (x - u) + x * ((real)1.0 - x) * ((real)1.0 - du);
+      *g = x - s->A - s->dt * s->c0 * h;
+      *dg = (real)1.0 - s->dt * s->c0 * dh;
+      return;
+    }
+  }
+}
+
+// Numerical Recipes' rtsafe, as safeguarded_newton in kernels/reaction.cpp. Returns the root.
+inline real rd_newton(const rd_cell_t* s, real lo, real hi, real x0, real tol) {
+  real g = 0, dg = 0;
+  rd_eval(s, lo, &g, &dg);
+  if (fabs(g) <= tol) return lo;
+  const int increasing = g < 0;
+  rd_eval(s, hi, &g, &dg);
+  if (fabs(g) <= tol) return hi;
+  const real sign = increasing ? (real)1.0 : (real)-1.0;
+  real x = clamp(x0, lo, hi);
+  if (!(x == x)) x = (real)0.5 * (lo + hi);
+  real dx_old = hi - lo, dx = dx_old;
+  rd_eval(s, x, &g, &dg);
+  for (int it = 0; it < RD_MAX_ITERATIONS && fabs(g) > tol; ++it) {
+    const real gs = sign * g, dgs = sign * dg;
+    if (gs < 0)
+      lo = x;
+    else
+      hi = x;
+    const real newton = dgs != 0 ? x - gs / dgs : (real)INFINITY;
+    if (!(newton > lo && newton < hi) || fabs((real)2.0 * gs) > fabs(dx_old * dgs)) {
+      dx_old = dx;
+      dx = (real)0.5 * (hi - lo);
+      x = lo + dx;
+    } else {
+      dx_old = dx;
+      dx = x - newton;
+      x = newton;
+    }
+    if (hi - lo <= RD_BRACKET_EPS * ((real)1.0 + fabs(x))) {
+      rd_eval(s, x, &g, &dg);
+      break;
+    }
+    rd_eval(s, x, &g, &dg);
+  }
+  return x;
+}
+
+// One cell: (A, B) -> (A^, B^).
+// Inputs are first clamped into the model's invariant box (a_lo..b_hi, infinite where open),
+// where each bracket provably holds a root, as implicit_reaction_cell does.
+inline void rd_implicit_cell(int model, float p0, float p1, float p2, float p3, float p4,
+                             float4 box, float dtf, float af, float bf, float* a_out,
+                             float* b_out) {
+  rd_cell_t s;
+  s.model = model;
+  s.dt = (real)dtf;
+  s.A = clamp((real)af, (real)box.s0, (real)box.s1);
+  s.B = clamp((real)bf, (real)box.s2, (real)box.s3);
+  s.turbulent = model == 5;
+  const real tol = max((real)1e-9, (real)RD_MIN_TOL);
+  const real dt = s.dt, A = s.A, B = s.B;
+  switch (model) {
+    case 0: {
+      const real F = (real)p0, k = (real)p1;
+      s.c0 = s.A + F * dt;
+      s.c1 = (real)1.0 + (F + k) * dt;
+      s.c2 = (real)1.0 + F * dt;
+      const real hi = max((real)0.0, (s.B + s.c0) / s.c1);
+      const real b_hat = rd_newton(&s, (real)0.0, hi, s.B, tol);
+      *a_out = (float)(s.c0 / (s.c2 + dt * b_hat * b_hat));
+      *b_out = (float)b_hat;
+      return;
+    }
+    case 1: {
+      const real q = (real)p0 * dt, beta = (real)p1;
+      const real C = B + (real)16.0 * q;
+      s.c0 = q;
+      s.c1 = beta;
+      s.c2 = C;
+      real g0, dg0;
+      rd_eval(&s, (real)0.0, &g0, &dg0);
+      real hi;
+      if (g0 <= 0) {
+        hi = max((real)0.0, (A - q * beta + C) / ((real)1.0 + q));
+      } else {
+        const real r2 = q > 0 ? q * C / ((real)1.0 + q) : (real)0.0;
+        const real x_star = (sqrt(r2) - (real)1.0) / q;
+        real gs = 1, dgs;
+        if (r2 > (real)1.0) rd_eval(&s, x_star, &gs, &dgs);
+        if (r2 <= (real)1.0 || gs > 0) {
+          *a_out = 0.0f;
+          *b_out = (float)(C / (real)1.0);
+          return;
+        }
+        hi = x_star;
+      }
+      const real x = rd_newton(&s, (real)0.0, hi, A, tol);
+      *a_out = (float)x;
+      *b_out = (float)(C / ((real)1.0 + q * x));
+      return;
+    }
+    case 2: {
+      const real q = (real)p0 * dt, m = (real)0.01 * (real)p1;
+      const real pp1 = (real)p2, pp2 = (real)p3, pp3 = (real)p4;
+      const real P = (real)1.0 - q * pp2;
+      s.c0 = q;
+      s.c1 = m;
+      s.c2 = pp1;
+      s.c3 = pp3;
+      s.c4 = P;
+      const real hi = max((real)0.0, (A + q * pp3 + P) / ((real)1.0 - q * pp1));
+      const real x = rd_newton(&s, (real)0.0, hi, A, tol);
+      *a_out = (float)x;
+      *b_out = (float)((B + q * m * x * x) / P);
+      return;
+    }
+    case 3: {
+      const real r = (real)p0 * dt, a0 = (real)p1, a1 = (real)p2, M = (real)p3;
+      const real P = (real)1.0 + r * a1;
+      s.c0 = r;
+      s.c1 = a0;
+      s.c2 = P;
+      const real x = rd_newton(&s, min(-M, A), max(M, A), A, tol);
+      *a_out = (float)x;
+      *b_out = (float)((B + r * (x - a0)) / P);
+      return;
+    }
+    default: {
+      s.c0 = (real)1.0 / (real)p0;
+      s.c1 = (real)p1;
+      s.c2 = (real)p2;
+      s.c3 = dt / ((real)1.0 + dt);
+      const real x = rd_newton(&s, min((real)0.0, A), max((real)1.0, A), A, tol);
+      *a_out = (float)x;
+      *b_out = (float)((B + dt * (s.turbulent ? x * x * x : x)) / ((real)1.0 + dt));
+      return;
+    }
+  }
+}
+
+// Eqn 6 over `region` in tiles: A, B in, A^, B^ out (outputs may alias the inputs). lbuf holds
+// 4 tw*th floats: (A, B) for each of the two slots.
+__kernel void reaction_implicit(__global const float* a, __global const float* b,
+                                __global float* a_out, __global float* b_out, int stride,
+                                int origin, int rx0, int ry0, int rx1, int ry1, int tw, int th,
+                                int model, float p0, float p1, float p2, float p3, float p4,
+                                float4 box, float dt, __local float* lbuf) {
+  const box_t region = make_box(rx0, ry0, rx1, ry1);
+  const int nt = tile_count(region, tw, th);
+  const int groups = get_num_groups(0), lid = get_local_id(0), lsize = get_local_size(0);
+  const int slot_floats = 2 * tw * th;
+  int t = get_group_id(0);
+  event_t ev0 = 0, ev1 = 0;
+  if (t < nt) {
+    const box_t c = tile_core(t, region, tw, th);
+    ev0 = fetch_box(lbuf, a, stride, origin, c, ev0);
+    ev0 = fetch_box(lbuf + tw * th, b, stride, origin, c, ev0);
+  }
+  for (int i = 0; t < nt; t += groups, ++i) {
+    const int slot = i & 1;
+    const int next = t + groups;
+    if (next < nt) {  // uniform over the work-group: every work-item issues the same copies
+      const box_t c = tile_core(next, region, tw, th);
+      __local float* s = lbuf + (slot ^ 1) * slot_floats;
+      if (slot == 0) {
+        ev1 = fetch_box(s, a, stride, origin, c, 0);
+        ev1 = fetch_box(s + tw * th, b, stride, origin, c, ev1);
+      } else {
+        ev0 = fetch_box(s, a, stride, origin, c, 0);
+        ev0 = fetch_box(s + tw * th, b, stride, origin, c, ev0);
+      }
+    }
+    if (slot == 0)
+      wait_group_events(1, &ev0);
+    else
+      wait_group_events(1, &ev1);
+    const box_t c = tile_core(t, region, tw, th);
+    __local const float* la = lbuf + slot * slot_floats;
+    __local const float* lb = la + tw * th;
+    const int w = box_w(c), n = w * box_h(c);
+    for (int j = lid; j < n; j += lsize) {
+      const int x = c.x0 + j % w, y = c.y0 + j / w;
+      float ao, bo;
+      rd_implicit_cell(model, p0, p1, p2, p3, p4, box, dt, la[j], lb[j], &ao, &bo);
+      const int gi = global_index(stride, origin, x, y);
+      a_out[gi] = ao;
+      b_out[gi] = bo;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);  // the slot is refilled by the next iteration's prefetch
+  }
+}
