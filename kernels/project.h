@@ -1,0 +1,28 @@
+#pragma once
+// Pressure projection of the collocated velocity (Stam 1999), in two tile kernels around a
+// Poisson solve:
+//   rhs = -h^2 div u = -h/2 (u(x+1) - u(x-1) + v(y+1) - v(y-1))
+//   solve 4 p - (sum of the 4 neighbours) = rhs    (the 5-point operator: identity 0, scale 1)
+//   u -= (p(x+1) - p(x-1)) / (2h),  v -= (p(y+1) - p(y-1)) / (2h)
+// Read as a MAC scheme, the face velocities (u(x) + u(x+1)) / 2 - (p(x+1) - p(x)) / h are
+// exactly divergence-free when p solves the 5-point equation (walls: u ghost mirrored so the wall
+// face carries the wall velocity, p ghost copied); the cell-centred u is their consistent
+// average (an approximate projection: its central divergence is O(h^2) for smooth flow).
+// Both kernels read their inputs over the region grown by 1 (ghosts filled first).
+#include "runtime/field.h"
+
+namespace ardcell {
+
+struct ProjectParams {
+  float h = 1.0f;  // cell size
+};
+
+// rhs = -h^2 div(u, v) over region (central differences).
+void pressure_rhs(View<const float> u, View<const float> v, View<float> rhs, Box2 region,
+                  const ProjectParams& params);
+
+// (u, v) -= grad p over region (central differences).
+void subtract_gradient(View<const float> p, View<float> u, View<float> v, Box2 region,
+                       const ProjectParams& params);
+
+}  // namespace ardcell

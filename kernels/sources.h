@@ -1,0 +1,21 @@
+#pragma once
+// Sources and forces (Stam 1999 add_source, and the splats that stir the ink scene):
+//   x += scale * s                                   (add_scaled; Stam uses scale = dt)
+//   f += amount * exp(-((x - cx)^2 + (y - cy)^2) / radius^2)   (add_splat, cell units)
+// Neither reads a halo: each cell depends only on itself.
+#include "runtime/field.h"
+
+namespace ardcell {
+
+void add_scaled(View<const float> s, View<float> x, Box2 region, float scale);
+
+struct SplatParams {
+  float cx = 0.0f, cy = 0.0f;  // centre, in cells (cell (i, j) is centred at (i, j))
+  float radius = 1.0f;         // e-folding radius, in cells
+  float amount = 0.0f;         // peak added value
+};
+
+// Adds a Gaussian splat to f over region (cells beyond 3 radii get nothing).
+void add_splat(View<float> f, Box2 region, const SplatParams& splat);
+
+}  // namespace ardcell

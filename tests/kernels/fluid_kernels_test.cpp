@@ -1,0 +1,194 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "kernels/advect.h"
+#include "kernels/project.h"
+#include "kernels/sources.h"
+#include "kernels/stam_sweeps.h"
+#include "runtime/boundary.h"
+
+namespace ardcell {
+namespace {
+
+FieldF random_field(Int2 size, unsigned seed, float lo = -1.0f, float hi = 1.0f) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> dist(lo, hi);
+  FieldF f(size, 1);
+  for (int j = -1; j <= size.y; ++j)
+    for (int i = -1; i <= size.x; ++i) f(i, j) = dist(rng);
+  return f;
+}
+
+// A tile of `f` copied into a separate buffer (as the runtime's local store would hold it).
+struct TileCopy {
+  FieldF storage;
+  View<float> view;
+  TileCopy(const FieldF& f, Box2 box) : storage(box.size(), 0) {
+    view = View<float>(storage.raw(), storage.stride(), box);
+    copy_box(f.view(), view, box);
+  }
+};
+
+TEST(Advect, ConstantFieldIsExact) {
+  const Int2 n{33, 20};
+  FieldF q0(n, 1), q(n, 1);
+  q0.fill(0.7f);
+  const FieldF u = random_field(n, 1, -50.0f, 50.0f), v = random_field(n, 2, -50.0f, 50.0f);
+  for (bool periodic : {false, true}) {
+    advect_scalar(q0.view(), u.view(), v.view(), q.view(), q.interior(), {0.3f, n, periodic});
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) ASSERT_EQ(q(i, j), 0.7f);
+    FieldF uo(n, 1), vo(n, 1), uc(n, 1), vc(n, 1);
+    uc.fill(-2.0f);
+    vc.fill(3.0f);
+    advect_velocity(uc.view(), vc.view(), uo.view(), vo.view(), uo.interior(), {0.3f, n, periodic});
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) ASSERT_TRUE(uo(i, j) == -2.0f && vo(i, j) == 3.0f);
+  }
+}
+
+TEST(Advect, WholeCellShiftIsExactAndPeriodicWraps) {
+  const Int2 n{16, 12};
+  FieldF q0 = random_field(n, 3), q(n, 1), u(n, 1), v(n, 1);
+  u.fill(2.0f);   // with dt/h = 1.5: 3 cells in +x
+  v.fill(-1.0f);  // 1.5 cells in -y
+  fill_boundary(q0.view(), n, BoundaryFill::periodic());
+  advect_scalar(q0.view(), u.view(), v.view(), q.view(), q.interior(), {1.5f, n, true});
+  for (int j = 0; j < n.y; ++j)
+    for (int i = 0; i < n.x; ++i) {
+      const int sx = (i - 3 + n.x) % n.x;
+      const float expected =
+          0.5f * (q0(sx, (j + 1) % n.y) + q0(sx, (j + 2) % n.y));  // y + 1.5 between two rows
+      ASSERT_NEAR(q(i, j), expected, 1e-6f) << i << "," << j;
+    }
+}
+
+TEST(Advect, BackTraceClampsAtWalls) {
+  const Int2 n{8, 8};
+  FieldF q0 = random_field(n, 4), q(n, 1), u(n, 1), v(n, 1);
+  fill_boundary(q0.view(), n, BoundaryFill::copy());
+  u.fill(100.0f);  // far beyond the left wall: the sample sits on the wall x = -0.5
+  advect_scalar(q0.view(), u.view(), v.view(), q.view(), q.interior(), {1.0f, n, false});
+  for (int j = 0; j < n.y; ++j)
+    for (int i = 0; i < n.x; ++i) ASSERT_FLOAT_EQ(q(i, j), 0.5f * (q0(-1, j) + q0(0, j)));
+}
+
+// Every kernel gives the same cells on a tile copy (local store) as on the whole field.
+TEST(FluidKernels, TileEqualsWholeField) {
+  const Int2 n{40, 30};
+  const Box2 core{{12, 7}, {29, 19}};
+  const FieldF q0 = random_field(n, 5), u = random_field(n, 6), v = random_field(n, 7);
+  const FieldF x0 = random_field(n, 8), p = random_field(n, 9);
+  const AdvectParams ap{2.0f, n, false};  // |u| <= 1: halo ceil(2) + 1 = 3
+  const StamSweepParams sp{0.8f, 1.0f / 4.2f};
+  const ProjectParams pp{1.0f / 40.0f};
+
+  FieldF whole(n, 1), whole_v(n, 1);
+  TileCopy tq(q0, core.grown(3)), tu(u, core.grown(3)), tv(v, core.grown(3));
+  TileCopy tx0(x0, core.grown(1)), tp(p, core.grown(1)), tout(whole, core), tout_v(whole, core);
+  auto expect_same = [&](const View<float>& tile, const FieldF& f, const char* what) {
+    for (int y = core.min.y; y < core.max.y; ++y)
+      for (int x = core.min.x; x < core.max.x; ++x)
+        ASSERT_EQ(tile(x, y), f(x, y)) << what << " at " << x << "," << y;
+  };
+
+  advect_scalar(q0.view(), u.view(), v.view(), whole.view(), core, ap);
+  advect_scalar(tq.view, tu.view, tv.view, tout.view, core, ap);
+  expect_same(tout.view, whole, "advect_scalar");
+
+  advect_velocity(u.view(), v.view(), whole.view(), whole_v.view(), core, ap);
+  advect_velocity(tu.view, tv.view, tout.view, tout_v.view, core, ap);
+  expect_same(tout.view, whole, "advect_velocity u");
+  expect_same(tout_v.view, whole_v, "advect_velocity v");
+
+  stam_jacobi_sweep(x0.view(), p.view(), whole.view(), core, sp);
+  stam_jacobi_sweep(tx0.view, tp.view, tout.view, core, sp);
+  expect_same(tout.view, whole, "stam_jacobi_sweep");
+
+  FieldF gs = p;
+  TileCopy tgs(p, core.grown(1));
+  for (int color : {0, 1}) {
+    stam_rbgs_half_sweep(x0.view(), gs.view(), core, color, sp);
+    stam_rbgs_half_sweep(tx0.view, tgs.view, core, color, sp);
+  }
+  expect_same(tgs.view, gs, "stam_rbgs_half_sweep");
+
+  pressure_rhs(u.view(), v.view(), whole.view(), core, pp);
+  pressure_rhs(tu.view, tv.view, tout.view, core, pp);
+  expect_same(tout.view, whole, "pressure_rhs");
+
+  FieldF gu = u, gv = v;
+  TileCopy tgu(u, core), tgv(v, core);
+  subtract_gradient(p.view(), gu.view(), gv.view(), core, pp);
+  subtract_gradient(tp.view, tgu.view, tgv.view, core, pp);
+  expect_same(tgu.view, gu, "subtract_gradient u");
+  expect_same(tgv.view, gv, "subtract_gradient v");
+}
+
+TEST(FluidKernels, StamJacobiSweepFormula) {
+  const Int2 n{6, 5};
+  const FieldF x0 = random_field(n, 10), x = random_field(n, 11);
+  FieldF out(n, 1);
+  stam_jacobi_sweep(x0.view(), x.view(), out.view(), out.interior(), {0.5f, 0.25f});
+  for (int j = 0; j < n.y; ++j)
+    for (int i = 0; i < n.x; ++i)
+      ASSERT_FLOAT_EQ(
+          out(i, j),
+          (x0(i, j) + 0.5f * (x(i - 1, j) + x(i + 1, j) + x(i, j - 1) + x(i, j + 1))) * 0.25f);
+}
+
+TEST(FluidKernels, RedBlackHalfSweepTouchesOnlyItsColour) {
+  const Int2 n{7, 6};
+  const FieldF x0 = random_field(n, 12), x = random_field(n, 13);
+  FieldF y = x;
+  stam_rbgs_half_sweep(x0.view(), y.view(), Box2{{1, 1}, {6, 5}}, 1, {1.0f, 0.25f});
+  for (int j = 0; j < n.y; ++j)
+    for (int i = 0; i < n.x; ++i) {
+      const bool updated = (i + j) % 2 == 1 && i >= 1 && i < 6 && j >= 1 && j < 5;
+      if (!updated)
+        ASSERT_EQ(y(i, j), x(i, j)) << i << "," << j;
+      else
+        ASSERT_FLOAT_EQ(y(i, j),
+                        (x0(i, j) + x(i - 1, j) + x(i + 1, j) + x(i, j - 1) + x(i, j + 1)) * 0.25f);
+    }
+}
+
+TEST(FluidKernels, GradientOfLinearPressureAndDivergenceOfLinearFlow) {
+  const Int2 n{10, 10};
+  const float h = 0.1f;
+  FieldF p(n, 1), u(n, 1), v(n, 1), rhs(n, 1);
+  for (int j = -1; j <= n.y; ++j)
+    for (int i = -1; i <= n.x; ++i) {
+      p(i, j) = 3.0f * i * h - 2.0f * j * h;  // grad p = (3, -2)
+      u(i, j) = 0.5f * i * h;                 // div u = 0.5 + 1.5 = 2
+      v(i, j) = 1.5f * j * h;
+    }
+  pressure_rhs(u.view(), v.view(), rhs.view(), rhs.interior(), {h});
+  FieldF u2(n, 1), v2(n, 1);
+  subtract_gradient(p.view(), u2.view(), v2.view(), u2.interior(), {h});
+  for (int j = 0; j < n.y; ++j)
+    for (int i = 0; i < n.x; ++i) {
+      ASSERT_NEAR(rhs(i, j), -h * h * 2.0f, 1e-6f);
+      ASSERT_NEAR(u2(i, j), -3.0f, 1e-4f);
+      ASSERT_NEAR(v2(i, j), 2.0f, 1e-4f);
+    }
+}
+
+TEST(Sources, SplatAndAddScaled) {
+  const Int2 n{21, 21};
+  FieldF f(n, 1), s(n, 1);
+  add_splat(f.view(), f.interior(), {10.0f, 10.0f, 2.0f, 3.0f});
+  EXPECT_FLOAT_EQ(f(10, 10), 3.0f);
+  EXPECT_FLOAT_EQ(f(12, 10), f(10, 8));
+  EXPECT_NEAR(f(12, 10), 3.0f * std::exp(-1.0f), 1e-6f);
+  EXPECT_EQ(f(0, 0), 0.0f);  // beyond 3 radii
+  s.fill(2.0f);
+  add_scaled(s.view(), f.view(), Box2{{0, 0}, {1, 1}}, 0.25f);
+  EXPECT_FLOAT_EQ(f(0, 0), 0.5f);
+  EXPECT_EQ(f(1, 0), 0.0f);
+}
+
+}  // namespace
+}  // namespace ardcell
