@@ -95,9 +95,9 @@ void Dma::wait_all() {
   count_ = 0;
 }
 
-View<float> Dma::local_box(const FieldF& field, const Box2& box, SlotArena& arena) const {
+View<float> Dma::local_box(int field_halo, const Box2& box, SlotArena& arena) const {
   int a0, a1;
-  line_span(box.min.x, box.max.x, field.halo(), a0, a1);
+  line_span(box.min.x, box.max.x, field_halo, a0, a1);
   const std::ptrdiff_t stride = a1 - a0;
   auto* data = reinterpret_cast<float*>(
       arena.allocate(std::size_t(stride) * std::size_t(box.height()) * sizeof(float)));

@@ -47,7 +47,11 @@ class Dma {
   // the box wraps in x the wrapped columns are patched in at once, so this waits for `tag`.
   View<float> get_box_periodic(const FieldF& field, const Box2& box, SlotArena& arena, int tag);
   // A local buffer laid out as get_box would, without fetching (outputs computed in store).
-  View<float> local_box(const FieldF& field, const Box2& box, SlotArena& arena) const;
+  View<float> local_box(const FieldF& field, const Box2& box, SlotArena& arena) const {
+    return local_box(field.halo(), box, arena);
+  }
+  // The same, for a field of halo `field_halo` (scratch buffers that mirror no field).
+  View<float> local_box(int field_halo, const Box2& box, SlotArena& arena) const;
   // Writes `box` of the local copy `local` back into `field`.
   void put_box(View<const float> local, FieldF& field, const Box2& box, int tag);
 

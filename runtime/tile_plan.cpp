@@ -14,6 +14,15 @@ int round_up(int v, int m) { return (v + m - 1) / m * m; }
 }  // namespace
 
 std::size_t TilePlan::slot_bytes_for(Int2 size, const TilePlanRequest& r) {
+  if (!r.buffer_halos.empty()) {
+    std::size_t total = 0;
+    for (int h : r.buffer_halos) {
+      const int reach = std::max(h, r.field_halo);
+      total += std::size_t(size.x + 2 * round_up(reach, kLine)) * sizeof(float) *
+               std::size_t(size.y + 2 * reach);
+    }
+    return total;
+  }
   // A halo buffer spans the core plus `halo` lines' worth on each side, line-widened; a
   // written-box buffer spans the core plus the domain halo. Both rounded to whole lines.
   const int reach = std::max(r.halo, r.field_halo);
@@ -28,7 +37,8 @@ TilePlan TilePlan::make(const TilePlanRequest& r) {
   ARDCELL_CHECK(r.grid.x > 0 && r.grid.y > 0 && r.halo >= 0 && r.field_halo >= 0,
                 "TilePlan needs a non-empty grid and non-negative halos");
   const std::size_t slot = r.store_bytes / LocalStore::kSlots;
-  const int reach = std::max(r.halo, r.field_halo);
+  int reach = std::max(r.halo, r.field_halo);
+  for (int h : r.buffer_halos) reach = std::max(reach, h);
   // Widest row a single DMA transfer may carry.
   const int max_row_cells = int(Dma::kMaxTransferBytes / sizeof(float));
   const int grid_w = round_up(r.grid.x + r.field_halo, kLine);

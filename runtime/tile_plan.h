@@ -24,6 +24,9 @@ struct TilePlanRequest {
   int halo = 1;              // cells read around each core (pass halo, e.g. k for k sweeps)
   int fields_with_halo = 1;  // buffers per tile holding core + halo (inputs, ping-pong)
   int fields_core = 1;       // buffers per tile holding the written box only (outputs)
+  // When not empty: one entry per buffer, the halo it holds around the written box; replaces
+  // fields_with_halo and fields_core (a pass whose buffers have different halos).
+  std::span<const int> buffer_halos;
   std::size_t store_bytes = kDefaultLocalStoreBytes;  // both slots together
   int min_tiles = 1;   // at least this many tiles where the grid allows (load balance)
   int max_width = 0;   // cap on core width in cells (0: none); tests use it to force cuts

@@ -1,0 +1,122 @@
+#pragma once
+// FramePlan: the PPE side of the offload runtime. Built once per scene (as a Taskflow graph is
+// built once and run every frame): an ordered list of passes over the grid, each a fused group
+// of kernels that run on a tile while it sits in a worker's local store, with the barrier
+// between passes. run() then replays it every frame on any Backend without allocating.
+//
+// A pass declares BUFFERS and OPS:
+//   buffer - a local array covering the tile's written box grown by `halo` (runtime/tile_plan.h).
+//            It may be fetched from a field (src), written back to a field (dst, the written
+//            box only), both, or neither (scratch). A `gather` buffer is not copied at all: ops
+//            read the whole src field in main memory (semi-Lagrangian advection, whose reach
+//            depends on the velocity).
+//   op     - kMap: a kernel over the op's region (the tile's core grown by `reach`, clipped to
+//            the interior), then boundary fills of the buffers it wrote;
+//            kJacobi: `sweeps` sweeps ping-ponging between buffers a and b with right-hand side
+//            rhs, each followed by its boundary fill; sweep s computes the core grown by
+//            (sweeps - s), so the last one leaves the core exact (ghost-zone temporal
+//            blocking: bit-for-bit k global sweeps). The result is in a (sweeps even) or b.
+// On the serial back end the same ops run once over whole fields (the reference): each buffer
+// is then a whole field (its dst, or its src when read only, or a scratch field of the plan).
+//
+// Per-pass timings accumulate in fixed arrays (no allocation), printable with print_stats.
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "runtime/backend.h"
+#include "runtime/boundary.h"
+#include "runtime/field.h"
+#include "runtime/tile_plan.h"
+
+namespace ardcell {
+
+// A kernel adapter: buffers[i] is the i-th buffer of the pass (a local copy or a whole field),
+// indexed in global coordinates; region is where it must write.
+using MapKernel = void (*)(const void* params, std::span<const View<float>> buffers, Box2 region);
+// One Jacobi sweep: out = f(x, rhs) over region (reads x with halo 1, rhs with halo 0).
+using SweepKernel = void (*)(const void* params, View<const float> x, View<const float> rhs,
+                             View<float> out, Box2 region);
+
+struct PassBufferDesc {
+  const FieldF* src = nullptr;  // fetched from here (null: not fetched)
+  FieldF* dst = nullptr;        // written box put here (null: not written back)
+  int halo = 0;                 // cells around the written box held in store
+  bool gather = false;          // read src in place (whole field), no copy
+};
+
+struct PassOpDesc {
+  enum class Kind : uint8_t { kMap, kJacobi };
+  Kind kind = Kind::kMap;
+  const void* params = nullptr;
+  // kMap
+  MapKernel map = nullptr;
+  int reach = 0;
+  std::array<int8_t, 4> writes{-1, -1, -1, -1};        // buffers the kernel writes
+  std::array<int8_t, 4> fill_buffers{-1, -1, -1, -1};  // buffers refilled after the op
+  std::array<BoundaryFill, 4> fills{};
+  // kJacobi
+  SweepKernel sweep = nullptr;
+  int8_t a = -1, b = -1, rhs = -1;
+  int sweeps = 1;
+  BoundaryFill fill{};
+};
+
+struct PassDesc {
+  std::string name;
+  std::vector<PassBufferDesc> buffers;
+  std::vector<PassOpDesc> ops;
+  bool barrier_after = true;
+};
+
+struct FramePlanOptions {
+  Int2 grid{};
+  int field_halo = 1;
+  std::size_t local_store_bytes = kDefaultLocalStoreBytes;
+  int workers = 1;         // tiles are cut so that each worker gets several
+  int max_tile_width = 0;  // caps for tests (0: as large as the store allows)
+  int max_tile_height = 0;
+};
+
+class FramePlan {
+ public:
+  static constexpr int kMaxPasses = 256;
+  static constexpr int kMaxBuffers = 16;
+
+  explicit FramePlan(const FramePlanOptions& options);
+  ~FramePlan();
+  FramePlan(const FramePlan&) = delete;
+  FramePlan& operator=(const FramePlan&) = delete;
+
+  // Adds a pass at the end of the frame; returns its index. Checks the description (buffer
+  // indices, halos large enough for the ops' reach) and cuts its tiles.
+  int add_pass(PassDesc desc);
+  // Runs every pass in order on `backend` (one frame). No allocation.
+  void run(Backend& backend);
+
+  int pass_count() const { return int(passes_.size()); }
+  const Pass& pass(int i) const;
+  const TilePlan& tiles(int i) const;
+  std::string_view pass_name(int i) const;
+
+  // Timings: seconds spent in each pass over all run() calls, and the number of runs.
+  double pass_seconds(int i) const { return double(pass_ns_[std::size_t(i)]) * 1e-9; }
+  std::int64_t runs() const { return runs_; }
+  void reset_stats();
+  // One line per pass: name, tiles, halo, sweeps, mean ms per frame, share of the frame.
+  void print_stats(std::FILE* out) const;
+
+ private:
+  struct PassProgram;
+  FramePlanOptions options_;
+  std::vector<std::unique_ptr<PassProgram>> passes_;
+  std::array<std::int64_t, kMaxPasses> pass_ns_{};
+  std::int64_t runs_ = 0;
+};
+
+}  // namespace ardcell
