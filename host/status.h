@@ -1,0 +1,26 @@
+#pragma once
+// Status: success, or one line that says what was wrong and what was expected. Bad input (CLI
+// arguments, files, saved states) is reported through it, never by a crash.
+#include <string>
+#include <utility>
+
+namespace ardcell {
+
+class [[nodiscard]] Status {
+ public:
+  static Status ok() { return Status(); }
+  static Status error(std::string message) { return Status(std::move(message)); }
+
+  bool is_ok() const { return message_.empty(); }
+  explicit operator bool() const { return is_ok(); }
+  // The one-line description of the failure; empty on success.
+  const std::string& message() const { return message_; }
+
+ private:
+  Status() = default;
+  explicit Status(std::string m)
+      : message_(m.empty() ? std::string("unknown error") : std::move(m)) {}
+  std::string message_;
+};
+
+}  // namespace ardcell
