@@ -1,0 +1,62 @@
+#pragma once
+// One reaction-diffusion frame on a SimState, in the paper's order (seed 000, section 5):
+//   implicit reaction (Eqn 6, Newton per cell or the precomputed table)
+//   -> implicit anisotropic diffusion of A and B (Eqn 19; Eqn 13 when isotropic)
+//   -> semi-Lagrangian advection of A and B by the fluid velocity (Eqn 20), when the scene has
+//      a fluid (u, v allocated) and rd.advect is on.
+// The explicit schemes (RdScheme::kExplicit5/9) replace the first two stages by forward Euler.
+// rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
+// Nothing is allocated in step() once constructed.
+#include <memory>
+#include <string>
+
+#include "host/scene_config.h"
+#include "host/sim_state.h"
+#include "kernels/aniso_diffusion.h"
+#include "kernels/reaction_table.h"
+
+namespace ardcell {
+
+// One line naming the first bad RD parameter of the scene, or "" when it can run.
+std::string rd_config_problem(const SceneConfig& scene);
+
+struct RdStepStats {
+  int diffusion_iterations_a = 0, diffusion_iterations_b = 0;
+  double diffusion_residual_a = 0, diffusion_residual_b = 0;
+};
+
+class RdStepper {
+ public:
+  // Throws std::invalid_argument with rd_config_problem()'s line on a bad configuration.
+  explicit RdStepper(const SceneConfig& scene);
+  ~RdStepper();
+
+  // Allocates A, B (and theta0 when absent: filled with rd.anisotropy.theta0) with halo 1 and
+  // writes the initial pattern. Deterministic for a given rd.seed.
+  void init_state(SimState& s) const;
+
+  // One frame. A, B must be allocated (init_state); u, v are used when allocated.
+  void step(SimState& s);
+
+  const RdStepStats& stats() const { return stats_; }
+  double rd_dt() const { return dt_; }
+  double rd_h() const { return h_; }
+
+ private:
+  void fill_chemical_ghosts(SimState& s);
+  void react(SimState& s);
+  void diffuse(SimState& s);
+  void explicit_step(SimState& s);
+  void advect(SimState& s);
+
+  SceneConfig scene_;
+  RdConfig rd_;
+  double dt_, h_;
+  std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
+  ReactionTable table_;
+  FieldF conductivity_, scratch_a_, scratch_b_;
+  std::vector<float> row_scratch_;
+  RdStepStats stats_;
+};
+
+}  // namespace ardcell
