@@ -85,6 +85,9 @@ class FrameClock {
   // Nanoseconds left before the current frame's deadline (negative when already late);
   // adaptive quality uses it to act before a miss.
   int64_t slack_ns();
+  // When the current frame began, and the time spent in it so far.
+  int64_t frame_begin_ns() const { return frame_begin_ns_; }
+  int64_t elapsed_in_frame_ns() { return time_.now_ns() - frame_begin_ns_; }
   // Work time of the last finished frame.
   int64_t last_work_ns() const { return last_work_ns_; }
 
