@@ -8,6 +8,10 @@
 // __local buffers are the local store, split in two slots. async_work_group_copy is the DMA: the
 // rows of tile t+groups stream into one slot while tile t computes from the other, and
 // wait_group_events is the tag wait. Results are written straight to global memory (the put).
+// No contraction of a * b + c into fma: the C++ twins are compiled without it (ISO C++20 mode),
+// so both round every product and sum the same way.
+#pragma OPENCL FP_CONTRACT OFF
+
 #if defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 typedef double real;
@@ -64,3 +68,22 @@ inline event_t fetch_box(__local float* dst, __global const float* f, int stride
 // Index of global cell (x, y) in a local copy of box b.
 inline int local_index(box_t b, int x, int y) { return (y - b.y0) * box_w(b) + (x - b.x0); }
 inline int global_index(int stride, int origin, int x, int y) { return origin + y * stride + x; }
+
+// Issues the gets of tile t of `region` (cores tw x th, read box = core grown by `halo`, clipped
+// to `lim`) for up to three fields into slot `slot` of lbuf: field i lands at
+// lbuf + slot * slot_floats + i * field_floats, row pitch = the read box's width.
+// Nothing is issued when t >= nt (the event is then not waited on).
+inline event_t spe_get(int t, int nt, box_t region, int tw, int th, int halo, box_t lim,
+                       __local float* lbuf, int slot_floats, int field_floats, int slot, int nf,
+                       __global const float* f0, __global const float* f1,
+                       __global const float* f2, int stride, int origin) {
+  event_t ev = 0;
+  if (t < nt) {
+    const box_t rd = box_grow_clip(tile_core(t, region, tw, th), halo, lim);
+    __local float* d = lbuf + slot * slot_floats;
+    ev = fetch_box(d, f0, stride, origin, rd, ev);
+    if (nf > 1) ev = fetch_box(d + field_floats, f1, stride, origin, rd, ev);
+    if (nf > 2) ev = fetch_box(d + 2 * field_floats, f2, stride, origin, rd, ev);
+  }
+  return ev;
+}

@@ -2,6 +2,7 @@
 #include "kernels/cl/opencl_kernels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -95,8 +96,149 @@ void OpenClKernels::reaction_implicit(const DeviceField& a, const DeviceField& b
                   region.min.x, region.min.y, region.max.x, region.max.y, tw, th, int(p.model),
                   q[0], q[1], q[2], q[3], q[4], clamp_box, dt,
                   LocalBytes{std::size_t(4 * tw * th) * sizeof(float)});
-  const std::size_t groups = groups_for(tiles_of(region, tw, th));
+  enqueue_tiled(k, region);
+}
+
+void OpenClKernels::enqueue_tiled(cl_kernel k, Box2 region) {
+  const std::size_t groups = groups_for(tiles_of(region, tiling_.tile_w, tiling_.tile_h));
   ctx_.enqueue(k, groups * std::size_t(tiling_.work_group), std::size_t(tiling_.work_group));
+}
+
+void OpenClKernels::enqueue_cells(cl_kernel k, Box2 region) {
+  // A fixed work-group shape: drivers that specialise code per work-group size (PoCL) compile
+  // each kernel once, not once per region size. The kernels skip the cells past the region.
+  const std::size_t local[2] = {32, 4};
+  const std::size_t global[2] = {(std::size_t(region.width()) + 31) / 32 * 32,
+                                 (std::size_t(region.height()) + 3) / 4 * 4};
+  opencl_check(
+      clEnqueueNDRangeKernel(ctx_.queue(), k, 2, nullptr, global, local, 0, nullptr, nullptr),
+      "clEnqueueNDRangeKernel");
+}
+
+namespace {
+cl_int4 box4(Box2 b) { return {{b.min.x, b.min.y, b.max.x, b.max.y}}; }
+}  // namespace
+
+void OpenClKernels::fill_boundary(DeviceField& f, const BoundaryFill& fill) {
+  const cl_int4 rules = {
+      {int(fill.left.rule), int(fill.right.rule), int(fill.bottom.rule), int(fill.top.rule)}};
+  const cl_float4 values = {{fill.left.value, fill.right.value, fill.bottom.value, fill.top.value}};
+  const int nx = f.size.x, ny = f.size.y;
+  if (nx <= 0 || ny <= 0) return;
+  cl_kernel edges = kernel("fill_edges");
+  set_kernel_args(edges, f.buffer, f.stride, f.origin, nx, ny, rules, values);
+  ctx_.enqueue(edges, std::size_t((std::max(nx, ny) + 63) / 64 * 64), 64);
+  cl_kernel corners = kernel("fill_corners");
+  set_kernel_args(corners, f.buffer, f.stride, f.origin, nx, ny, rules);
+  ctx_.enqueue(corners, 1, 1);
+}
+
+void OpenClKernels::stam_jacobi_sweep(const DeviceField& x0, const DeviceField& x_in,
+                                      DeviceField& x_out, Box2 region, const StamSweepParams& p) {
+  check_same_layout(x0, x_in);
+  check_same_layout(x0, x_out);
+  ARDCELL_CHECK(x_in.buffer.get() != x_out.buffer.get(), "Jacobi sweep: x_out aliases x_in");
+  if (region.empty()) return;
+  const int tw = tiling_.tile_w, th = tiling_.tile_h;
+  cl_kernel k = kernel("stam_jacobi");
+  set_kernel_args(k, x0.buffer, x_in.buffer, x_out.buffer, x0.stride, x0.origin, box4(region), tw,
+                  th, box4(x0.with_halo()), p.a, p.inv_c,
+                  LocalBytes{std::size_t(4 * (tw + 2) * (th + 2)) * sizeof(float)});
+  enqueue_tiled(k, region);
+}
+
+void OpenClKernels::stam_rbgs_half_sweep(const DeviceField& x0, DeviceField& x, Box2 region,
+                                         int color, const StamSweepParams& p) {
+  check_same_layout(x0, x);
+  if (region.empty()) return;
+  const int tw = tiling_.tile_w, th = tiling_.tile_h;
+  cl_kernel k = kernel("stam_rbgs_half");
+  set_kernel_args(k, x0.buffer, x.buffer, x0.stride, x0.origin, box4(region), tw, th,
+                  box4(x0.with_halo()), color, p.a, p.inv_c,
+                  LocalBytes{std::size_t(4 * (tw + 2) * (th + 2)) * sizeof(float)});
+  enqueue_tiled(k, region);
+}
+
+void OpenClKernels::pressure_rhs(const DeviceField& u, const DeviceField& v, DeviceField& rhs,
+                                 Box2 region, const ProjectParams& p) {
+  check_same_layout(u, v);
+  check_same_layout(u, rhs);
+  if (region.empty()) return;
+  const int tw = tiling_.tile_w, th = tiling_.tile_h;
+  const float k = -0.5f * p.h;
+  cl_kernel kk = kernel("pressure_rhs");
+  set_kernel_args(kk, u.buffer, v.buffer, rhs.buffer, u.stride, u.origin, box4(region), tw, th,
+                  box4(u.with_halo()), k,
+                  LocalBytes{std::size_t(4 * (tw + 2) * (th + 2)) * sizeof(float)});
+  enqueue_tiled(kk, region);
+}
+
+void OpenClKernels::subtract_gradient(const DeviceField& p, DeviceField& u, DeviceField& v,
+                                      Box2 region, const ProjectParams& params) {
+  check_same_layout(p, u);
+  check_same_layout(p, v);
+  if (region.empty()) return;
+  const int tw = tiling_.tile_w, th = tiling_.tile_h;
+  const float k = 0.5f / params.h;
+  cl_kernel kk = kernel("subtract_gradient");
+  set_kernel_args(kk, p.buffer, u.buffer, v.buffer, p.stride, p.origin, box4(region), tw, th,
+                  box4(p.with_halo()), k,
+                  LocalBytes{std::size_t(2 * (tw + 2) * (th + 2)) * sizeof(float)});
+  enqueue_tiled(kk, region);
+}
+
+void OpenClKernels::advect_scalar(const DeviceField& q0, const DeviceField& u, const DeviceField& v,
+                                  DeviceField& q, Box2 region, const AdvectParams& p) {
+  check_same_layout(q0, u);
+  check_same_layout(q0, v);
+  check_same_layout(q0, q);
+  ARDCELL_CHECK(q.buffer.get() != q0.buffer.get(), "advect: q aliases q0");
+  if (region.empty()) return;
+  const Box2 view = q0.with_halo();
+  ARDCELL_CHECK(view.width() >= 2 && view.height() >= 2, "advect: source view too small");
+  cl_kernel k = kernel("advect_scalar");
+  const cl_int2 domain = {{p.domain.x, p.domain.y}};
+  set_kernel_args(k, q0.buffer, u.buffer, v.buffer, q.buffer, q0.stride, q0.origin, box4(region),
+                  box4(view), domain, int(p.periodic), p.dt_over_h);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::advect_velocity(const DeviceField& u0, const DeviceField& v0, DeviceField& u,
+                                    DeviceField& v, Box2 region, const AdvectParams& p) {
+  check_same_layout(u0, v0);
+  check_same_layout(u0, u);
+  check_same_layout(u0, v);
+  ARDCELL_CHECK(u.buffer.get() != u0.buffer.get() && v.buffer.get() != v0.buffer.get(),
+                "advect: outputs alias inputs");
+  if (region.empty()) return;
+  const Box2 view = u0.with_halo();
+  cl_kernel k = kernel("advect_velocity");
+  const cl_int2 domain = {{p.domain.x, p.domain.y}};
+  set_kernel_args(k, u0.buffer, v0.buffer, u.buffer, v.buffer, u0.stride, u0.origin, box4(region),
+                  box4(view), domain, int(p.periodic), p.dt_over_h);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::add_scaled(const DeviceField& s, DeviceField& x, Box2 region, float scale) {
+  check_same_layout(s, x);
+  if (region.empty()) return;
+  cl_kernel k = kernel("add_scaled");
+  set_kernel_args(k, s.buffer, x.buffer, s.stride, s.origin, box4(region), scale);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::add_splat(DeviceField& f, Box2 region, const SplatParams& splat) {
+  if (!(splat.radius > 0.0f)) return;
+  const float reach = 3.0f * splat.radius;
+  const Box2 near{{int(std::floor(splat.cx - reach)), int(std::floor(splat.cy - reach))},
+                  {int(std::ceil(splat.cx + reach)) + 1, int(std::ceil(splat.cy + reach)) + 1}};
+  const Box2 r = region.intersected(near);
+  if (r.empty()) return;
+  const float inv_r2 = 1.0f / (splat.radius * splat.radius);
+  cl_kernel k = kernel("add_splat");
+  set_kernel_args(k, f.buffer, f.stride, f.origin, box4(r), splat.cx, splat.cy, inv_r2,
+                  splat.amount);
+  enqueue_cells(k, r);
 }
 
 }  // namespace ardcell

@@ -9,7 +9,12 @@
 #include <memory>
 #include <string>
 
+#include "kernels/advect.h"
+#include "kernels/project.h"
 #include "kernels/reaction.h"
+#include "kernels/sources.h"
+#include "kernels/stam_sweeps.h"
+#include "runtime/boundary.h"
 #include "runtime/opencl/opencl_context.h"
 
 namespace ardcell {
@@ -44,11 +49,36 @@ class OpenClKernels {
   void reaction_implicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                          DeviceField& b_out, Box2 region, const ReactionParams& p, float dt);
 
+  // Twin of fill_boundary on a whole field: the ghost ring of the domain (f.size).
+  void fill_boundary(DeviceField& f, const BoundaryFill& fill);
+  // Twins of kernels/stam_sweeps.h (x_out must differ from x_in).
+  void stam_jacobi_sweep(const DeviceField& x0, const DeviceField& x_in, DeviceField& x_out,
+                         Box2 region, const StamSweepParams& p);
+  void stam_rbgs_half_sweep(const DeviceField& x0, DeviceField& x, Box2 region, int color,
+                            const StamSweepParams& p);
+  // Twins of kernels/project.h.
+  void pressure_rhs(const DeviceField& u, const DeviceField& v, DeviceField& rhs, Box2 region,
+                    const ProjectParams& p);
+  void subtract_gradient(const DeviceField& p, DeviceField& u, DeviceField& v, Box2 region,
+                         const ProjectParams& params);
+  // Twins of kernels/advect.h (q0 read over its whole allocation, as a whole-field View).
+  void advect_scalar(const DeviceField& q0, const DeviceField& u, const DeviceField& v,
+                     DeviceField& q, Box2 region, const AdvectParams& p);
+  void advect_velocity(const DeviceField& u0, const DeviceField& v0, DeviceField& u, DeviceField& v,
+                       Box2 region, const AdvectParams& p);
+  // Twins of kernels/sources.h.
+  void add_scaled(const DeviceField& s, DeviceField& x, Box2 region, float scale);
+  void add_splat(DeviceField& f, Box2 region, const SplatParams& splat);
+
  private:
   OpenClKernels(OpenClContext& ctx, cl_program program) : ctx_(ctx), program_(program) {}
   // Work-groups for `tiles` tiles, and the global size.
   std::size_t groups_for(int tiles) const;
   void check_same_layout(const DeviceField& a, const DeviceField& b) const;
+  // A tiled launch: persistent work-groups walk the region's tiles (common.cl).
+  void enqueue_tiled(cl_kernel k, Box2 region);
+  // One work-item per cell of region (2D), for gathers and halo-0 kernels.
+  void enqueue_cells(cl_kernel k, Box2 region);
 
   OpenClContext& ctx_;
   cl_program program_;

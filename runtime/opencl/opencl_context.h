@@ -153,8 +153,11 @@ inline void set_one_arg(cl_kernel k, cl_uint& i, const OpenClBuffer& b) {
   cl_mem m = b.get();
   opencl_check(clSetKernelArg(k, i++, sizeof(cl_mem), &m), "clSetKernelArg(buffer)");
 }
-inline void set_one_arg(cl_kernel k, cl_uint& i, const cl_float4& v) {
-  opencl_check(clSetKernelArg(k, i++, sizeof(cl_float4), &v), "clSetKernelArg(float4)");
+// OpenCL vector types (cl_float4, cl_int4, cl_int2) by value.
+template <class T>
+requires(std::is_same_v<T, cl_float4> || std::is_same_v<T, cl_int4> ||
+         std::is_same_v<T, cl_int2>) void set_one_arg(cl_kernel k, cl_uint& i, const T& v) {
+  opencl_check(clSetKernelArg(k, i++, sizeof(T), &v), "clSetKernelArg(vector)");
 }
 // __local scratch of n bytes.
 struct LocalBytes {

@@ -12,8 +12,13 @@
 #include <random>
 #include <string>
 
+#include "kernels/advect.h"
 #include "kernels/cl/opencl_kernels.h"
+#include "kernels/project.h"
 #include "kernels/reaction.h"
+#include "kernels/sources.h"
+#include "kernels/stam_sweeps.h"
+#include "runtime/boundary.h"
 
 namespace ardcell {
 namespace {
@@ -41,6 +46,15 @@ void fill_random(FieldF& f, float lo, float hi, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> d(lo, hi);
   for (std::size_t i = 0; i < f.raw_size(); ++i) f.raw()[i] = d(rng);
+}
+
+// mean + amplitude * sin(2 pi (x / nx + phase)) cos(2 pi (y / ny) + phase), halo included.
+void fill_smooth(FieldF& f, float mean, float amplitude, float phase) {
+  const double two_pi = 6.283185307179586;
+  for (int y = -f.halo(); y < f.ny() + f.halo(); ++y)
+    for (int x = -f.halo(); x < f.nx() + f.halo(); ++x)
+      f(x, y) = float(mean + amplitude * std::sin(two_pi * (double(x) / f.nx() + phase)) *
+                                 std::cos(two_pi * double(y) / f.ny() + phase));
 }
 
 // Normwise relative max-norm error over `region`; also checks every cell outside it is
@@ -129,6 +143,183 @@ TEST(ClParity, ParameterChangesAreArgumentsNotRebuilds) {
   d.ctx->finish();
   EXPECT_EQ(OpenClKernels::create(*d.ctx, nullptr) != nullptr, true);
   EXPECT_EQ(d.ctx->build_count(), builds);
+}
+
+// ---- Fluid kernels and boundary fills -------------------------------------------------------
+
+const Int2 kSizes[] = {{37, 23}, {129, 65}, {5, 3}};
+
+std::vector<Box2> regions_of(Int2 size) {
+  return {box_of_size(size), Box2{{1, size.y / 3}, {size.x - 1, size.y}}};
+}
+
+// Runs `body` with big tiles (a few per work-group) and with small ones (many per work-group,
+// so the double-buffered walk and partial edge tiles are exercised).
+template <class Body>
+void for_each_tiling(OpenClKernels& cl, Body&& body) {
+  const ClTiling saved = cl.tiling();
+  for (ClTiling t : {ClTiling{64, 16, 64, 4}, ClTiling{8, 4, 64, 1}}) {
+    cl.tiling() = t;
+    SCOPED_TRACE(::testing::Message() << "tile " << t.tile_w << "x" << t.tile_h);
+    body();
+  }
+  cl.tiling() = saved;
+}
+
+struct Dev {
+  OpenClContext& ctx;
+  DeviceField up(const FieldF& f) {
+    DeviceField d = ctx.allocate_like(f);
+    ctx.upload(f, d);
+    return d;
+  }
+  FieldF down(const DeviceField& d) {
+    FieldF f(d.size, d.halo);
+    ctx.download(d, f);
+    return f;
+  }
+};
+
+std::vector<std::pair<const char*, BoundaryFill>> every_boundary() {
+  BoundaryFill mixed = BoundaryFill::copy();
+  mixed.left = mixed.right = {EdgeRule::kPeriodic, 0.0f};
+  mixed.top = {EdgeRule::kFixed, 0.7f};
+  return {{"copy", BoundaryFill::copy()},
+          {"fixed", BoundaryFill::fixed(0.25f)},
+          {"stam-u", BoundaryFill::stam(1)},
+          {"stam-v", BoundaryFill::stam(2)},
+          {"lid", BoundaryFill::no_slip(1.0f)},
+          {"periodic", BoundaryFill::periodic()},
+          {"periodic-x", mixed}};
+}
+
+TEST(ClParity, BoundaryFillEveryKind) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (Int2 size : kSizes)
+    for (const auto& [name, fill] : every_boundary()) {
+      SCOPED_TRACE(name);
+      FieldF f(size, 1);
+      fill_random(f, -1, 1, 5);
+      FieldF ref = f;
+      fill_boundary(ref.view(), size, fill);
+      DeviceField df = dev.up(f);
+      d.cl->fill_boundary(df, fill);
+      const FieldF got = dev.down(df);
+      // Copies and averages: bit-for-bit.
+      for (std::size_t i = 0; i < f.raw_size(); ++i) ASSERT_EQ(got.raw()[i], ref.raw()[i]) << i;
+    }
+}
+
+TEST(ClParity, StamJacobiAndRedBlackSweeps) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  const StamSweepParams p{0.37f, 1.0f / (1.0f + 4.0f * 0.37f)};
+  for_each_tiling(*d.cl, [&] {
+    for (Int2 size : kSizes)
+      for (const Box2& region : regions_of(size)) {
+        FieldF x0(size, 1), x(size, 1), out(size, 1);
+        fill_random(x0, -1, 1, 6);
+        fill_random(x, -1, 1, 7);
+        fill_random(out, -1, 1, 8);
+        FieldF ref = out;
+        stam_jacobi_sweep(x0.view(), x.view(), ref.view(), region, p);
+        DeviceField dx0 = dev.up(x0), dx = dev.up(x), dout = dev.up(out);
+        d.cl->stam_jacobi_sweep(dx0, dx, dout, region, p);
+        EXPECT_LE(relative_error(dev.down(dout), ref, out, region), kTolerance) << size << region;
+
+        for (int color : {0, 1}) {
+          FieldF rb = x;
+          stam_rbgs_half_sweep(x0.view(), rb.view(), region, color, p);
+          DeviceField drb = dev.up(x);
+          d.cl->stam_rbgs_half_sweep(dx0, drb, region, color, p);
+          EXPECT_LE(relative_error(dev.down(drb), rb, x, region), kTolerance) << color;
+        }
+      }
+  });
+}
+
+TEST(ClParity, DivergenceAndGradient) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  const ProjectParams p{1.0f / 37.0f};
+  for_each_tiling(*d.cl, [&] {
+    for (Int2 size : kSizes)
+      for (const Box2& region : regions_of(size)) {
+        FieldF u(size, 1), v(size, 1), rhs(size, 1), pr(size, 1);
+        fill_random(u, -1, 1, 9);
+        fill_random(v, -1, 1, 10);
+        fill_random(rhs, -1, 1, 11);
+        fill_random(pr, -1, 1, 12);
+        FieldF rhs_ref = rhs;
+        pressure_rhs(u.view(), v.view(), rhs_ref.view(), region, p);
+        DeviceField du = dev.up(u), dv = dev.up(v), drhs = dev.up(rhs), dp = dev.up(pr);
+        d.cl->pressure_rhs(du, dv, drhs, region, p);
+        EXPECT_LE(relative_error(dev.down(drhs), rhs_ref, rhs, region), kTolerance);
+
+        FieldF u_ref = u, v_ref = v;
+        subtract_gradient(pr.view(), u_ref.view(), v_ref.view(), region, p);
+        d.cl->subtract_gradient(dp, du, dv, region, p);
+        EXPECT_LE(relative_error(dev.down(du), u_ref, u, region), kTolerance);
+        EXPECT_LE(relative_error(dev.down(dv), v_ref, v, region), kTolerance);
+      }
+  });
+}
+
+TEST(ClParity, AdvectionWallsAndPeriodic) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (Int2 size : kSizes)
+    for (const Box2& region : regions_of(size))
+      for (bool periodic : {false, true}) {
+        // Velocities of a few cells per step, so back-traces cross walls and wrap. Smooth
+        // fields, as a flow carries: on white noise a one-ulp change of the back-traced point
+        // (an fma the C++ compiler may contract) moves the result by ulp * |grad q|, which
+        // noise makes arbitrarily large.
+        const AdvectParams p{2.5f, size, periodic};
+        FieldF q0(size, 1), u(size, 1), v(size, 1), q(size, 1);
+        fill_smooth(q0, 0.5f, 0.4f, 1.0f);
+        fill_smooth(u, 0.0f, 3.0f, 2.0f);
+        fill_smooth(v, 0.0f, 3.0f, 3.0f);
+        fill_random(q, 0, 1, 16);
+        FieldF q_ref = q;
+        advect_scalar(q0.view(), u.view(), v.view(), q_ref.view(), region, p);
+        DeviceField dq0 = dev.up(q0), du = dev.up(u), dv = dev.up(v), dq = dev.up(q);
+        d.cl->advect_scalar(dq0, du, dv, dq, region, p);
+        EXPECT_LE(relative_error(dev.down(dq), q_ref, q, region), kTolerance) << periodic;
+
+        FieldF uo(size, 1), vo(size, 1);
+        FieldF uo_ref = uo, vo_ref = vo;
+        advect_velocity(u.view(), v.view(), uo_ref.view(), vo_ref.view(), region, p);
+        DeviceField duo = dev.up(uo), dvo = dev.up(vo);
+        d.cl->advect_velocity(du, dv, duo, dvo, region, p);
+        EXPECT_LE(relative_error(dev.down(duo), uo_ref, uo, region), kTolerance);
+        EXPECT_LE(relative_error(dev.down(dvo), vo_ref, vo, region), kTolerance);
+      }
+}
+
+TEST(ClParity, SourcesAndSplats) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (Int2 size : kSizes)
+    for (const Box2& region : regions_of(size)) {
+      FieldF s(size, 1), x(size, 1);
+      fill_random(s, -1, 1, 17);
+      fill_random(x, -1, 1, 18);
+      FieldF x_ref = x;
+      add_scaled(s.view(), x_ref.view(), region, 0.125f);
+      const SplatParams splat{float(size.x) * 0.4f, float(size.y) * 0.6f, 3.5f, 2.0f};
+      add_splat(x_ref.view(), region, splat);
+      DeviceField ds = dev.up(s), dx = dev.up(x);
+      d.cl->add_scaled(ds, dx, region, 0.125f);
+      d.cl->add_splat(dx, region, splat);
+      EXPECT_LE(relative_error(dev.down(dx), x_ref, x, region), kTolerance) << size << region;
+    }
 }
 
 }  // namespace

@@ -1,0 +1,284 @@
+// Twins of the fluid tile kernels (Stam 1999): kernels/stam_sweeps.h (Jacobi sweep, red-black
+// half sweep; reads x with halo 1), kernels/project.h (pressure right-hand side and gradient
+// subtraction; halo 1), kernels/advect.h (semi-Lagrangian back-trace, Eqn 20; a gather from
+// global memory, as the frame plan's gather buffers), kernels/sources.h (halo 0), and
+// runtime/boundary.h's fill_boundary (edges, then corners). Arithmetic in the C++ order.
+
+// ---- Boundary fills (runtime/boundary.h). rules: 0 copy, 1 fixed, 2 mirror, 3 periodic;
+// .s0 left (x = -1), .s1 right (x = nx), .s2 bottom (y = -1), .s3 top (y = ny).
+inline float ghost_value(int rule, float value, float inner, float wrapped) {
+  switch (rule) {
+    case 0: return inner;
+    case 1: return value;
+    case 2: return 2.0f * value - inner;
+    default: return wrapped;
+  }
+}
+
+// Edges: work-item i fills row i of both ghost columns and column i of both ghost rows.
+__kernel void fill_edges(__global float* f, int stride, int origin, int nx, int ny, int4 rules,
+                         float4 values) {
+  const int i = get_global_id(0);
+  __global float* c = f + origin;
+  if (i < ny) {
+    __global float* r = c + i * stride;
+    r[-1] = ghost_value(rules.s0, values.s0, r[0], r[nx - 1]);
+    r[nx] = ghost_value(rules.s1, values.s1, r[nx - 1], r[0]);
+  }
+  if (i < nx) {
+    c[-stride + i] = ghost_value(rules.s2, values.s2, c[i], c[(ny - 1) * stride + i]);
+    c[ny * stride + i] =
+        ghost_value(rules.s3, values.s3, c[(ny - 1) * stride + i], c[i]);
+  }
+}
+
+// Corners, after the edges: the mean of their two edge neighbours, or the wrap when both axes
+// are periodic (the ghost rows are wrapped too).
+__kernel void fill_corners(__global float* f, int stride, int origin, int nx, int ny,
+                           int4 rules) {
+  if (get_global_id(0) != 0) return;
+  __global float* c = f + origin;
+#define CELL(x, y) c[(y) * stride + (x)]
+  if (rules.s0 == 3 && rules.s1 == 3 && rules.s2 == 3 && rules.s3 == 3) {
+    CELL(-1, -1) = CELL(nx - 1, -1);
+    CELL(-1, ny) = CELL(nx - 1, ny);
+    CELL(nx, -1) = CELL(0, -1);
+    CELL(nx, ny) = CELL(0, ny);
+  } else {
+    CELL(-1, -1) = 0.5f * (CELL(0, -1) + CELL(-1, 0));
+    CELL(nx, -1) = 0.5f * (CELL(nx - 1, -1) + CELL(nx, 0));
+    CELL(-1, ny) = 0.5f * (CELL(0, ny) + CELL(-1, ny - 1));
+    CELL(nx, ny) = 0.5f * (CELL(nx - 1, ny) + CELL(nx, ny - 1));
+  }
+#undef CELL
+}
+
+// ---- Tiled stencil kernels: SPE-style walk (common.cl). lim is the fields' interior + halo box.
+
+// Stam's Jacobi sweep: out = (x0 + a (x(-1,0) + x(+1,0) + x(0,-1) + x(0,+1))) * inv_c.
+// lbuf: 2 slots x 2 fields x (tw + 2) (th + 2) floats.
+__kernel void stam_jacobi(__global const float* x0, __global const float* x_in,
+                          __global float* x_out, int stride, int origin, int4 reg, int tw, int th,
+                          int4 lim4, float a, float inv_c, __local float* lbuf) {
+  const box_t region = make_box(reg.s0, reg.s1, reg.s2, reg.s3);
+  const box_t lim = make_box(lim4.s0, lim4.s1, lim4.s2, lim4.s3);
+  const int nt = tile_count(region, tw, th);
+  const int G = get_num_groups(0), lid = get_local_id(0), ls = get_local_size(0);
+  const int ff = (tw + 2) * (th + 2), sf = 2 * ff;
+  int t = get_group_id(0);
+  event_t cur = spe_get(t, nt, region, tw, th, 1, lim, lbuf, sf, ff, 0, 2, x_in, x0, x0, stride,
+                        origin);
+  for (int i = 0; t < nt; t += G, ++i) {
+    const int s = i & 1;
+    event_t next = spe_get(t + G, nt, region, tw, th, 1, lim, lbuf, sf, ff, s ^ 1, 2, x_in, x0,
+                           x0, stride, origin);
+    wait_group_events(1, &cur);
+    const box_t c = tile_core(t, region, tw, th);
+    const box_t rd = box_grow_clip(c, 1, lim);
+    __local const float* X = lbuf + s * sf;
+    __local const float* B = X + ff;
+    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
+    for (int j = lid; j < n; j += ls) {
+      const int x = c.x0 + j % w, y = c.y0 + j / w;
+      const int l = local_index(rd, x, y);
+      x_out[global_index(stride, origin, x, y)] =
+          (B[l] + a * (X[l - 1] + X[l + 1] + X[l - p] + X[l + p])) * inv_c;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    cur = next;
+  }
+}
+
+// Half a red-black Gauss-Seidel sweep in place: cells with (x + y) % 2 == color. The cells read
+// are of the other colour, which this half never writes, so tiles are independent.
+__kernel void stam_rbgs_half(__global const float* x0, __global float* x, int stride, int origin,
+                             int4 reg, int tw, int th, int4 lim4, int color, float a,
+                             float inv_c, __local float* lbuf) {
+  const box_t region = make_box(reg.s0, reg.s1, reg.s2, reg.s3);
+  const box_t lim = make_box(lim4.s0, lim4.s1, lim4.s2, lim4.s3);
+  const int nt = tile_count(region, tw, th);
+  const int G = get_num_groups(0), lid = get_local_id(0), ls = get_local_size(0);
+  const int ff = (tw + 2) * (th + 2), sf = 2 * ff;
+  int t = get_group_id(0);
+  event_t cur =
+      spe_get(t, nt, region, tw, th, 1, lim, lbuf, sf, ff, 0, 2, x, x0, x0, stride, origin);
+  for (int i = 0; t < nt; t += G, ++i) {
+    const int s = i & 1;
+    event_t next = spe_get(t + G, nt, region, tw, th, 1, lim, lbuf, sf, ff, s ^ 1, 2, x, x0, x0,
+                           stride, origin);
+    wait_group_events(1, &cur);
+    const box_t c = tile_core(t, region, tw, th);
+    const box_t rd = box_grow_clip(c, 1, lim);
+    __local const float* X = lbuf + s * sf;
+    __local const float* B = X + ff;
+    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
+    for (int j = lid; j < n; j += ls) {
+      const int xx = c.x0 + j % w, y = c.y0 + j / w;
+      if (((xx + y) & 1) != (color & 1)) continue;
+      const int l = local_index(rd, xx, y);
+      x[global_index(stride, origin, xx, y)] =
+          (B[l] + a * (X[l - 1] + X[l + 1] + X[l - p] + X[l + p])) * inv_c;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    cur = next;
+  }
+}
+
+// rhs = k (u(x+1) - u(x-1) + v(y+1) - v(y-1)), k = -h/2 (kernels/project.h).
+__kernel void pressure_rhs(__global const float* u, __global const float* v, __global float* rhs,
+                           int stride, int origin, int4 reg, int tw, int th, int4 lim4, float k,
+                           __local float* lbuf) {
+  const box_t region = make_box(reg.s0, reg.s1, reg.s2, reg.s3);
+  const box_t lim = make_box(lim4.s0, lim4.s1, lim4.s2, lim4.s3);
+  const int nt = tile_count(region, tw, th);
+  const int G = get_num_groups(0), lid = get_local_id(0), ls = get_local_size(0);
+  const int ff = (tw + 2) * (th + 2), sf = 2 * ff;
+  int t = get_group_id(0);
+  event_t cur =
+      spe_get(t, nt, region, tw, th, 1, lim, lbuf, sf, ff, 0, 2, u, v, v, stride, origin);
+  for (int i = 0; t < nt; t += G, ++i) {
+    const int s = i & 1;
+    event_t next = spe_get(t + G, nt, region, tw, th, 1, lim, lbuf, sf, ff, s ^ 1, 2, u, v, v,
+                           stride, origin);
+    wait_group_events(1, &cur);
+    const box_t c = tile_core(t, region, tw, th);
+    const box_t rd = box_grow_clip(c, 1, lim);
+    __local const float* U = lbuf + s * sf;
+    __local const float* V = U + ff;
+    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
+    for (int j = lid; j < n; j += ls) {
+      const int x = c.x0 + j % w, y = c.y0 + j / w;
+      const int l = local_index(rd, x, y);
+      rhs[global_index(stride, origin, x, y)] = k * (U[l + 1] - U[l - 1] + V[l + p] - V[l - p]);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    cur = next;
+  }
+}
+
+// u -= k (p(x+1) - p(x-1)), v -= k (p(y+1) - p(y-1)), k = 0.5 / h.
+__kernel void subtract_gradient(__global const float* pr, __global float* u, __global float* v,
+                                int stride, int origin, int4 reg, int tw, int th, int4 lim4,
+                                float k, __local float* lbuf) {
+  const box_t region = make_box(reg.s0, reg.s1, reg.s2, reg.s3);
+  const box_t lim = make_box(lim4.s0, lim4.s1, lim4.s2, lim4.s3);
+  const int nt = tile_count(region, tw, th);
+  const int G = get_num_groups(0), lid = get_local_id(0), ls = get_local_size(0);
+  const int ff = (tw + 2) * (th + 2), sf = ff;
+  int t = get_group_id(0);
+  event_t cur =
+      spe_get(t, nt, region, tw, th, 1, lim, lbuf, sf, ff, 0, 1, pr, pr, pr, stride, origin);
+  for (int i = 0; t < nt; t += G, ++i) {
+    const int s = i & 1;
+    event_t next = spe_get(t + G, nt, region, tw, th, 1, lim, lbuf, sf, ff, s ^ 1, 1, pr, pr, pr,
+                           stride, origin);
+    wait_group_events(1, &cur);
+    const box_t c = tile_core(t, region, tw, th);
+    const box_t rd = box_grow_clip(c, 1, lim);
+    __local const float* P = lbuf + s * sf;
+    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
+    for (int j = lid; j < n; j += ls) {
+      const int x = c.x0 + j % w, y = c.y0 + j / w;
+      const int l = local_index(rd, x, y);
+      const int g = global_index(stride, origin, x, y);
+      u[g] -= k * (P[l + 1] - P[l - 1]);
+      v[g] -= k * (P[l + p] - P[l - p]);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    cur = next;
+  }
+}
+
+// ---- Semi-Lagrangian advection (kernels/advect.cpp): q0 is read where the back-trace lands.
+// view: the box of q0 that may be read (the whole field: interior + halo).
+typedef struct {
+  float lo, hi;
+  int view_min, view_max;
+  int wrap;
+  float period;
+} axis_t;
+
+inline axis_t axis_limits(int view_min, int view_max, int n, int periodic) {
+  axis_t a;
+  a.view_min = view_min;
+  a.view_max = view_max;
+  a.wrap = periodic && view_min <= -1 && view_max >= n + 1;
+  a.period = (float)n;
+  const float domain_lo = periodic ? -1e30f : -0.5f;
+  const float domain_hi = periodic ? 1e30f : (float)n - 0.5f;
+  a.lo = max(domain_lo, (float)view_min);
+  a.hi = min(domain_hi, (float)(view_max - 1));
+  return a;
+}
+
+inline void locate(axis_t a, float p, int* i0, float* s1) {
+  if (a.wrap) {
+    p = p - a.period * floor(p / a.period);
+    if (!(p < a.period)) p = 0.0f;
+  }
+  p = min(max(p, a.lo), a.hi);
+  int i = (int)floor(p);
+  i = min(max(i, a.view_min), a.view_max - 2);
+  *i0 = i;
+  *s1 = p - (float)i;
+}
+
+inline float bilinear(__global const float* q, int stride, int origin, int i0, int j0, float s1,
+                      float t1) {
+  __global const float* r0 = q + origin + j0 * stride;
+  __global const float* r1 = r0 + stride;
+  const float s0 = 1.0f - s1, t0 = 1.0f - t1;
+  return t0 * (s0 * r0[i0] + s1 * r0[i0 + 1]) + t1 * (s0 * r1[i0] + s1 * r1[i0 + 1]);
+}
+
+// q = q0 carried by (u, v) over reg (2D range: work-item (i, j) -> cell reg.min + (i, j)).
+__kernel void advect_scalar(__global const float* q0, __global const float* u,
+                            __global const float* v, __global float* q, int stride, int origin,
+                            int4 reg, int4 view, int2 domain, int periodic, float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
+  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
+  const int g = global_index(stride, origin, x, y);
+  int i0, j0;
+  float s1, t1;
+  locate(ax, (float)x - k * u[g], &i0, &s1);
+  locate(ay, (float)y - k * v[g], &j0, &t1);
+  q[g] = bilinear(q0, stride, origin, i0, j0, s1, t1);
+}
+
+// Self-advection: (u, v) = (u0, v0) at x - k (u0, v0)(x). view: u0's box (= v0's).
+__kernel void advect_velocity(__global const float* u0, __global const float* v0,
+                              __global float* u, __global float* v, int stride, int origin,
+                              int4 reg, int4 view, int2 domain, int periodic, float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
+  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
+  const int g = global_index(stride, origin, x, y);
+  int i0, j0;
+  float s1, t1;
+  locate(ax, (float)x - k * u0[g], &i0, &s1);
+  locate(ay, (float)y - k * v0[g], &j0, &t1);
+  u[g] = bilinear(u0, stride, origin, i0, j0, s1, t1);
+  v[g] = bilinear(v0, stride, origin, i0, j0, s1, t1);
+}
+
+// ---- Sources (kernels/sources.h), halo 0.
+__kernel void add_scaled(__global const float* s, __global float* x, int stride, int origin,
+                         int4 reg, float scale) {
+  const int i = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (i >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, i, y);
+  x[g] += scale * s[g];
+}
+
+// reg is already clipped to the splat's 3-radius reach (as the C++ kernel does).
+__kernel void add_splat(__global float* f, int stride, int origin, int4 reg, float cx, float cy,
+                        float inv_r2, float amount) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const float dy2 = ((float)y - cy) * ((float)y - cy);
+  const float dx = (float)x - cx;
+  f[global_index(stride, origin, x, y)] += amount * exp(-(dx * dx + dy2) * inv_r2);
+}
