@@ -1,0 +1,158 @@
+#include "kernels/aniso_diffusion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "kernels/anisotropy.h"
+
+namespace ardcell {
+namespace {
+
+constexpr Int2 kSize{24, 20};
+
+FieldF random_field(uint32_t seed, float lo = 0.0f, float hi = 1.0f) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> d(lo, hi);
+  FieldF f(kSize, 1);
+  for (int y = -1; y <= kSize.y; ++y)
+    for (int x = -1; x <= kSize.x; ++x) f(x, y) = d(rng);
+  return f;
+}
+
+FieldF lobe_conductivity(const FieldF& a) {
+  AnisotropyParams p;
+  p.kind = AnisotropyKind::kCosineLobes;
+  p.lobes = 3;
+  p.lobe_speed[0] = 2.0f;
+  p.lobe_speed[1] = 0.5f;
+  p.lobe_speed[2] = 1.0f;
+  FieldF k(kSize, 1);
+  conductivity_tile(a.view(), {}, k.view(), a.interior(), p);
+  return k;
+}
+
+double dot(const FieldF& a, const FieldF& b) {
+  double s = 0;
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) s += double(a(x, y)) * b(x, y);
+  return s;
+}
+
+double total(const FieldF& a) {
+  double s = 0;
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) s += a(x, y);
+  return s;
+}
+
+SolverSettings iccg() { return {SolverKind::kIccg, 500, 1e-7}; }
+
+class EveryBoundary : public ::testing::TestWithParam<BoundaryKind> {};
+
+TEST_P(EveryBoundary, AnisotropicOperatorIsSymmetric) {
+  const FieldF a = random_field(1);
+  const FieldF k = lobe_conductivity(a);
+  const StencilOperator op = assemble_stencil_operator(kSize, 1.0, 3.7, &k, GetParam(), GetParam());
+  const FieldF x = random_field(2, -1, 1), y = random_field(3, -1, 1);
+  FieldF ax(kSize, 1), ay(kSize, 1);
+  apply_stencil_operator(op, x, ax);
+  apply_stencil_operator(op, y, ay);
+  const double xay = dot(x, ay), yax = dot(y, ax);
+  EXPECT_NEAR(xay, yax, 1e-5 * (std::abs(xay) + 1.0));
+}
+
+TEST_P(EveryBoundary, ImplicitStepKeepsTheMaximumPrinciple) {
+  FieldF a = random_field(4, 0.2f, 0.9f);
+  const FieldF k = lobe_conductivity(a);
+  ImplicitDiffusion d(kSize, GetParam(), iccg());
+  d.step(a, &k, {50.0, 0.5f, false});
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) {
+      EXPECT_GE(a(x, y), 0.2f - 1e-4f);
+      EXPECT_LE(a(x, y), 0.9f + 1e-4f);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Diffusion, EveryBoundary,
+                         ::testing::Values(BoundaryKind::kPeriodic, BoundaryKind::kNeumann,
+                                           BoundaryKind::kDirichlet));
+
+TEST(AnisoDiffusion, PeriodicAndNeumannConserveMass) {
+  for (BoundaryKind b : {BoundaryKind::kPeriodic, BoundaryKind::kNeumann}) {
+    for (bool cn : {false, true}) {
+      FieldF a = random_field(5);
+      const FieldF k = lobe_conductivity(a);
+      const double before = total(a);
+      ImplicitDiffusion d(kSize, b, iccg());
+      const SolveReport r = d.step(a, &k, {1000.0, 0.0f, cn});
+      EXPECT_LT(r.relative_residual, 1e-3);  // float32 operator, condition ~ 4 s
+      EXPECT_NEAR(total(a), before, 1e-5 * before) << "cn=" << cn;
+    }
+  }
+}
+
+// Eqn 13 on a periodic grid: a Fourier mode is an eigenvector; one implicit step scales it by
+// 1 / (1 + s lambda), Crank-Nicolson by (1 - s lambda / 2) / (1 + s lambda / 2), with
+// lambda = 4 sin^2(pi m / n) the 5-point Laplacian's eigenvalue.
+TEST(AnisoDiffusion, IsotropicStepMatchesTheFourierClosedForm) {
+  const int m = 3;
+  const double lambda = 4.0 * std::pow(std::sin(std::numbers::pi * m / kSize.x), 2);
+  for (SolverKind kind : {SolverKind::kIccg, SolverKind::kMultigrid,
+                          SolverKind::kRedBlackGaussSeidel, SolverKind::kJacobi}) {
+    for (bool cn : {false, true}) {
+      const double s = 0.8;
+      FieldF a(kSize, 1);
+      for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x)
+          a(x, y) = float(std::cos(2 * std::numbers::pi * m * x / kSize.x));
+      const int iters =
+          kind == SolverKind::kJacobi || kind == SolverKind::kRedBlackGaussSeidel ? 400 : 100;
+      ImplicitDiffusion d(kSize, BoundaryKind::kPeriodic, {kind, iters, 1e-7});
+      d.step(a, nullptr, {s, 0.0f, cn});
+      const double factor =
+          cn ? (1 - s * lambda / 2) / (1 + s * lambda / 2) : 1.0 / (1.0 + s * lambda);
+      for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x)
+          ASSERT_NEAR(a(x, y), factor * std::cos(2 * std::numbers::pi * m * x / kSize.x), 2e-5)
+              << solver_kind_name(kind) << " cn=" << cn;
+    }
+  }
+}
+
+TEST(AnisoDiffusion, DirichletRelaxesToTheBoundaryValue) {
+  FieldF a(kSize, 1);
+  ImplicitDiffusion d(kSize, BoundaryKind::kDirichlet, iccg());
+  for (int i = 0; i < 5; ++i) d.step(a, nullptr, {1e5, 0.75f, false});
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) EXPECT_NEAR(a(x, y), 0.75f, 1e-3);
+  // The boundary value is a fixed point, anisotropic too.
+  FieldF c(kSize, 1);
+  c.fill(0.3f);
+  const FieldF k = lobe_conductivity(random_field(9));
+  d.step(c, &k, {10.0, 0.3f, true});
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < kSize.x; ++x) EXPECT_NEAR(c(x, y), 0.3f, 1e-5);
+}
+
+TEST(AnisoDiffusion, SolidCellsKeepTheirValueAndBlockFlux) {
+  Field<uint8_t> solid(kSize, 1);
+  for (int y = 0; y < kSize.y; ++y) solid(10, y) = 1;  // a wall splitting the domain
+  FieldF a(kSize, 1);
+  for (int y = 0; y < kSize.y; ++y)
+    for (int x = 0; x < 10; ++x) a(x, y) = 1.0f;
+  a(10, 3) = 0.25f;
+  ImplicitDiffusion d(kSize, BoundaryKind::kNeumann, iccg());
+  d.set_solid(&solid);
+  d.step(a, nullptr, {100.0, 0.0f, false});
+  EXPECT_EQ(a(10, 3), 0.25f);
+  for (int y = 0; y < kSize.y; ++y) {
+    EXPECT_NEAR(a(3, y), 1.0f, 1e-4);
+    EXPECT_NEAR(a(15, y), 0.0f, 1e-4);
+  }
+}
+
+}  // namespace
+}  // namespace ardcell
