@@ -125,12 +125,10 @@ void OpenClKernels::fill_boundary(DeviceField& f, const BoundaryFill& fill) {
   const cl_float4 values = {{fill.left.value, fill.right.value, fill.bottom.value, fill.top.value}};
   const int nx = f.size.x, ny = f.size.y;
   if (nx <= 0 || ny <= 0) return;
-  cl_kernel edges = kernel("fill_edges");
-  set_kernel_args(edges, f.buffer, f.stride, f.origin, nx, ny, rules, values);
-  ctx_.enqueue(edges, std::size_t((std::max(nx, ny) + 63) / 64 * 64), 64);
-  cl_kernel corners = kernel("fill_corners");
-  set_kernel_args(corners, f.buffer, f.stride, f.origin, nx, ny, rules);
-  ctx_.enqueue(corners, 1, 1);
+  cl_kernel k = kernel("fill_boundary");
+  set_kernel_args(k, f.buffer, f.stride, f.origin, nx, ny, rules, values);
+  const std::size_t wg = std::min<std::size_t>(256, ctx_.device().max_work_group_size);
+  ctx_.enqueue(k, wg, wg);
 }
 
 void OpenClKernels::stam_jacobi_sweep(const DeviceField& x0, const DeviceField& x_in,
@@ -145,6 +143,44 @@ void OpenClKernels::stam_jacobi_sweep(const DeviceField& x0, const DeviceField& 
                   th, box4(x0.with_halo()), p.a, p.inv_c,
                   LocalBytes{std::size_t(4 * (tw + 2) * (th + 2)) * sizeof(float)});
   enqueue_tiled(k, region);
+}
+
+void OpenClKernels::stam_jacobi_blocked(const DeviceField& rhs, const DeviceField& x_in,
+                                        DeviceField& x_out, int sweeps, const StamSweepParams& p,
+                                        const BoundaryFill& fill, Int2 tile) {
+  check_same_layout(rhs, x_in);
+  check_same_layout(rhs, x_out);
+  ARDCELL_CHECK(x_in.buffer.get() != x_out.buffer.get(), "blocked Jacobi: x_out aliases x_in");
+  ARDCELL_CHECK(rhs.halo == 1, "blocked Jacobi: fields must have halo 1");
+  ARDCELL_CHECK(fill.left.rule != EdgeRule::kPeriodic && fill.right.rule != EdgeRule::kPeriodic &&
+                    fill.bottom.rule != EdgeRule::kPeriodic && fill.top.rule != EdgeRule::kPeriodic,
+                "blocked Jacobi: periodic edges run sweep by sweep");
+  ARDCELL_CHECK(sweeps >= 1, "blocked Jacobi: at least one sweep");
+  const cl_int4 rules = {
+      {int(fill.left.rule), int(fill.right.rule), int(fill.bottom.rule), int(fill.top.rule)}};
+  const cl_float4 values = {{fill.left.value, fill.right.value, fill.bottom.value, fill.top.value}};
+  const int tw = tile.x, th = tile.y;
+  const std::size_t floats =
+      std::size_t(5) * std::size_t(tw + 2 * sweeps) * std::size_t(th + 2 * sweeps);
+  cl_kernel k = kernel("stam_jacobi_blocked");
+  set_kernel_args(k, rhs.buffer, x_in.buffer, x_out.buffer, rhs.stride, rhs.origin, rhs.size.x,
+                  rhs.size.y, tw, th, sweeps, p.a, p.inv_c, rules, values,
+                  LocalBytes{floats * sizeof(float)});
+  const std::size_t groups = groups_for(tiles_of(rhs.interior(), tw, th));
+  ctx_.enqueue(k, groups * std::size_t(tiling_.work_group), std::size_t(tiling_.work_group));
+}
+
+Int2 OpenClKernels::blocked_tile(int sweeps) const {
+  // The largest tile (width a multiple of 16, height of 4) whose 5 buffers of (tile + 2 sweeps)
+  // fit in half the device's local memory, capped at 256 x 64 (diminishing returns).
+  const std::size_t budget = ctx_.device().local_mem_bytes / 2 / (5 * sizeof(float));
+  Int2 best{16, 4};
+  for (int w = 16; w <= 256; w += 16)
+    for (int h = 4; h <= 64; h += 4)
+      if (std::size_t(w + 2 * sweeps) * std::size_t(h + 2 * sweeps) <= budget &&
+          w * h > best.x * best.y)
+        best = {w, h};
+  return best;
 }
 
 void OpenClKernels::stam_rbgs_half_sweep(const DeviceField& x0, DeviceField& x, Box2 region,

@@ -54,6 +54,14 @@ class OpenClKernels {
   // Twins of kernels/stam_sweeps.h (x_out must differ from x_in).
   void stam_jacobi_sweep(const DeviceField& x0, const DeviceField& x_in, DeviceField& x_out,
                          Box2 region, const StamSweepParams& p);
+  // `sweeps` Jacobi sweeps (each followed by `fill`, which must not be periodic) in one
+  // residency of each tile (ghost-zone temporal blocking) over the whole interior: equal to
+  // `sweeps` x (stam_jacobi_sweep + fill_boundary). tile: core size (see blocked_tile).
+  void stam_jacobi_blocked(const DeviceField& rhs, const DeviceField& x_in, DeviceField& x_out,
+                           int sweeps, const StamSweepParams& p, const BoundaryFill& fill,
+                           Int2 tile);
+  // A tile for stam_jacobi_blocked that fits the device's local memory.
+  Int2 blocked_tile(int sweeps) const;
   void stam_rbgs_half_sweep(const DeviceField& x0, DeviceField& x, Box2 region, int color,
                             const StamSweepParams& p);
   // Twins of kernels/project.h.

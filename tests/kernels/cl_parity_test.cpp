@@ -241,6 +241,37 @@ TEST(ClParity, StamJacobiAndRedBlackSweeps) {
   });
 }
 
+// k sweeps in one residency == k x (sweep + fill), at tiles smaller and larger than k.
+TEST(ClParity, TemporallyBlockedJacobiEqualsSweepBySweep) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  const StamSweepParams p{0.8f, 1.0f / (1.0f + 4.0f * 0.8f)};
+  for (Int2 size : kSizes)
+    for (const auto& [name, fill] : every_boundary()) {
+      if (fill.left.rule == EdgeRule::kPeriodic) continue;  // sweep by sweep (stream) only
+      for (int k : {1, 3, 8})
+        for (Int2 tile : {Int2{8, 4}, Int2{32, 16}, d.cl->blocked_tile(k)}) {
+          SCOPED_TRACE(::testing::Message() << name << " k " << k << " tile " << tile);
+          FieldF rhs(size, 1), x(size, 1);
+          fill_random(rhs, -1, 1, 20);
+          fill_random(x, -1, 1, 21);
+          fill_boundary(rhs.view(), size, fill);
+          fill_boundary(x.view(), size, fill);
+          FieldF a = x, b(size, 1);
+          for (int s = 0; s < k; ++s) {
+            stam_jacobi_sweep(rhs.view(), a.view(), b.view(), rhs.interior(), p);
+            fill_boundary(b.view(), size, fill);
+            std::swap(a, b);
+          }
+          DeviceField drhs = dev.up(rhs), dx = dev.up(x), dout = dev.up(FieldF(size, 1));
+          d.cl->stam_jacobi_blocked(drhs, dx, dout, k, p, fill, tile);
+          const FieldF got = dev.down(dout);
+          EXPECT_LE(relative_error(got, a, got, rhs.with_halo()), kTolerance);
+        }
+    }
+}
+
 TEST(ClParity, DivergenceAndGradient) {
   Fixture& d = device();
   ASSERT_TRUE(d.cl);
