@@ -6,6 +6,7 @@ const SceneRegistry& builtin_scenes() {
   static const SceneRegistry registry = [] {
     SceneRegistry r;
     register_fluid_scenes(r);
+    register_rd_scenes(r);
     return r;
   }();
   return registry;
