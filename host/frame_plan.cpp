@@ -69,7 +69,8 @@ struct FramePlan::PassProgram {
         int cur = op.a, other = op.b;
         for (int s = 1; s <= op.sweeps; ++s) {
           const Box2 region =
-              tile ? TilePlan::sweep_region(*tile, grid, op.sweeps, s) : box_of_size(grid);
+              tile ? TilePlan::sweep_region(*tile, grid, op.sweeps + op.extra_reach, s)
+                   : box_of_size(grid);
           const View<float>& out = views[std::size_t(other)];
           op.sweep(op.params, views[std::size_t(cur)], views[std::size_t(op.rhs)], out, region);
           fill_boundary(out.crop(region.grown(1).intersected(out.box())), grid, op.fill);
@@ -140,7 +141,8 @@ int FramePlan::add_pass(PassDesc desc) {
       const auto& ba = desc.buffers[std::size_t(op.a)];
       const auto& bb = desc.buffers[std::size_t(op.b)];
       const auto& br = desc.buffers[std::size_t(op.rhs)];
-      if (ba.halo < op.sweeps || bb.halo < op.sweeps || br.halo < op.sweeps - 1)
+      const int k = op.sweeps + op.extra_reach;
+      if (ba.halo < k || bb.halo < k || br.halo < k - 1)
         bad_pass(desc.name, "Jacobi buffers need halo >= sweeps (rhs: sweeps - 1)");
       p->written[std::size_t(op.a)] = p->written[std::size_t(op.b)] = true;
       max_sweeps = std::max(max_sweeps, op.sweeps);

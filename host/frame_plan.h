@@ -14,8 +14,9 @@
 //            the interior), then boundary fills of the buffers it wrote;
 //            kJacobi: `sweeps` sweeps ping-ponging between buffers a and b with right-hand side
 //            rhs, each followed by its boundary fill; sweep s computes the core grown by
-//            (sweeps - s), so the last one leaves the core exact (ghost-zone temporal
-//            blocking: bit-for-bit k global sweeps). The result is in a (sweeps even) or b.
+//            (sweeps - s + extra_reach), so the last one leaves the core (grown by extra_reach)
+//            exact: ghost-zone temporal blocking, bit-for-bit k global sweeps. The result is in
+//            a (sweeps even) or b.
 // On the serial back end the same ops run once over whole fields (the reference): each buffer
 // is then a whole field (its dst, or its src when read only, or a scratch field of the plan).
 //
@@ -64,6 +65,8 @@ struct PassOpDesc {
   SweepKernel sweep = nullptr;
   int8_t a = -1, b = -1, rhs = -1;
   int sweeps = 1;
+  int extra_reach =
+      0;  // cells beyond the core still exact after the last sweep (a later op's halo)
   BoundaryFill fill{};
 };
 
