@@ -485,6 +485,7 @@ bool LiveLoop::run_frame() {
   }
   const double now = double(clock_.frame_begin_ns()) * 1e-9;
   size_t n = input_.pop_many(samples_);
+  n += remote_input_.pop_many(std::span(samples_).subspan(n));
   activity = activity || n > 0;
   if (attract_) n += attract_->update(now, activity, std::span(samples_).subspan(n));
   hud_.attract = attract_ && attract_->active();

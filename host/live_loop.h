@@ -167,6 +167,8 @@ class LiveLoop {
 
   CommandQueue& commands() { return commands_; }
   StrokeRing& input() { return input_; }
+  // A second input ring for a remote producer thread (OSC), each ring having one producer.
+  StrokeRing& remote_input() { return remote_input_; }
   FrameClock& clock() { return clock_; }
   AdaptiveQuality& quality() { return quality_; }
   const Preset& preset() const { return preset_; }  // current (blended during a fade)
@@ -211,6 +213,7 @@ class LiveLoop {
   AdaptiveQuality quality_;
   CommandQueue commands_;
   StrokeRing input_{4096};
+  StrokeRing remote_input_{4096};
   std::array<StrokeSample, 512> samples_{};
   AttractMode* attract_ = nullptr;
 

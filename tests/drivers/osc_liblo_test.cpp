@@ -1,0 +1,128 @@
+#include "drivers/osc_liblo.h"
+
+#include <gtest/gtest.h>
+#include <lo/lo.h>
+
+#include <chrono>
+#include <thread>
+
+#include "host/preset.h"
+
+namespace ardcell {
+namespace {
+
+struct Osc {
+  CommandQueue commands;
+  StrokeRing strokes{64};
+  std::unique_ptr<OscServer> server;
+  lo_address to = nullptr;
+  Osc() {
+    Status s = Status::ok();
+    server = OscServer::start(0, "127.0.0.1", commands, strokes, s);
+    EXPECT_TRUE(s.is_ok()) << s.message();
+    to = lo_address_new("127.0.0.1", std::to_string(server->port()).c_str());
+  }
+  ~Osc() { lo_address_free(to); }
+  // Waits until the server has seen `n` messages in all.
+  void settle(int64_t n) {
+    for (int i = 0; i < 1000 && server->handled() + server->rejected() < n; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  LiveCommand next() {
+    LiveCommand c;
+    while (commands.pop(c))
+      if (c.kind != LiveCommandKind::kInputActivity) return c;
+    ADD_FAILURE() << "no command";
+    return c;
+  }
+};
+
+TEST(Osc, MessagesOverUdpBecomeCommands) {
+  Osc osc;
+  ASSERT_NE(osc.server->port(), 0);
+  lo_send(osc.to, "/ardcell/preset", "s", "gray_scott");
+  lo_send(osc.to, "/ardcell/preset/next", "");
+  lo_send(osc.to, "/ardcell/param", "sf", "fluid.viscosity", 0.125f);
+  lo_send(osc.to, "/ardcell/param", "ss", "output.colormap", "magma");
+  lo_send(osc.to, "/ardcell/mode", "s", "push");
+  lo_send(osc.to, "/ardcell/record/start", "s", "/tmp/x.y4m");
+  lo_send(osc.to, "/ardcell/record/stop", "");
+  lo_send(osc.to, "/ardcell/pause", "i", 1);
+  osc.settle(8);
+  ASSERT_EQ(osc.server->handled(), 8);
+  LiveCommand c = osc.next();
+  EXPECT_EQ(c.kind, LiveCommandKind::kSelectPreset);
+  EXPECT_STREQ(c.text.data(), "gray_scott");
+  EXPECT_EQ(osc.next().kind, LiveCommandKind::kNextPreset);
+  c = osc.next();
+  EXPECT_EQ(c.kind, LiveCommandKind::kSetParam);
+  EXPECT_EQ(&preset_params()[size_t(c.param)], find_param("fluid.viscosity"));
+  EXPECT_EQ(c.value, 0.125);
+  c = osc.next();
+  EXPECT_EQ(&preset_params()[size_t(c.param)], find_param("output.colormap"));
+  EXPECT_EQ(c.value, 2);  // magma
+  c = osc.next();
+  EXPECT_EQ(c.kind, LiveCommandKind::kSetMode);
+  EXPECT_EQ(c.value, 2);  // push
+  c = osc.next();
+  EXPECT_EQ(c.kind, LiveCommandKind::kRecordStart);
+  EXPECT_STREQ(c.text.data(), "/tmp/x.y4m");
+  EXPECT_EQ(osc.next().kind, LiveCommandKind::kRecordStop);
+  c = osc.next();
+  EXPECT_EQ(c.kind, LiveCommandKind::kSetPause);
+  EXPECT_EQ(c.value, 1);
+}
+
+TEST(Osc, StrokesGoToTheRing) {
+  Osc osc;
+  lo_send(osc.to, "/ardcell/stroke", "fff", 0.25f, 0.75f, 0.5f);
+  lo_send(osc.to, "/ardcell/stroke", "ff", 0.3f, 0.7f);
+  lo_send(osc.to, "/ardcell/stroke/end", "");
+  osc.settle(3);
+  StrokeSample s;
+  ASSERT_TRUE(osc.strokes.pop(s));
+  EXPECT_EQ(s.x, 0.25f);
+  EXPECT_EQ(s.y, 0.75f);
+  EXPECT_EQ(s.pressure, 0.5f);
+  EXPECT_TRUE(s.touching());
+  ASSERT_TRUE(osc.strokes.pop(s));
+  EXPECT_EQ(s.pressure, 1.0f);
+  ASSERT_TRUE(osc.strokes.pop(s));
+  EXPECT_FALSE(s.touching());
+  EXPECT_FALSE(osc.strokes.pop(s));
+}
+
+TEST(Osc, BadMessagesAreRejectedWithAReason) {
+  Osc osc;
+  lo_send(osc.to, "/ardcell/param", "sf", "fluid.viscosty", 1.0f);
+  lo_send(osc.to, "/ardcell/param", "sf", "fluid.viscosity", -1.0f);
+  lo_send(osc.to, "/ardcell/param", "si", "grid.size", 3);
+  lo_send(osc.to, "/ardcell/teleport", "");
+  lo_send(osc.to, "/ardcell/stroke", "s", "left");
+  osc.settle(5);
+  EXPECT_EQ(osc.server->rejected(), 5);
+  EXPECT_EQ(osc.server->handled(), 0);
+  EXPECT_EQ(osc.server->last_error(), "/ardcell/stroke ,s: expected f X f Y [f PRESSURE]");
+  LiveCommand c;
+  EXPECT_FALSE(osc.commands.pop(c));
+  // Garbage bytes through the same handler.
+  const char junk[] = "/ardcell/param\0\0,sf\0\0\0\0";
+  EXPECT_FALSE(osc.server->dispatch(junk, sizeof junk - 1));
+}
+
+TEST(Osc, BindsToLocalhostAndRefusesBadAddresses) {
+  CommandQueue q;
+  StrokeRing r{8};
+  Status s = Status::ok();
+  auto bad = OscServer::start(0, "localhost-ish", q, r, s);
+  EXPECT_EQ(bad, nullptr);
+  EXPECT_EQ(s.message(), "osc: localhost-ish:0: expected an IPv4 address and a port in [0, 65535]");
+  auto first = OscServer::start(0, "127.0.0.1", q, r, s);
+  ASSERT_NE(first, nullptr);
+  auto second = OscServer::start(first->port(), "127.0.0.1", q, r, s);
+  EXPECT_EQ(second, nullptr);
+  EXPECT_NE(s.message().find("cannot bind UDP 127.0.0.1:"), std::string::npos) << s.message();
+}
+
+}  // namespace
+}  // namespace ardcell
