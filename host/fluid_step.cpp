@@ -1,0 +1,294 @@
+#include "host/fluid_step.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "host/scene_config.h"
+#include "kernels/advect.h"
+#include "kernels/project.h"
+#include "kernels/sources.h"
+
+namespace ardcell {
+
+namespace {
+
+BoundaryKind axis_kind(const EdgeFill& a, const EdgeFill& b) {
+  return a.rule == EdgeRule::kPeriodic && b.rule == EdgeRule::kPeriodic ? BoundaryKind::kPeriodic
+                                                                        : BoundaryKind::kNeumann;
+}
+
+// Weight of a ghost rule on the boundary cell's diagonal, per unit face weight: the fixed ghost
+// sits one cell away (1), the mirrored one puts the value on the face half a cell away (2).
+double rule_factor(const EdgeFill& e) {
+  switch (e.rule) {
+    case EdgeRule::kFixed:
+      return 1.0;
+    case EdgeRule::kMirror:
+      return 2.0;
+    default:
+      return 0.0;
+  }
+}
+
+// Folds the ghost rules of `fill` into an operator assembled with Neumann (or periodic) axes.
+void fold_boundary(StencilOperator& op, const BoundaryFill& fill, double scale) {
+  const struct {
+    const EdgeFill& e;
+    BoundarySide side;
+  } sides[] = {{fill.left, BoundarySide::kLeft},
+               {fill.right, BoundarySide::kRight},
+               {fill.bottom, BoundarySide::kBottom},
+               {fill.top, BoundarySide::kTop}};
+  for (const auto& s : sides)
+    if (rule_factor(s.e) > 0.0) add_boundary_diagonal(op, s.side, rule_factor(s.e) * scale);
+}
+
+// b += the boundary values' share (factor * scale * value) on the boundary cells.
+void add_boundary_rhs(FieldF& b, const BoundaryFill& fill, double scale) {
+  const int nx = b.nx(), ny = b.ny();
+  auto add = [&](const EdgeFill& e, int x0, int y0, int dx, int dy, int count) {
+    const float amount = float(rule_factor(e) * scale * e.value);
+    if (amount == 0.0f) return;
+    for (int k = 0; k < count; ++k) b(x0 + k * dx, y0 + k * dy) += amount;
+  };
+  add(fill.left, 0, 0, 0, 1, ny);
+  add(fill.right, nx - 1, 0, 0, 1, ny);
+  add(fill.bottom, 0, 0, 1, 0, nx);
+  add(fill.top, 0, ny - 1, 1, 0, nx);
+}
+
+void zero_solid(FieldF& f, const Field<uint8_t>& solid) {
+  if (solid.empty()) return;
+  for (int j = 0; j < f.ny(); ++j) {
+    const uint8_t* s = solid.row(j);
+    float* r = f.row(j);
+    for (int i = 0; i < f.nx(); ++i)
+      if (s[i]) r[i] = 0.0f;
+  }
+}
+
+void copy_all(const FieldF& from, FieldF& to) {
+  std::memcpy(to.raw(), from.raw(), to.raw_size() * sizeof(float));
+}
+
+}  // namespace
+
+struct FluidStep::Operators {
+  StencilOperator visc_u, visc_v, pressure, dye;
+  std::unique_ptr<LinearSolver> solver_u, solver_v, solver_p, solver_dye;
+};
+
+FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt)
+    : config_(config),
+      size_(size),
+      h_(h),
+      scratch_u_(size, 1),
+      scratch_v_(size, 1),
+      scratch_b_(size, 1),
+      rhs_(size, 1) {
+  ARDCELL_CHECK(size.x > 0 && size.y > 0 && h > 0.0, "FluidStep: size and h must be positive");
+  const EdgeFill copy{EdgeRule::kCopy, 0.0f};
+  const EdgeFill wall{EdgeRule::kMirror, 0.0f};
+  fill_p_ = BoundaryFill::copy();
+  fill_dye_ = BoundaryFill::copy();
+  switch (config_.kind) {
+    case FluidSceneKind::kCavity:
+      fill_u_ = BoundaryFill::no_slip(float(config_.lid_speed));
+      fill_v_ = BoundaryFill::no_slip(0.0f);
+      break;
+    case FluidSceneKind::kObstacle: {
+      // Inflow through the top wall (v = -inflow_speed), outflow through the bottom (velocity
+      // copied, pressure 0), free-slip side walls.
+      fill_u_ = {wall, wall, copy, wall};
+      fill_v_ = {copy, copy, copy, {EdgeRule::kMirror, float(-config_.inflow_speed)}};
+      fill_p_ = {copy, copy, {EdgeRule::kFixed, 0.0f}, copy};
+      solid_ = Field<uint8_t>(size, 1);
+      const double cx = config_.obstacle_x / h - 0.5, cy = config_.obstacle_y / h - 0.5;
+      const double r = config_.obstacle_radius / h;
+      for (int j = 0; j < size.y; ++j)
+        for (int i = 0; i < size.x; ++i)
+          solid_(i, j) = (i - cx) * (i - cx) + (j - cy) * (j - cy) <= r * r ? 1 : 0;
+      break;
+    }
+    case FluidSceneKind::kInk:
+      if (config_.walls == FluidWalls::kPeriodic) {
+        fill_u_ = fill_v_ = fill_p_ = fill_dye_ = BoundaryFill::periodic();
+      } else if (config_.walls == FluidWalls::kNoSlip) {
+        fill_u_ = fill_v_ = BoundaryFill::no_slip(0.0f);
+      } else {
+        fill_u_ = BoundaryFill::stam(1);
+        fill_v_ = BoundaryFill::stam(2);
+      }
+      break;
+    case FluidSceneKind::kNone:
+      fill_u_ = fill_v_ = BoundaryFill::copy();
+      break;
+  }
+
+  auto make_op = [&](const BoundaryFill& fill) {
+    return assemble_stencil_operator(size, 1.0, 0.0, nullptr, axis_kind(fill.left, fill.right),
+                                     axis_kind(fill.bottom, fill.top));
+  };
+  ops_ = std::make_unique<Operators>(Operators{make_op(fill_u_), make_op(fill_v_), make_op(fill_p_),
+                                               make_op(fill_dye_), nullptr, nullptr, nullptr,
+                                               nullptr});
+  ops_->solver_u = LinearSolver::make(config_.viscosity_solver, size);
+  ops_->solver_v = LinearSolver::make(config_.viscosity_solver, size);
+  ops_->solver_p = LinearSolver::make(config_.pressure_solver, size);
+  ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size);
+
+  // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces.
+  reassemble_stencil_operator(ops_->pressure, 0.0, 1.0, nullptr);
+  fold_boundary(ops_->pressure, fill_p_, 1.0);
+  if (!solid_.empty()) isolate_solid_cells(ops_->pressure, solid_, 0.0);
+  ops_->solver_p->prepare(ops_->pressure);
+  prepare(dt);
+}
+
+FluidStep::~FluidStep() = default;
+
+void FluidStep::prepare(double dt) {
+  prepared_dt_ = dt;
+  const double s_visc = dt * config_.viscosity / (h_ * h_);
+  auto setup = [&](StencilOperator& op, LinearSolver& solver, const BoundaryFill& fill, double s,
+                   bool no_slip_obstacle) {
+    reassemble_stencil_operator(op, 1.0, s, nullptr);
+    fold_boundary(op, fill, s);
+    if (!solid_.empty()) isolate_solid_cells(op, solid_, no_slip_obstacle ? 2.0 : 0.0);
+    solver.prepare(op);
+  };
+  setup(ops_->visc_u, *ops_->solver_u, fill_u_, s_visc, true);
+  setup(ops_->visc_v, *ops_->solver_v, fill_v_, s_visc, true);
+  setup(ops_->dye, *ops_->solver_dye, fill_dye_, dt * config_.dye_diffusion / (h_ * h_), false);
+}
+
+void FluidStep::allocate(SimState& state) const {
+  state.size = size_;
+  state.h = h_;
+  for (FieldF* f : {&state.u, &state.v, &state.p, &state.dye})
+    if (f->empty() || f->size() != size_ || f->halo() < 1) *f = FieldF(size_, 1);
+  if (!solid_.empty()) state.obstacle = solid_;
+}
+
+void FluidStep::reset(SimState& state) const {
+  allocate(state);
+  for (FieldF* f : {&state.u, &state.v, &state.p, &state.dye}) f->fill(0.0f);
+  const Int2 n = size_;
+  if (config_.kind == FluidSceneKind::kCavity) {
+    // Eight horizontal bands of dye for the vortex to roll up.
+    for (int j = 0; j < n.y; ++j) {
+      const float value = (j * 8 / n.y) % 2 ? 1.0f : 0.0f;
+      for (int i = 0; i < n.x; ++i) state.dye(i, j) = value;
+    }
+  } else if (config_.kind == FluidSceneKind::kObstacle) {
+    // Start from the uniform inflow; the first projection turns it around the disc.
+    state.v.fill(float(-config_.inflow_speed));
+    zero_solid(state.v, solid_);
+  }
+  if (config_.kind != FluidSceneKind::kNone) {
+    fill_velocity(state);
+    fill_boundary(state.dye.view(), n, fill_dye_);
+  }
+}
+
+void FluidStep::fill_velocity(SimState& state) const {
+  fill_boundary(state.u.view(), size_, fill_u_);
+  fill_boundary(state.v.view(), size_, fill_v_);
+  if (!solid_.empty()) {
+    fill_obstacle(state.u.view(), solid_.view(), state.u.interior(), ObstacleRule::kNoSlip);
+    fill_obstacle(state.v.view(), solid_.view(), state.v.interior(), ObstacleRule::kNoSlip);
+  }
+}
+
+void FluidStep::add_forces_and_sources(SimState& state) {
+  const float dt = float(state.dt);
+  if (config_.kind == FluidSceneKind::kInk) {
+    for (const FluidEmitter& e : config_.emitters) {
+      const float cx = float(e.x / h_ - 0.5), cy = float(e.y / h_ - 0.5);
+      const float r = float(e.radius / h_);
+      const double angle = e.swirl * state.time;
+      const double fx = e.force_x * std::cos(angle) - e.force_y * std::sin(angle);
+      const double fy = e.force_x * std::sin(angle) + e.force_y * std::cos(angle);
+      const Box2 all = state.u.interior();
+      add_splat(state.dye.view(), all, {cx, cy, r, float(dt * e.dye_rate)});
+      add_splat(state.u.view(), all, {cx, cy, r, float(dt * fx)});
+      add_splat(state.v.view(), all, {cx, cy, r, float(dt * fy)});
+    }
+  } else if (config_.kind == FluidSceneKind::kObstacle && config_.inflow_dye_stripes > 0) {
+    // Dye enters with the inflow in vertical stripes (the top row is refreshed each frame).
+    const int top = size_.y - 1;
+    const int stripes = 2 * config_.inflow_dye_stripes;
+    for (int i = 0; i < size_.x; ++i) state.dye(i, top) = (i * stripes / size_.x) % 2 ? 1.0f : 0.0f;
+  }
+}
+
+void FluidStep::diffuse_velocity(SimState& state) {
+  if (!(config_.viscosity > 0.0)) return;
+  const double s = state.dt * config_.viscosity / (h_ * h_);
+  auto solve = [&](FieldF& x, const StencilOperator& op, LinearSolver& solver,
+                   const BoundaryFill& fill) {
+    copy_all(x, scratch_b_);
+    add_boundary_rhs(scratch_b_, fill, s);
+    zero_solid(scratch_b_, solid_);
+    return solver.solve(op, scratch_b_, x);
+  };
+  report_.viscosity_u = solve(state.u, ops_->visc_u, *ops_->solver_u, fill_u_);
+  report_.viscosity_v = solve(state.v, ops_->visc_v, *ops_->solver_v, fill_v_);
+}
+
+SolveReport FluidStep::project(SimState& state) {
+  fill_velocity(state);
+  const Box2 interior = state.u.interior();
+  pressure_rhs(state.u.view(), state.v.view(), rhs_.view(), interior, {float(h_)});
+  add_boundary_rhs(rhs_, fill_p_, 1.0);
+  zero_solid(rhs_, solid_);
+  const SolveReport report = ops_->solver_p->solve(ops_->pressure, rhs_, state.p);
+  fill_boundary(state.p.view(), size_, fill_p_);
+  if (!solid_.empty()) fill_obstacle(state.p.view(), solid_.view(), interior, ObstacleRule::kCopy);
+  subtract_gradient(state.p.view(), state.u.view(), state.v.view(), interior, {float(h_)});
+  fill_velocity(state);
+  return report;
+}
+
+void FluidStep::advect(SimState& state) {
+  fill_velocity(state);
+  copy_all(state.u, scratch_u_);
+  copy_all(state.v, scratch_v_);
+  const bool periodic = fill_u_.left.rule == EdgeRule::kPeriodic;
+  advect_velocity(scratch_u_.view(), scratch_v_.view(), state.u.view(), state.v.view(),
+                  state.u.interior(), {float(state.dt / h_), size_, periodic});
+}
+
+void FluidStep::diffuse_dye(SimState& state) {
+  if (!(config_.dye_diffusion > 0.0)) return;
+  copy_all(state.dye, scratch_b_);
+  zero_solid(scratch_b_, solid_);
+  report_.dye = ops_->solver_dye->solve(ops_->dye, scratch_b_, state.dye);
+}
+
+void FluidStep::step(SimState& state) {
+  if (config_.kind == FluidSceneKind::kNone) return;
+  if (state.dt != prepared_dt_) prepare(state.dt);
+  add_forces_and_sources(state);
+  diffuse_velocity(state);
+  report_.pressure_first = project(state);
+  advect(state);
+  report_.pressure_second = project(state);
+
+  diffuse_dye(state);
+  fill_boundary(state.dye.view(), size_, fill_dye_);
+  if (!solid_.empty())
+    fill_obstacle(state.dye.view(), solid_.view(), state.dye.interior(), ObstacleRule::kCopy);
+  copy_all(state.dye, scratch_b_);
+  const bool periodic = fill_dye_.left.rule == EdgeRule::kPeriodic;
+  advect_scalar(scratch_b_.view(), state.u.view(), state.v.view(), state.dye.view(),
+                state.dye.interior(), {float(state.dt / h_), size_, periodic});
+  fill_boundary(state.dye.view(), size_, fill_dye_);
+}
+
+std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene) {
+  return std::make_unique<FluidStep>(scene.fluid, scene.size, scene.domain_width / scene.size.x,
+                                     scene.dt);
+}
+
+}  // namespace ardcell

@@ -1,0 +1,75 @@
+#pragma once
+// One frame of Stam's stable fluids on a SimState (Stam 1999; seed 000 section 5):
+//   forces and sources -> implicit viscosity (I - dt nu Lap) u = u* -> project -> self-advect
+//   (semi-Lagrangian) -> project; then the dye: implicit diffusion (when dye_diffusion > 0) and
+//   advection by the new velocity.
+// The implicit solves use the 5-point StencilOperator and the LinearSolver chosen in the
+// FluidConfig (jacobi | rbgs | iccg | mg); the per-cell work is the tile kernels of kernels/
+// (advect.h, project.h, sources.h) run over the whole field. Everything is allocated in the
+// constructor: step() does no heap allocation.
+#include <memory>
+
+#include "host/fluid_config.h"
+#include "host/sim_state.h"
+#include "kernels/linear_solver.h"
+#include "runtime/boundary.h"
+
+namespace ardcell {
+
+struct SceneConfig;
+
+// What the last frame's solves reported.
+struct FluidStepReport {
+  SolveReport viscosity_u, viscosity_v, pressure_first, pressure_second, dye;
+};
+
+class FluidStep {
+ public:
+  FluidStep(const FluidConfig& config, Int2 size, double h, double dt);
+  ~FluidStep();
+  FluidStep(const FluidStep&) = delete;
+  FluidStep& operator=(const FluidStep&) = delete;
+
+  // Allocates the fluid fields of `state` (u, v, p, dye, and the obstacle mask when the scene has
+  // one), halo 1, when they are missing or of another size.
+  void allocate(SimState& state) const;
+  // The scene's initial conditions (fluid at rest, the initial dye, the obstacle mask).
+  void reset(SimState& state) const;
+  // Advances the fluid and the dye by state.dt (re-preparing the operators if dt changed).
+  void step(SimState& state);
+  // The pressure projection alone (fills boundaries, solves, subtracts the gradient): exposed for
+  // tests and tools.
+  SolveReport project(SimState& state);
+
+  const FluidStepReport& last_report() const { return report_; }
+  // Boundary rules of each field in this scene.
+  const BoundaryFill& u_fill() const { return fill_u_; }
+  const BoundaryFill& v_fill() const { return fill_v_; }
+  const BoundaryFill& p_fill() const { return fill_p_; }
+  const BoundaryFill& dye_fill() const { return fill_dye_; }
+  // Fills the ghost cells (and obstacle cells) of u and v, or of a scalar with its rule.
+  void fill_velocity(SimState& state) const;
+
+ private:
+  struct Operators;
+  void prepare(double dt);
+  void add_forces_and_sources(SimState& state);
+  void diffuse_velocity(SimState& state);
+  void diffuse_dye(SimState& state);
+  void advect(SimState& state);
+
+  FluidConfig config_;
+  Int2 size_;
+  double h_;
+  double prepared_dt_ = -1.0;
+  BoundaryFill fill_u_, fill_v_, fill_p_, fill_dye_;
+  Field<uint8_t> solid_;  // the obstacle mask (empty when none)
+  std::unique_ptr<Operators> ops_;
+  FieldF scratch_u_, scratch_v_, scratch_b_, rhs_;
+  FluidStepReport report_;
+};
+
+// Builds the FluidStep of a scene (size, h = domain_width / size.x, dt).
+std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene);
+
+}  // namespace ardcell
