@@ -65,6 +65,12 @@ inline event_t fetch_box(__local float* dst, __global const float* f, int stride
   return ev;
 }
 
+// Work-item lid of ls visits the cells (x, y) of box b: rows in turn, columns strided, so the
+// work-items of a group touch adjacent cells (vectorisable on a CPU, coalesced on a GPU).
+#define FOR_CELLS(b, x, y)                    \
+  for (int y = (b).y0; y < (b).y1; ++y)      \
+    for (int x = (b).x0 + lid; x < (b).x1; x += ls)
+
 // Index of global cell (x, y) in a local copy of box b.
 inline int local_index(box_t b, int x, int y) { return (y - b.y0) * box_w(b) + (x - b.x0); }
 inline int global_index(int stride, int origin, int x, int y) { return origin + y * stride + x; }

@@ -73,9 +73,8 @@ __kernel void stam_jacobi(__global const float* x0, __global const float* x_in,
     const box_t rd = box_grow_clip(c, 1, lim);
     __local const float* X = lbuf + s * sf;
     __local const float* B = X + ff;
-    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
-    for (int j = lid; j < n; j += ls) {
-      const int x = c.x0 + j % w, y = c.y0 + j / w;
+    const int p = box_w(rd);
+    FOR_CELLS(c, x, y) {
       const int l = local_index(rd, x, y);
       x_out[global_index(stride, origin, x, y)] =
           (B[l] + a * (X[l - 1] + X[l + 1] + X[l - p] + X[l + p])) * inv_c;
@@ -107,9 +106,8 @@ __kernel void stam_rbgs_half(__global const float* x0, __global float* x, int st
     const box_t rd = box_grow_clip(c, 1, lim);
     __local const float* X = lbuf + s * sf;
     __local const float* B = X + ff;
-    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
-    for (int j = lid; j < n; j += ls) {
-      const int xx = c.x0 + j % w, y = c.y0 + j / w;
+    const int p = box_w(rd);
+    FOR_CELLS(c, xx, y) {
       if (((xx + y) & 1) != (color & 1)) continue;
       const int l = local_index(rd, xx, y);
       x[global_index(stride, origin, xx, y)] =
@@ -141,9 +139,8 @@ __kernel void pressure_rhs(__global const float* u, __global const float* v, __g
     const box_t rd = box_grow_clip(c, 1, lim);
     __local const float* U = lbuf + s * sf;
     __local const float* V = U + ff;
-    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
-    for (int j = lid; j < n; j += ls) {
-      const int x = c.x0 + j % w, y = c.y0 + j / w;
+    const int p = box_w(rd);
+    FOR_CELLS(c, x, y) {
       const int l = local_index(rd, x, y);
       rhs[global_index(stride, origin, x, y)] = k * (U[l + 1] - U[l - 1] + V[l + p] - V[l - p]);
     }
@@ -172,9 +169,8 @@ __kernel void subtract_gradient(__global const float* pr, __global float* u, __g
     const box_t c = tile_core(t, region, tw, th);
     const box_t rd = box_grow_clip(c, 1, lim);
     __local const float* P = lbuf + s * sf;
-    const int w = box_w(c), n = w * box_h(c), p = box_w(rd);
-    for (int j = lid; j < n; j += ls) {
-      const int x = c.x0 + j % w, y = c.y0 + j / w;
+    const int p = box_w(rd);
+    FOR_CELLS(c, x, y) {
       const int l = local_index(rd, x, y);
       const int g = global_index(stride, origin, x, y);
       u[g] -= k * (P[l + 1] - P[l - 1]);
@@ -356,9 +352,8 @@ __kernel void stam_jacobi_blocked(__global const float* rhs, __global const floa
     __local float* Y = scratch;
     for (int sweep = 0; sweep < k; ++sweep) {
       const box_t reg = box_grow_clip(c, k - 1 - sweep, interior);
-      const int w = box_w(reg), n = w * box_h(reg);
-      for (int j = lid; j < n; j += ls) {
-        const int l = local_index(L, reg.x0 + j % w, reg.y0 + j / w);
+      FOR_CELLS(reg, x, y) {
+        const int l = local_index(L, x, y);
         Y[l] = (R[l] + a * (X[l - 1] + X[l + 1] + X[l - p] + X[l + p])) * inv_c;
       }
       barrier(CLK_LOCAL_MEM_FENCE);
@@ -370,9 +365,7 @@ __kernel void stam_jacobi_blocked(__global const float* rhs, __global const floa
     // Put: the core, grown by 1 on the sides at the domain edge (its ghost cells).
     const box_t wb = make_box(c.x0 == 0 ? -1 : c.x0, c.y0 == 0 ? -1 : c.y0,
                               c.x1 == nx ? nx + 1 : c.x1, c.y1 == ny ? ny + 1 : c.y1);
-    const int w = box_w(wb), n = w * box_h(wb);
-    for (int j = lid; j < n; j += ls) {
-      const int x = wb.x0 + j % w, y = wb.y0 + j / w;
+    FOR_CELLS(wb, x, y) {
       x_out[global_index(stride, origin, x, y)] = X[local_index(L, x, y)];
     }
     barrier(CLK_LOCAL_MEM_FENCE);

@@ -240,9 +240,9 @@ __kernel void reaction_implicit(__global const float* a, __global const float* b
     const box_t c = tile_core(t, region, tw, th);
     __local const float* la = lbuf + slot * slot_floats;
     __local const float* lb = la + tw * th;
-    const int w = box_w(c), n = w * box_h(c);
-    for (int j = lid; j < n; j += lsize) {
-      const int x = c.x0 + j % w, y = c.y0 + j / w;
+    const int ls = lsize;
+    FOR_CELLS(c, x, y) {
+      const int j = local_index(c, x, y);
       float ao, bo;
       rd_implicit_cell(model, p0, p1, p2, p3, p4, box, dt, la[j], lb[j], &ao, &bo);
       const int gi = global_index(stride, origin, x, y);
