@@ -335,7 +335,7 @@ bool OrientationExtender::march(View<const float> weight, View<const float> dir_
 
 void OrientationExtender::upsample_rows(View<const float> weight, View<const float> dir_cos,
                                         View<const float> dir_sin, View<float> theta0, int y0,
-                                        int y1) const {
+                                        int y1, float scale, float offset) const {
   const float inv = 1.f / float(factor_);
   for (int y = y0; y < y1; ++y) {
     float fy = (float(y) + 0.5f) * inv - 0.5f;
@@ -347,7 +347,7 @@ void OrientationExtender::upsample_rows(View<const float> weight, View<const flo
     float* out = theta0.row(y);
     for (int x = 0; x < size_.x; ++x) {
       if (wr[x] > 0) {
-        out[x] = fast_atan2(dir_sin(x, y), dir_cos(x, y));
+        out[x] = scale * fast_atan2(dir_sin(x, y), dir_cos(x, y)) + offset;
         continue;
       }
       float fx = (float(x) + 0.5f) * inv - 0.5f;
@@ -358,15 +358,16 @@ void OrientationExtender::upsample_rows(View<const float> weight, View<const flo
           (1 - ty) * ((1 - tx) * c0[i0] + tx * c0[i1]) + ty * ((1 - tx) * c1[i0] + tx * c1[i1]);
       const float s =
           (1 - ty) * ((1 - tx) * s0[i0] + tx * s0[i1]) + ty * ((1 - tx) * s1[i0] + tx * s1[i1]);
-      out[x] = fast_atan2(s, c);
+      out[x] = scale * fast_atan2(s, c) + offset;
     }
   }
 }
 
 bool OrientationExtender::extend(View<const float> weight, View<const float> dir_cos,
-                                 View<const float> dir_sin, View<float> theta0) {
+                                 View<const float> dir_sin, View<float> theta0, float scale,
+                                 float offset) {
   if (!march(weight, dir_cos, dir_sin)) return false;
-  upsample_rows(weight, dir_cos, dir_sin, theta0, 0, size_.y);
+  upsample_rows(weight, dir_cos, dir_sin, theta0, 0, size_.y, scale, offset);
   return true;
 }
 

@@ -70,13 +70,16 @@ class OrientationExtender {
   // weight > 0 marks a source cell whose direction is (dir_cos, dir_sin) (need not be unit).
   // Writes theta0 in (-pi, pi] for every cell of the grid [0, size). With no source at all,
   // theta0 is left unchanged and false is returned.
+  // Written value: scale * angle + offset (e.g. -1 and -pi to turn a stroke angle into Eqn 16's
+  // theta0 for a lobe opposite the stroke).
   bool extend(View<const float> weight, View<const float> dir_cos, View<const float> dir_sin,
-              View<float> theta0);
+              View<float> theta0, float scale = 1.f, float offset = 0.f);
   // The same, but only pools and marches; upsample_rows() then fills rows [y0, y1) of theta0
   // (independent row ranges can run on separate threads).
   bool march(View<const float> weight, View<const float> dir_cos, View<const float> dir_sin);
   void upsample_rows(View<const float> weight, View<const float> dir_cos, View<const float> dir_sin,
-                     View<float> theta0, int y0, int y1) const;
+                     View<float> theta0, int y0, int y1, float scale = 1.f,
+                     float offset = 0.f) const;
 
  private:
   Int2 size_{}, coarse_{};
