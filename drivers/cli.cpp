@@ -1,0 +1,83 @@
+#include "drivers/cli.h"
+
+#include <unistd.h>
+
+#include <exception>
+
+namespace ardcell {
+
+// The subcommands, in --help order. Each X(name) is a function
+// `void add_<name>_command(CLI::App&, CliContext&)` defined in that area's drivers/*.cpp;
+// adding a subcommand is one line here.
+#define ARDCELL_SUBCOMMANDS(X) \
+  X(run)                       \
+  X(info)                      \
+  X(bench)
+
+#define ARDCELL_DECLARE_COMMAND(name) void add_##name##_command(CLI::App&, CliContext&);
+ARDCELL_SUBCOMMANDS(ARDCELL_DECLARE_COMMAND)
+#undef ARDCELL_DECLARE_COMMAND
+
+namespace {
+
+#define ARDCELL_LIST_COMMAND(name) &add_##name##_command,
+constexpr CommandInstaller kCommands[] = {ARDCELL_SUBCOMMANDS(ARDCELL_LIST_COMMAND)};
+#undef ARDCELL_LIST_COMMAND
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// The deepest subcommand the user named, e.g. "run" ("" for the top level).
+std::string chosen_command(const CLI::App& app) {
+  std::string name;
+  const CLI::App* cur = &app;
+  while (true) {
+    const auto subs = cur->get_subcommands();
+    if (subs.empty()) break;
+    cur = subs.front();
+    name += (name.empty() ? "" : " ") + cur->get_name();
+  }
+  return name;
+}
+
+}  // namespace
+
+int cli_usage_error(CliContext& ctx, const std::string& command, const std::string& message) {
+  std::fprintf(ctx.err, "ardcell%s%s: %s\n", command.empty() ? "" : " ", command.c_str(),
+               one_line(message).c_str());
+  std::fflush(ctx.err);
+  return kExitUsage;
+}
+
+int run_cli(int argc, char** argv) {
+  CliContext ctx;
+  CLI::App app{"ardcell: real-time advection-reaction-diffusion (stable fluids + Kim & Lin RD)",
+               "ardcell"};
+  app.set_version_flag("--version", std::string("ardcell ") + ARDCELL_VERSION);
+  app.require_subcommand(0, 1);
+  app.footer("Run `ardcell <command> --help` for the options of each command.");
+  for (CommandInstaller install : kCommands) install(app, ctx);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    const std::string command = chosen_command(app);
+    return cli_usage_error(ctx, command,
+                           std::string(e.what()) + " (see ardcell" +
+                               (command.empty() ? "" : " " + command) + " --help)");
+  } catch (const std::exception& e) {
+    std::fprintf(ctx.err, "ardcell: %s\n", one_line(e.what()).c_str());
+    return kExitFailure;
+  }
+  if (app.get_subcommands().empty()) {
+    std::fputs(app.help().c_str(), ctx.out);
+    return kExitOk;
+  }
+  return ctx.exit_code;
+}
+
+}  // namespace ardcell

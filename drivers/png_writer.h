@@ -1,0 +1,32 @@
+#pragma once
+// PNG output (libpng): one RGB8 image per file, written under a temporary name and renamed,
+// and a FrameSink that writes a numbered sequence (<dir>/<prefix>_<step>.png).
+#include <filesystem>
+#include <string>
+
+#include "host/frame_sink.h"
+#include "host/image.h"
+#include "host/status.h"
+
+namespace ardcell {
+
+// compression_level: zlib level 0..9 (1-3 are fast and only a little larger than 6).
+Status write_png(const std::filesystem::path& path, const ImageRgb8& image,
+                 int compression_level = 3);
+
+class PngSequenceSink : public FrameSink {
+ public:
+  // Files <dir>/<prefix>_<step, 8 digits>.png; dir must exist.
+  PngSequenceSink(std::filesystem::path dir, std::string prefix)
+      : dir_(std::move(dir)), prefix_(std::move(prefix)) {}
+  Status write(const ImageRgb8& image, const FrameInfo& info) override;
+  Status finish() override { return Status::ok(); }
+  std::string describe() const override;
+  std::filesystem::path path_for(int64_t step) const;
+
+ private:
+  std::filesystem::path dir_;
+  std::string prefix_;
+};
+
+}  // namespace ardcell

@@ -1,0 +1,73 @@
+#pragma once
+// The headless run loop behind `ardcell run`: step an Engine N frames, every `every` frames
+// render the chosen field and hand the image to the frame sinks, show a progress bar on a
+// terminal, and measure ms per frame and cells per second (the simulation steps only, not
+// rendering or file output).
+#include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "host/engine.h"
+#include "host/frame_render.h"
+#include "host/frame_sink.h"
+#include "host/scene_config.h"
+#include "host/status.h"
+
+namespace ardcell {
+
+// Command-line overrides of a scene; unset members keep the scene's value.
+struct SceneOverrides {
+  std::optional<Int2> size;
+  std::optional<double> dt;
+  std::optional<double> reynolds;
+  std::optional<SolverKind> solver;
+  std::optional<int> sweeps;
+};
+
+// Applies the overrides (validated: positive size and dt, Re > 0 on a scene with a fluid).
+Status apply_overrides(const SceneOverrides& overrides, SceneConfig& scene);
+
+// Parses "N" or "WxH" (positive integers, at most kMaxGridSide each).
+inline constexpr int kMaxGridSide = 1 << 16;
+Status parse_grid_size(const std::string& text, Int2& out);
+
+// An estimate of the memory the engine needs for a grid (fields, solver scratch, frames).
+uint64_t estimated_bytes_for_grid(const SceneConfig& scene);
+// Memory this process may still use: MemAvailable, capped by a cgroup limit and RLIMIT_AS.
+uint64_t available_memory_bytes();
+// Error when the grid needs more memory than is available.
+Status check_memory_for_grid(const SceneConfig& scene);
+
+struct OfflineRunOptions {
+  int64_t steps = 0;                        // frames to simulate
+  int64_t every = 0;                        // write a frame after every `every` steps; 0: none
+  RenderSettings render;                    // what frames show
+  std::FILE* progress = nullptr;            // progress bar stream (a terminal), or none
+  const std::atomic<bool>* stop = nullptr;  // set asynchronously (Ctrl-C) to end early
+};
+
+struct OfflineRunSummary {
+  int64_t steps = 0;  // frames simulated
+  int64_t frames_written = 0;
+  double step_seconds = 0;       // wall time inside Engine::step
+  int64_t cells = 0;             // cells per frame
+  int64_t non_finite_cells = 0;  // in the last rendered frame
+  bool stopped_early = false;
+
+  double ms_per_frame() const { return steps ? 1e3 * step_seconds / double(steps) : 0.0; }
+  double cells_per_second() const {
+    return step_seconds > 0 ? double(cells) * double(steps) / step_seconds : 0.0;
+  }
+};
+
+// Runs the loop; fails on the first sink error (the sinks are not finished here).
+Status run_offline(Engine& engine, const OfflineRunOptions& options,
+                   std::span<FrameSink* const> sinks, OfflineRunSummary& summary);
+
+// "frames=500 ms/frame=3.21 cells/s=2.04e+07 images=50 out=out/cavity"
+std::string format_summary(const OfflineRunSummary& summary, const std::string& out);
+
+}  // namespace ardcell
