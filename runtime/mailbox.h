@@ -38,8 +38,10 @@ class Mailbox {
     read_.store(r + 1, std::memory_order_release);
     return value;
   }
-  // Consumer side: blocks until a message arrives.
-  T pop() {
+  // Consumer side: blocks until a message arrives, spinning `spin_limit` times first (a short
+  // spin catches the next message of a busy pipeline without a futex round trip; a long one
+  // steals the core from the thread that would send it when cores are shared).
+  T pop(int spin_limit = 256) {
     for (int spin = 0;; ++spin) {
       const std::uint32_t r = read_.load(std::memory_order_relaxed);
       const std::uint32_t w = write_.load(std::memory_order_acquire);
@@ -48,7 +50,7 @@ class Mailbox {
         read_.store(r + 1, std::memory_order_release);
         return value;
       }
-      if (spin < 2000) {
+      if (spin < spin_limit) {
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif

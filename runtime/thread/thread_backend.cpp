@@ -22,7 +22,7 @@ struct ThreadBackend::Worker {
 };
 
 ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
-    : store_bytes_(options.local_store_bytes) {
+    : store_bytes_(options.local_store_bytes), host_is_worker_(options.host_is_worker) {
   int n = options.workers;
   if (n <= 0) n = std::max(1u, std::thread::hardware_concurrency());
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -36,6 +36,7 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
     workers_.push_back(std::move(w));
   }
   for (auto& w : workers_) {
+    if (host_is_worker_ && w->index == 0) continue;
     w->thread = std::thread(run_worker, std::ref(*w));
     if (options.pin) {
       cpu_set_t set;
@@ -49,20 +50,29 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
 
 ThreadBackend::~ThreadBackend() {
   sync();
-  for (auto& w : workers_) w->inbox.push(Command{});
-  for (auto& w : workers_) w->thread.join();
+  for (auto& w : workers_)
+    if (w->thread.joinable()) w->inbox.push(Command{});
+  for (auto& w : workers_)
+    if (w->thread.joinable()) w->thread.join();
 }
 
 void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {
   ARDCELL_CHECK(pass.fetch != nullptr && pass.compute != nullptr,
                 "threads back end needs a tile program (fetch and compute)");
-  for (auto& w : workers_) w->inbox.push(Command{&pass, tiles.data(), tiles.size()});
+  ARDCELL_CHECK(outstanding_ < kMaxOutstanding, "threads back end: too many passes before sync");
+  const Command cmd{&pass, tiles.data(), tiles.size()};
+  for (auto& w : workers_)
+    if (w->thread.joinable()) w->inbox.push(cmd);
+  if (host_is_worker_) host_queue_[std::size_t(outstanding_)] = cmd;
   ++outstanding_;
 }
 
 void ThreadBackend::sync() {
+  if (host_is_worker_)
+    for (int i = 0; i < outstanding_; ++i) run_share(*workers_[0], host_queue_[std::size_t(i)]);
   for (; outstanding_ > 0; --outstanding_)
-    for (auto& w : workers_) (void)w->outbox.pop();
+    for (auto& w : workers_)
+      if (w->thread.joinable()) (void)w->outbox.pop(64);
 }
 
 std::uint64_t ThreadBackend::dma_bytes() const {
@@ -75,21 +85,25 @@ void ThreadBackend::run_worker(Worker& w) {
   for (;;) {
     const Command cmd = w.inbox.pop();
     if (cmd.pass == nullptr) return;
-    const Pass& pass = *cmd.pass;
-    // The w-th contiguous share of the tiles.
-    const std::size_t begin = cmd.count * std::size_t(w.index) / std::size_t(w.count);
-    const std::size_t end = cmd.count * std::size_t(w.index + 1) / std::size_t(w.count);
-    if (begin < end) {
-      pass.fetch(pass.program, cmd.tiles[begin], 0, w.ctx);
-      for (std::size_t i = begin; i < end; ++i) {
-        const int slot = int((i - begin) & 1);
-        if (i + 1 < end) pass.fetch(pass.program, cmd.tiles[i + 1], slot ^ 1, w.ctx);
-        pass.compute(pass.program, cmd.tiles[i], slot, w.ctx);
-      }
-      w.dma.wait_all();
-    }
+    run_share(w, cmd);
     w.outbox.push(w.index);
   }
+}
+
+// Runs the w-th contiguous share of the tiles, double-buffered: tile i+1 is fetched into the
+// other slot before tile i computes.
+void ThreadBackend::run_share(Worker& w, const Command& cmd) {
+  const Pass& pass = *cmd.pass;
+  const std::size_t begin = cmd.count * std::size_t(w.index) / std::size_t(w.count);
+  const std::size_t end = cmd.count * std::size_t(w.index + 1) / std::size_t(w.count);
+  if (begin >= end) return;
+  pass.fetch(pass.program, cmd.tiles[begin], 0, w.ctx);
+  for (std::size_t i = begin; i < end; ++i) {
+    const int slot = int((i - begin) & 1);
+    if (i + 1 < end) pass.fetch(pass.program, cmd.tiles[i + 1], slot ^ 1, w.ctx);
+    pass.compute(pass.program, cmd.tiles[i], slot, w.ctx);
+  }
+  w.dma.wait_all();
 }
 
 }  // namespace ardcell

@@ -1,10 +1,12 @@
 #pragma once
-// The threads back end: one worker thread per accelerator queue (an SPE each), pinned to a core,
-// each with its own LocalStore and Dma, fed through a Mailbox. dispatch() posts the pass to
+// The threads back end: one worker per accelerator queue (an SPE each), pinned to a core, each
+// with its own LocalStore and Dma, fed through a Mailbox (worker 0 may be the host thread
+// itself, see host_is_worker). dispatch() posts the pass to
 // every worker's inbound mailbox; worker w takes the contiguous w-th share of the tiles (the
 // same tiles for the same count, and a tile's result does not depend on who computes it) and
 // runs the double-buffered tile program over them. sync() collects one completion per worker
 // per dispatch from the outbound mailboxes. Nothing on this path allocates or locks.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -22,6 +24,10 @@ struct ThreadBackendOptions {
   int workers = 0;  // 0: one per hardware thread
   std::size_t local_store_bytes = kDefaultLocalStoreBytes;
   bool pin = true;  // pin worker w to core w % cores (silently unpinned where not permitted)
+  // The calling (host) thread runs worker 0's share inside sync(), so `workers` threads of
+  // work need only workers - 1 helper threads: on a 2-core machine the host does not sit idle
+  // on a core of its own while two workers share the other.
+  bool host_is_worker = true;
 };
 
 class ThreadBackend final : public Backend {
@@ -50,8 +56,13 @@ class ThreadBackend final : public Backend {
   static void run_worker(Worker& w);
 
   std::size_t store_bytes_;
+  static void run_share(Worker& w, const Command& cmd);
+
   std::vector<std::unique_ptr<Worker>> workers_;
-  int outstanding_ = 0;  // dispatches not yet collected by sync()
+  bool host_is_worker_ = true;
+  static constexpr int kMaxOutstanding = 64;
+  std::array<Command, kMaxOutstanding> host_queue_{};  // worker 0's share when the host runs it
+  int outstanding_ = 0;                                // dispatches not yet collected by sync()
 };
 
 }  // namespace ardcell

@@ -1,0 +1,334 @@
+// `ardcell bench table1`: runs the Table 1 benchmark program (bench/table1_bench.cpp, built next
+// to the ardcell binary) and reports it beside the paper's Cell figures: a Markdown table on
+// stdout, and table1.md, table1.csv and table1.png (bar chart, log FPS) in --out.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "drivers/cli.h"
+#include "drivers/png_writer.h"
+#include "host/atomic_file.h"
+#include "host/image.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Seed 000, Table 1: FPS of the fluid alone and with RD on the Cell processor.
+struct CellRow {
+  int n;
+  double fluid, ard;
+};
+constexpr CellRow kCell[] = {
+    {128, 223, 223}, {256, 78.7, 78.5}, {512, 21.4, 21.5}, {1024, 5.5, 5.5}};
+
+const CellRow* cell_row(int n) {
+  for (const CellRow& r : kCell)
+    if (r.n == n) return &r;
+  return nullptr;
+}
+
+struct Result {
+  double fps = 0, bytes_per_s = 0, fps_unshared = 0;
+  bool present = false;
+};
+
+struct BenchOptions {
+  std::string sizes = "128,256,512,1024,2048";
+  std::string schedules = "serial,stream,blocked";
+  double min_time = 0.5;
+  int serial_max = 1024;
+  int store_kib = 1024;
+  std::string out = "bench-results";
+  std::string binary;
+};
+
+fs::path default_binary() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path("table1_bench") : self.parent_path() / "table1_bench";
+}
+
+// Runs the bench program with output to json_path; its console output goes to stderr.
+int run_bench_program(const BenchOptions& o, const std::string& filter,
+                      const std::string& json_path) {
+  std::vector<std::string> args = {o.binary, "--benchmark_filter=" + filter,
+                                   "--benchmark_min_time=" + std::to_string(o.min_time),
+                                   "--benchmark_out=" + json_path, "--benchmark_out_format=json"};
+  const pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    setenv("ARDCELL_BENCH_SIZES", o.sizes.c_str(), 1);
+    setenv("ARDCELL_BENCH_SERIAL_MAX", std::to_string(o.serial_max).c_str(), 1);
+    setenv("ARDCELL_BENCH_STORE_KIB", std::to_string(o.store_kib).c_str(), 1);
+    dup2(STDERR_FILENO, STDOUT_FILENO);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    std::fprintf(stderr, "ardcell bench: cannot run %s\n", argv[0]);
+    _exit(127);
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// A 3x5 digit font, enough to label the sizes and the decades of the chart.
+constexpr const char* kDigits[10] = {
+    "111101101101111", "010110010010111", "111001111100111", "111001111001111", "101101111001001",
+    "111100111001111", "111100111101111", "111001001001001", "111101111101111", "111101111001111"};
+
+void put_rect(ImageRgb8& img, int x0, int y0, int x1, int y1, const uint8_t rgb[3]) {
+  for (int y = std::max(0, y0); y < std::min(img.height, y1); ++y)
+    for (int x = std::max(0, x0); x < std::min(img.width, x1); ++x) {
+      uint8_t* p = img.row(y) + 3 * x;
+      p[0] = rgb[0];
+      p[1] = rgb[1];
+      p[2] = rgb[2];
+    }
+}
+
+void put_number(ImageRgb8& img, int x, int y, int value, int scale, const uint8_t rgb[3]) {
+  const std::string s = std::to_string(value);
+  for (char c : s) {
+    const char* g = kDigits[c - '0'];
+    for (int r = 0; r < 5; ++r)
+      for (int k = 0; k < 3; ++k)
+        if (g[r * 3 + k] == '1')
+          put_rect(img, x + k * scale, y + r * scale, x + (k + 1) * scale, y + (r + 1) * scale,
+                   rgb);
+    x += 4 * scale;
+  }
+}
+
+Status write_text_atomically(const fs::path& path, const std::string& text) {
+  AtomicFile f;
+  Status st = f.open(path);
+  if (!st) return st;
+  if (!f.write(text.data(), text.size())) return Status::error("cannot write " + path.string());
+  return f.commit();
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, CliContext& ctx) {
+  auto* bench = app.add_subcommand("bench", "Benchmarks (Table 1 of the paper)");
+  bench->require_subcommand(1);
+  auto* t1 = bench->add_subcommand(
+      "table1", "Fluid and fluid+RD FPS per size and schedule beside the Cell's (seed 000)");
+  auto o = std::make_shared<BenchOptions>();
+  t1->add_option("--sizes", o->sizes, "Grid sizes N, comma-separated")->capture_default_str();
+  t1->add_option("--schedules", o->schedules, "serial,stream,blocked (any subset)")
+      ->capture_default_str();
+  t1->add_option("--min-time", o->min_time, "Seconds per benchmark (at least)")
+      ->capture_default_str();
+  t1->add_option("--serial-max", o->serial_max, "Largest N run on the serial schedule")
+      ->capture_default_str();
+  t1->add_option("--store-kib", o->store_kib, "Local store of the blocked schedule, KiB")
+      ->capture_default_str();
+  t1->add_option("--out", o->out, "Folder for table1.md, table1.csv, table1.png")
+      ->capture_default_str();
+  t1->add_option("--bench-binary", o->binary, "The table1_bench program (default: beside ardcell)");
+  t1->callback([o, &ctx] {
+    const std::string cmd = "bench table1";
+    std::vector<int> sizes;
+    for (const std::string& s : split(o->sizes)) {
+      char* end = nullptr;
+      const long n = std::strtol(s.c_str(), &end, 10);
+      if (*end != '\0' || n < 8 || n > 8192) {
+        ctx.exit_code = cli_usage_error(ctx, cmd, "--sizes: '" + s + "' is not a size in 8..8192");
+        return;
+      }
+      sizes.push_back(int(n));
+    }
+    std::vector<std::string> schedules = split(o->schedules);
+    for (const std::string& s : schedules)
+      if (s != "serial" && s != "stream" && s != "blocked") {
+        ctx.exit_code = cli_usage_error(
+            ctx, cmd, "--schedules: '" + s + "' is not one of serial, stream, blocked");
+        return;
+      }
+    if (sizes.empty() || schedules.empty() || !(o->min_time > 0) || o->store_kib < 8) {
+      ctx.exit_code = cli_usage_error(
+          ctx, cmd, "need at least one size and schedule, --min-time > 0, --store-kib >= 8");
+      return;
+    }
+    if (o->binary.empty()) o->binary = default_binary().string();
+    if (access(o->binary.c_str(), X_OK) != 0) {
+      ctx.exit_code = cli_usage_error(ctx, cmd,
+                                      "benchmark program '" + o->binary +
+                                          "' not found or not executable (build the "
+                                          "table1_bench target, or pass --bench-binary)");
+      return;
+    }
+    std::error_code ec;
+    fs::create_directories(o->out, ec);
+    if (ec) {
+      ctx.exit_code =
+          cli_usage_error(ctx, cmd, "--out: cannot create '" + o->out + "': " + ec.message());
+      return;
+    }
+    std::string filter = "STREAM/triad|Table1/(";
+    for (std::size_t i = 0; i < schedules.size(); ++i) filter += (i ? "|" : "") + schedules[i];
+    filter += ")/";
+    const std::string json_path = (fs::path(o->out) / ".table1_bench.json").string();
+    const int rc = run_bench_program(*o, filter, json_path);
+    if (rc != 0) {
+      std::fprintf(ctx.err, "ardcell bench table1: %s exited with status %d\n", o->binary.c_str(),
+                   rc);
+      ctx.exit_code = kExitFailure;
+      return;
+    }
+    // Parse the results.
+    std::map<std::string, Result> results;  // "<schedule>/<fluid|ard>/<N>"
+    double triad = 0;
+    try {
+      std::ifstream in(json_path);
+      const nlohmann::json j = nlohmann::json::parse(in);
+      for (const auto& b : j.at("benchmarks")) {
+        std::string name = b.at("name").get<std::string>();
+        if (name.rfind("STREAM/triad", 0) == 0) {
+          triad = b.value("bytes_per_s", 0.0);
+          continue;
+        }
+        if (name.rfind("Table1/", 0) != 0) continue;
+        name = name.substr(7);
+        const auto cut = name.find("/min_time");
+        if (cut != std::string::npos) name = name.substr(0, cut);
+        const auto cut2 = name.find("/real_time");
+        if (cut2 != std::string::npos) name = name.substr(0, cut2);
+        Result r;
+        r.fps = b.value("fps", 0.0);
+        r.bytes_per_s = b.value("bytes_per_s", 0.0);
+        r.fps_unshared = b.value("fps_if_unshared", 0.0);
+        r.present = true;
+        results[name] = r;
+      }
+    } catch (const std::exception& e) {
+      std::fprintf(ctx.err, "ardcell bench table1: cannot read %s: %s\n", json_path.c_str(),
+                   e.what());
+      ctx.exit_code = kExitFailure;
+      return;
+    }
+    fs::remove(json_path, ec);
+    // The table.
+    std::ostringstream md, csv;
+    char line[512];
+    md << "STREAM triad (measured in the same run): " << triad / 1e9 << " GB/s\n\n";
+    md << "| N | schedule | FPS fluid | FPS fluid+RD | RD overhead | x Cell (fluid+RD) | "
+          "eff. GB/s (fluid+RD) | share of triad | Cell FPS fluid / fluid+RD | "
+          "fluid+RD FPS if cores unshared |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|\n";
+    csv << "n,schedule,fps_fluid,fps_ard,rd_overhead,cell_multiple_ard,eff_bytes_per_s_ard,"
+           "triad_share_ard,cell_fps_fluid,cell_fps_ard,fps_ard_unshared\n";
+    for (int n : sizes)
+      for (const std::string& s : schedules) {
+        const Result& f = results[s + "/fluid/" + std::to_string(n)];
+        const Result& a = results[s + "/ard/" + std::to_string(n)];
+        if (!f.present && !a.present) continue;
+        const CellRow* c = cell_row(n);
+        const double overhead = (f.present && a.present && a.fps > 0) ? f.fps / a.fps - 1 : NAN;
+        const double multiple = (c && a.present) ? a.fps / c->ard : NAN;
+        const double share = (a.present && triad > 0) ? a.bytes_per_s / triad : NAN;
+        std::snprintf(line, sizeof line,
+                      "| %d | %s | %.1f | %.1f | %+.1f%% | %.2f | %.2f | %.0f%% | %s | %.1f |\n", n,
+                      s.c_str(), f.fps, a.fps, 100 * overhead, multiple, a.bytes_per_s / 1e9,
+                      100 * share,
+                      c ? (std::to_string(c->fluid).substr(0, 5) + " / " +
+                           std::to_string(c->ard).substr(0, 5))
+                              .c_str()
+                        : "-",
+                      a.fps_unshared);
+        md << line;
+        std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.5f,%.4f,%.6g,%.4f,%s,%s,%.4f\n", n,
+                      s.c_str(), f.fps, a.fps, overhead, multiple, a.bytes_per_s, share,
+                      c ? std::to_string(c->fluid).c_str() : "",
+                      c ? std::to_string(c->ard).c_str() : "", a.fps_unshared);
+        csv << line;
+      }
+    std::fputs(md.str().c_str(), ctx.out);
+    const fs::path dir(o->out);
+    Status st = write_text_atomically(dir / "table1.md", md.str());
+    if (st) st = write_text_atomically(dir / "table1.csv", csv.str());
+    if (!st) {
+      std::fprintf(ctx.err, "ardcell bench table1: %s\n", st.message().c_str());
+      ctx.exit_code = kExitFailure;
+      return;
+    }
+    // The chart: per size, Cell then each schedule, fluid (light) and fluid+RD (dark) bars on a
+    // log scale from 1 to 10^4 FPS.
+    const int group = 2 * int(schedules.size() + 1) * 14 + 20, h = 300, base = h - 30;
+    ImageRgb8 img;
+    img.resize(60 + group * int(sizes.size()), h);
+    const uint8_t white[3] = {255, 255, 255}, grid[3] = {220, 220, 220}, ink[3] = {40, 40, 40};
+    put_rect(img, 0, 0, img.width, img.height, white);
+    const auto y_of = [&](double fps) {
+      const double t = std::clamp(std::log10(std::max(fps, 1.0)) / 4.0, 0.0, 1.0);
+      return base - int(t * (base - 10));
+    };
+    for (int d = 0; d <= 4; ++d) {
+      put_rect(img, 40, y_of(std::pow(10.0, d)), img.width, y_of(std::pow(10.0, d)) + 1, grid);
+      put_number(img, 4, y_of(std::pow(10.0, d)) - 5,
+                 int(std::pow(10.0, d)) >= 1000 ? d : int(std::pow(10.0, d)), 2, ink);
+    }
+    const uint8_t colours[4][2][3] = {{{190, 190, 190}, {110, 110, 110}},  // Cell
+                                      {{240, 180, 150}, {200, 90, 50}},    // serial
+                                      {{160, 200, 240}, {40, 110, 190}},   // stream
+                                      {{170, 230, 170}, {40, 150, 60}}};   // blocked
+    for (std::size_t gi = 0; gi < sizes.size(); ++gi) {
+      const int n = sizes[gi];
+      int x = 60 + int(gi) * group;
+      const CellRow* c = cell_row(n);
+      for (int series = 0; series <= int(schedules.size()); ++series) {
+        for (int k = 0; k < 2; ++k) {
+          double fps = 0;
+          if (series == 0) {
+            fps = c ? (k ? c->ard : c->fluid) : 0;
+          } else {
+            const std::string& s = schedules[std::size_t(series - 1)];
+            fps = results[s + (k ? "/ard/" : "/fluid/") + std::to_string(n)].fps;
+          }
+          const int ci = series == 0                                      ? 0
+                         : schedules[std::size_t(series - 1)] == "serial" ? 1
+                         : schedules[std::size_t(series - 1)] == "stream" ? 2
+                                                                          : 3;
+          if (fps > 0) put_rect(img, x, y_of(fps), x + 12, base, colours[ci][k]);
+          x += 14;
+        }
+      }
+      put_number(img, 60 + int(gi) * group, base + 8, n, 3, ink);
+    }
+    st = write_png(dir / "table1.png", img);
+    if (!st) {
+      std::fprintf(ctx.err, "ardcell bench table1: %s\n", st.message().c_str());
+      ctx.exit_code = kExitFailure;
+      return;
+    }
+    std::fprintf(ctx.err, "ardcell bench table1: wrote %s, %s, %s\n", (dir / "table1.md").c_str(),
+                 (dir / "table1.csv").c_str(), (dir / "table1.png").c_str());
+    ctx.exit_code = kExitOk;
+  });
+}
+
+}  // namespace ardcell
