@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "runtime/opencl/backend_choice.h"
+#include "runtime/opencl/opencl_backend.h"
 
 namespace ardcell {
 namespace {
@@ -101,6 +102,73 @@ TEST(OpenClContext, InvalidDeviceIndexNamesTheRange) {
   std::string error;
   EXPECT_EQ(OpenClContext::open(999, &error), nullptr);
   EXPECT_NE(error.find("--cl-device 999"), std::string::npos) << error;
+}
+
+// The Backend interface: a pass bound to an encoder runs on the device; dispatch only
+// enqueues, sync waits; tiles reach the encoder unchanged.
+struct ScaleJob {
+  cl_kernel kernel;
+  OpenClBuffer* y;
+  OpenClBuffer* x;
+  int tiles_seen = 0;
+};
+
+void encode_scale(void* user, OpenClContext& ctx, const Pass& pass, std::span<const Tile> tiles) {
+  auto& job = *static_cast<ScaleJob*>(user);
+  for (const Tile& t : tiles) {
+    // One tile = a range of elements [core.min.x, core.max.x); the pass's halo is the factor.
+    set_kernel_args(job.kernel, *job.y, *job.x, float(pass.halo), t.core.max.x);
+    ctx.enqueue(job.kernel, std::size_t(t.core.max.x), 0);
+    ++job.tiles_seen;
+  }
+}
+
+TEST(OpenClBackend, DispatchesBoundPassesAndSyncs) {
+  std::string error;
+  auto ctx = OpenClContext::open(0, &error);
+  ASSERT_TRUE(ctx) << error;
+  const std::array<std::string_view, 1> sources{kScaleSource};
+  cl_program program = ctx->program("scale", sources, "", &error);
+  ASSERT_TRUE(program) << error;
+  ScaleJob job{ctx->kernel(program, "scale_add", &error), nullptr, nullptr};
+  constexpr int n = 256;
+  OpenClBuffer x = ctx->allocate(n * sizeof(float)), y = ctx->allocate(n * sizeof(float));
+  std::vector<float> ones(n, 1.0f), zeros(n, 0.0f), out(n);
+  ctx->write(x, ones.data(), n * sizeof(float));
+  ctx->write(y, zeros.data(), n * sizeof(float));
+  job.x = &x;
+  job.y = &y;
+  OpenClBackend backend(std::move(ctx));
+  EXPECT_STREQ(backend.name(), "opencl");
+  EXPECT_GE(backend.workers(), 1);
+  backend.bind(3, &encode_scale, &job);
+  EXPECT_TRUE(backend.bound(3));
+  EXPECT_FALSE(backend.bound(2));
+  Pass pass;
+  pass.name = "scale";
+  pass.kernel_id = 3;
+  pass.halo = 2;
+  const Tile tiles[] = {Tile{{{0, 0}, {n, 1}}, 0}, Tile{{{0, 0}, {n, 1}}, 0}};
+  backend.dispatch(pass, tiles);
+  backend.sync();
+  backend.context().read(y, out.data(), n * sizeof(float));
+  for (float v : out) EXPECT_EQ(v, 4.0f);  // two tiles, each adds 2 * 1
+  EXPECT_EQ(job.tiles_seen, 2);
+  EXPECT_EQ(backend.dispatched(), 1);
+}
+
+TEST(OpenClBackendDeathTest, UnboundPassStopsWithItsName) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_DEATH(
+      {
+        std::string error;
+        OpenClBackend backend(OpenClContext::open(0, &error));
+        Pass pass;
+        pass.name = "advect:dye";
+        pass.kernel_id = 7;
+        backend.dispatch(pass, {});
+      },
+      "pass 'advect:dye' \\(kernel 7\\) has no OpenCL twin");
 }
 
 TEST(BackendChoice, ParsesTheFourNames) {
