@@ -1,13 +1,14 @@
 #include "host/engine.h"
 
 #include "host/fluid_step.h"
+#include "host/rd_step.h"
 
 namespace ardcell {
 
 // The solvers of one scene, built once in the constructor.
 struct Engine::Solvers {
   std::unique_ptr<FluidStep> fluid;
-  // ---- RD (owned by the RD engineer): the RD stepper and its scratch go here. ----
+  std::unique_ptr<RdStepper> rd;  // when config.rd.enabled (host/rd_step.h)
 };
 
 Engine::Engine(const SceneConfig& config) : config_(config), solvers_(std::make_unique<Solvers>()) {
@@ -19,7 +20,11 @@ Engine::Engine(const SceneConfig& config) : config_(config), solvers_(std::make_
   state_.dt = config_.dt;
   solvers_->fluid = make_fluid_step(config_);
   if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->allocate(state_);
-  // ---- RD: allocate A, B, theta0 here (before reset()). ----
+  if (config_.rd.enabled) {
+    // Throws std::invalid_argument with one line naming a bad RD parameter.
+    solvers_->rd = std::make_unique<RdStepper>(config_);
+    solvers_->rd->init_state(state_);  // allocates A, B, theta0
+  }
   reset();
 }
 
@@ -30,13 +35,14 @@ void Engine::reset() {
   state_.step = 0;
   state_.dt = config_.dt;
   if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->reset(state_);
-  // ---- RD: initial conditions of A, B here. ----
+  if (solvers_->rd) solvers_->rd->init_state(state_);
 }
 
 void Engine::step() {
   // Fluid first: the RD is advected by this frame's velocity.
   solvers_->fluid->step(state_);
-  // ---- RD step goes here (reaction -> anisotropic diffusion -> advection by u, v). ----
+  // RD: implicit reaction -> anisotropic diffusion -> advection by this frame's u, v.
+  if (solvers_->rd) solvers_->rd->step(state_);
   state_.time += state_.dt;
   ++state_.step;
 }

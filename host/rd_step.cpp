@@ -86,8 +86,8 @@ RdStepper::~RdStepper() = default;
 
 void RdStepper::init_state(SimState& s) const {
   const Int2 n = scene_.size;
-  s.A = FieldF(n, 1);
-  s.B = FieldF(n, 1);
+  if (s.A.empty() || s.A.size() != n) s.A = FieldF(n, 1);
+  if (s.B.empty() || s.B.size() != n) s.B = FieldF(n, 1);
   if (s.theta0.empty() || s.theta0.size() != n) {
     s.theta0 = FieldF(n, 1);
     s.theta0.fill(rd_.anisotropy.theta0);

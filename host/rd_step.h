@@ -31,8 +31,9 @@ class RdStepper {
   explicit RdStepper(const SceneConfig& scene);
   ~RdStepper();
 
-  // Allocates A, B (and theta0 when absent: filled with rd.anisotropy.theta0) with halo 1 and
-  // writes the initial pattern. Deterministic for a given rd.seed.
+  // Allocates A, B when absent (and theta0 when absent: filled with rd.anisotropy.theta0; a
+  // painted theta0 is kept) with halo 1 and writes the initial pattern. Deterministic for a
+  // given rd.seed.
   void init_state(SimState& s) const;
 
   // One frame. A, B must be allocated (init_state); u, v are used when allocated.
