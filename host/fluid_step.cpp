@@ -67,6 +67,25 @@ void zero_solid(FieldF& f, const Field<uint8_t>& solid) {
   }
 }
 
+double interior_sum(const FieldF& f) {
+  double total = 0.0;
+  for (int j = 0; j < f.ny(); ++j) {
+    const float* r = f.row(j);
+    double row_total = 0.0;
+    for (int i = 0; i < f.nx(); ++i) row_total += r[i];
+    total += row_total;
+  }
+  return total;
+}
+
+void scale_interior(FieldF& f, double factor) {
+  const float k = float(factor);
+  for (int j = 0; j < f.ny(); ++j) {
+    float* r = f.row(j);
+    for (int i = 0; i < f.nx(); ++i) r[i] *= k;
+  }
+}
+
 void copy_all(const FieldF& from, FieldF& to) {
   std::memcpy(to.raw(), from.raw(), to.raw_size() * sizeof(float));
 }
@@ -85,7 +104,9 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt)
       scratch_u_(size, 1),
       scratch_v_(size, 1),
       scratch_b_(size, 1),
-      rhs_(size, 1) {
+      rhs_(size, 1),
+      face_u_(Int2{size.x + 1, size.y}, 1),
+      face_v_(Int2{size.x, size.y + 1}, 1) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0 && h > 0.0, "FluidStep: size and h must be positive");
   const EdgeFill copy{EdgeRule::kCopy, 0.0f};
   const EdgeFill wall{EdgeRule::kMirror, 0.0f};
@@ -245,6 +266,20 @@ SolveReport FluidStep::project(SimState& state) {
   const SolveReport report = ops_->solver_p->solve(ops_->pressure, rhs_, state.p);
   fill_boundary(state.p.view(), size_, fill_p_);
   if (!solid_.empty()) fill_obstacle(state.p.view(), solid_.view(), interior, ObstacleRule::kCopy);
+  face_velocities(state.u.view(), state.v.view(), state.p.view(), face_u_.view(), face_v_.view(),
+                  interior, {float(h_)});
+  if (fill_u_.bottom.rule == EdgeRule::kPeriodic) {
+    // Ghost rows of uf and ghost columns of vf, wrapped, for the periodic back-trace.
+    const int nx = size_.x, ny = size_.y;
+    for (int i = 0; i <= nx; ++i) {
+      face_u_(i, -1) = face_u_(i, ny - 1);
+      face_u_(i, ny) = face_u_(i, 0);
+    }
+    for (int j = 0; j <= ny; ++j) {
+      face_v_(-1, j) = face_v_(nx - 1, j);
+      face_v_(nx, j) = face_v_(0, j);
+    }
+  }
   subtract_gradient(state.p.view(), state.u.view(), state.v.view(), interior, {float(h_)});
   fill_velocity(state);
   return report;
@@ -280,9 +315,17 @@ void FluidStep::step(SimState& state) {
   if (!solid_.empty())
     fill_obstacle(state.dye.view(), solid_.view(), state.dye.interior(), ObstacleRule::kCopy);
   copy_all(state.dye, scratch_b_);
+  const bool closed =
+      config_.kind == FluidSceneKind::kCavity || config_.kind == FluidSceneKind::kInk;
+  const bool fix_mass = config_.conserve_dye && closed;
+  const double mass_before = fix_mass ? interior_sum(state.dye) : 0.0;
   const bool periodic = fill_dye_.left.rule == EdgeRule::kPeriodic;
-  advect_scalar(scratch_b_.view(), state.u.view(), state.v.view(), state.dye.view(),
-                state.dye.interior(), {float(state.dt / h_), size_, periodic});
+  advect_scalar_mac(scratch_b_.view(), face_u_.view(), face_v_.view(), state.dye.view(),
+                    state.dye.interior(), {float(state.dt / h_), size_, periodic});
+  if (fix_mass) {
+    const double mass_after = interior_sum(state.dye);
+    if (mass_before > 0.0 && mass_after > 0.0) scale_interior(state.dye, mass_before / mass_after);
+  }
   fill_boundary(state.dye.view(), size_, fill_dye_);
 }
 

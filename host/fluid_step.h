@@ -49,6 +49,11 @@ class FluidStep {
   const BoundaryFill& dye_fill() const { return fill_dye_; }
   // Fills the ghost cells (and obstacle cells) of u and v, or of a scalar with its rule.
   void fill_velocity(SimState& state) const;
+  // The divergence-free MAC face velocities of the last projection (kernels/project.h
+  // face_velocities): what the dye is advected with (kernels/advect.h advect_scalar_mac), and
+  // what any other passive quantity should be advected with to keep its mass.
+  const FieldF& face_u() const { return face_u_; }
+  const FieldF& face_v() const { return face_v_; }
 
  private:
   struct Operators;
@@ -66,6 +71,7 @@ class FluidStep {
   Field<uint8_t> solid_;  // the obstacle mask (empty when none)
   std::unique_ptr<Operators> ops_;
   FieldF scratch_u_, scratch_v_, scratch_b_, rhs_;
+  FieldF face_u_, face_v_;  // (nx + 1) x ny and nx x (ny + 1), halo 1
   FluidStepReport report_;
 };
 

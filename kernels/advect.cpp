@@ -46,11 +46,25 @@ inline void locate(const AxisLimits& a, float p, int& i0, float& s1) {
   s1 = p - float(i);
 }
 
+// Written as nested lerps a + s (b - a), so a constant field is reproduced exactly.
 inline float bilinear(const View<const float>& q, const Sample& s) {
   const float* r0 = q.row(s.j0);
   const float* r1 = q.row(s.j0 + 1);
-  const float s0 = 1.0f - s.s1, t0 = 1.0f - s.t1;
-  return t0 * (s0 * r0[s.i0] + s.s1 * r0[s.i0 + 1]) + s.t1 * (s0 * r1[s.i0] + s.s1 * r1[s.i0 + 1]);
+  const float low = r0[s.i0] + s.s1 * (r0[s.i0 + 1] - r0[s.i0]);
+  const float high = r1[s.i0] + s.s1 * (r1[s.i0 + 1] - r1[s.i0]);
+  return low + s.t1 * (high - low);
+}
+
+// The back-traced point of cell (x, y): the midpoint rule (RK2). The velocity at the midpoint
+// x - dt/2 u(x) is interpolated from (u, v) with the same clamps as the sample.
+inline void back_trace(const View<const float>& u, const View<const float>& v, const AxisLimits& ax,
+                       const AxisLimits& ay, float k, int x, int y, float ux, float vy, Sample& s) {
+  Sample mid;
+  locate(ax, float(x) - 0.5f * k * ux, mid.i0, mid.s1);
+  locate(ay, float(y) - 0.5f * k * vy, mid.j0, mid.t1);
+  const float um = bilinear(u, mid), vm = bilinear(v, mid);
+  locate(ax, float(x) - k * um, s.i0, s.s1);
+  locate(ay, float(y) - k * vm, s.j0, s.t1);
 }
 
 }  // namespace
@@ -58,7 +72,7 @@ inline float bilinear(const View<const float>& q, const Sample& s) {
 void advect_scalar(View<const float> q0, View<const float> u, View<const float> v, View<float> q,
                    Box2 region, const AdvectParams& params) {
   if (region.empty()) return;
-  const Box2& b = q0.box();
+  const Box2 b = q0.box().intersected(u.box()).intersected(v.box());
   ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
   const AxisLimits ax = axis_limits(b.min.x, b.max.x, params.domain.x, params.periodic);
   const AxisLimits ay = axis_limits(b.min.y, b.max.y, params.domain.y, params.periodic);
@@ -69,8 +83,7 @@ void advect_scalar(View<const float> q0, View<const float> u, View<const float> 
     float* out = q.row(y);
     for (int x = region.min.x; x < region.max.x; ++x) {
       Sample s;
-      locate(ax, float(x) - k * ur[x], s.i0, s.s1);
-      locate(ay, float(y) - k * vr[x], s.j0, s.t1);
+      back_trace(u, v, ax, ay, k, x, y, ur[x], vr[x], s);
       out[x] = bilinear(q0, s);
     }
   }
@@ -91,10 +104,76 @@ void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, 
     float* vo = v.row(y);
     for (int x = region.min.x; x < region.max.x; ++x) {
       Sample s;
-      locate(ax, float(x) - k * ur[x], s.i0, s.s1);
-      locate(ay, float(y) - k * vr[x], s.j0, s.t1);
+      back_trace(u0, v0, ax, ay, k, x, y, ur[x], vr[x], s);
       uo[x] = bilinear(u0, s);
       vo[x] = bilinear(v0, s);
+    }
+  }
+}
+
+namespace {
+
+// Bilinear sampling of a face-centred component: sample coordinate = point + offset, clamped to
+// [lo, hi] (the faces and rows that exist) and to the view.
+struct FaceSampler {
+  View<const float> f;
+  AxisLimits ax, ay;
+  float ox, oy;
+
+  FaceSampler(View<const float> field, Int2 faces, Int2 offset_twice, bool periodic, Int2 period)
+      : f(field), ox(0.5f * offset_twice.x), oy(0.5f * offset_twice.y) {
+    const Box2& b = field.box();
+    ax = axis_limits(b.min.x, b.max.x, faces.x - 1, periodic);
+    ay = axis_limits(b.min.y, b.max.y, faces.y - 1, periodic);
+    // axis_limits clamps to [-0.5, n - 0.5] of a cell grid of n cells; faces run over [0, n - 1].
+    if (!periodic) {
+      ax.lo = std::max(0.0f, float(b.min.x));
+      ax.hi = std::min(float(faces.x - 1), float(b.max.x - 1));
+      ay.lo = std::max(0.0f, float(b.min.y));
+      ay.hi = std::min(float(faces.y - 1), float(b.max.y - 1));
+    } else {
+      ax.wrap = ax.wrap && b.min.x <= -1 && b.max.x >= period.x + 1;
+      ay.wrap = ay.wrap && b.min.y <= -1 && b.max.y >= period.y + 1;
+      ax.period = float(period.x);
+      ay.period = float(period.y);
+    }
+  }
+
+  float at(float px, float py) const {
+    Sample s;
+    locate(ax, px + ox, s.i0, s.s1);
+    locate(ay, py + oy, s.j0, s.t1);
+    return bilinear(f, s);
+  }
+};
+
+}  // namespace
+
+void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const float> vf,
+                       View<float> q, Box2 region, const AdvectParams& params) {
+  if (region.empty()) return;
+  const Int2 n = params.domain;
+  const bool periodic = params.periodic;
+  // uf(i, j) sits at x = i - 0.5, y = j; vf(i, j) at x = i, y = j - 0.5 (cell coordinates).
+  const FaceSampler su(uf, {n.x + 1, n.y}, {1, 0}, periodic, n);
+  const FaceSampler sv(vf, {n.x, n.y + 1}, {0, 1}, periodic, n);
+  const Box2& b = q0.box();
+  ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
+  const AxisLimits ax = axis_limits(b.min.x, b.max.x, n.x, periodic);
+  const AxisLimits ay = axis_limits(b.min.y, b.max.y, n.y, periodic);
+  const float k = params.dt_over_h;
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* ul = uf.row(y);
+    const float* vb = vf.row(y);
+    const float* va = vf.row(y + 1);
+    float* out = q.row(y);
+    for (int x = region.min.x; x < region.max.x; ++x) {
+      const float ux = 0.5f * (ul[x] + ul[x + 1]), vy = 0.5f * (vb[x] + va[x]);
+      const float mx = float(x) - 0.5f * k * ux, my = float(y) - 0.5f * k * vy;
+      Sample s;
+      locate(ax, float(x) - k * su.at(mx, my), s.i0, s.s1);
+      locate(ay, float(y) - k * sv.at(mx, my), s.j0, s.t1);
+      out[x] = bilinear(q0, s);
     }
   }
 }

@@ -1,12 +1,14 @@
 #pragma once
 // Semi-Lagrangian advection (Stam 1999; seed 000 Eqn 20):
-//   q(x) = q0(x - dt u(x)), bilinear interpolation of q0 at the back-traced point.
+//   q(x) = q0(x - dt u(x - dt/2 u(x))), bilinear interpolation of q0 (and of u at the midpoint).
+// The back-trace uses the midpoint rule (RK2): Euler's x - dt u(x) maps a vortex outward and
+// loses (omega dt)^2 of the mass per step; the midpoint rule's error is fourth order in omega dt.
 // Coordinates are in cells (cell (i, j) has its centre at (i, j)), so the back-trace moves by
-// dt/h * u cells. It is clamped to the domain walls [-0.5, n - 0.5] (Stam's clamp), so q0's
-// ghost layer (x = -1, x = n) must be filled first; on a periodic domain it wraps instead.
-// Reads u, v at the region's cells and q0 over the region grown by ceil(dt/h |u|max) + 1 cells.
-// The back-trace is also clamped to q0's view, so an undersized tile halo gives a clamped
-// answer, never an out-of-bounds read.
+// dt/h * u cells. It is clamped to the domain walls [-0.5, n - 0.5] (Stam's clamp), so the ghost
+// layers of q0, u and v (x = -1, x = n) must be filled first; on a periodic domain it wraps.
+// Reads q0, u and v over the region grown by ceil(dt/h |u|max) + 1 cells. Every sample is also
+// clamped to the views, so an undersized tile halo gives a clamped answer, never an
+// out-of-bounds read.
 #include "runtime/field.h"
 
 namespace ardcell {
@@ -25,5 +27,16 @@ void advect_scalar(View<const float> q0, View<const float> u, View<const float> 
 // alias inputs.
 void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, View<float> v,
                      Box2 region, const AdvectParams& params);
+
+// The same for a scalar carried by the MAC face velocities of the projection
+// (kernels/project.h face_velocities): uf(i, j) on the face between cells (i-1, j) and (i, j),
+// vf(i, j) between (i, j-1) and (i, j). Their bilinear interpolant is exactly divergence-free
+// when the face fluxes are, so dye and chemicals keep their mass (the cell-centred velocity of
+// the approximate projection is divergence-free only to O(h^2), and loses mass steadily).
+// Tangential face components are clamped at the walls (no ghost rows needed); on a periodic
+// whole field uf needs its ghost rows -1 and ny, vf its ghost columns -1 and nx (wrapped).
+// Reads q0, uf, vf over the region grown by ceil(dt/h |u|max) + 1.
+void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const float> vf,
+                       View<float> q, Box2 region, const AdvectParams& params);
 
 }  // namespace ardcell

@@ -31,4 +31,25 @@ void subtract_gradient(View<const float> p, View<float> u, View<float> v, Box2 r
   }
 }
 
+void face_velocities(View<const float> u, View<const float> v, View<const float> p, View<float> uf,
+                     View<float> vf, Box2 region, const ProjectParams& params) {
+  const float inv_h = 1.0f / params.h;
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* ur = u.row(y);
+    const float* pr = p.row(y);
+    float* out = uf.row(y);
+    for (int x = region.min.x; x <= region.max.x; ++x)
+      out[x] = 0.5f * (ur[x - 1] + ur[x]) - (pr[x] - pr[x - 1]) * inv_h;
+  }
+  for (int y = region.min.y; y <= region.max.y; ++y) {
+    const float* vb = v.row(y - 1);
+    const float* vm = v.row(y);
+    const float* pb = p.row(y - 1);
+    const float* pm = p.row(y);
+    float* out = vf.row(y);
+    for (int x = region.min.x; x < region.max.x; ++x)
+      out[x] = 0.5f * (vb[x] + vm[x]) - (pm[x] - pb[x]) * inv_h;
+  }
+}
+
 }  // namespace ardcell
