@@ -11,7 +11,9 @@
 
 #include <cstdlib>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "bench/table1_opencl.h"
 
@@ -36,13 +38,12 @@ Device& device() {
   return d;
 }
 
-void run_table1(benchmark::State& state, ClSchedule schedule, bool rd) {
+void run_table1(benchmark::State& state, ClSchedule schedule, bool rd, int n) {
   Device& d = device();
   if (!d.cl) {
     state.SkipWithError(("no OpenCL: " + d.error).c_str());
     return;
   }
-  const int n = int(state.range(0));
   Table1Options o;
   o.n = n;
   o.rd = rd;
@@ -63,23 +64,35 @@ void run_table1(benchmark::State& state, ClSchedule schedule, bool rd) {
   state.SetLabel(d.ctx->device().device_name);
 }
 
+// Sizes as bench/table1_bench.cpp takes them: ARDCELL_BENCH_SIZES="512,1024" (default 256, 512,
+// 1024; add 4096 on a GPU).
+std::vector<int> sizes_from_env() {
+  std::vector<int> sizes{256, 512, 1024};
+  if (const char* s = std::getenv("ARDCELL_BENCH_SIZES")) {
+    sizes.clear();
+    std::stringstream in(s);
+    std::string item;
+    while (std::getline(in, item, ','))
+      if (!item.empty()) sizes.push_back(std::atoi(item.c_str()));
+  }
+  return sizes;
+}
+
+// Names exactly as bench/table1_bench.cpp's: Table1/<schedule>/<fluid|ard>/<N>, the schedule
+// being opencl-stream or opencl-blocked, so `ardcell bench table1` can merge the rows.
 void register_all() {
-  for (auto [name, schedule] : {std::pair{"stream", ClSchedule::kStream},
-                                std::pair{"blocked", ClSchedule::kBlocked}})
-    for (bool rd : {false, true}) {
-      const std::string full =
-          std::string("Table1/opencl-") + name + (rd ? "/ard" : "/fluid");
-      benchmark::RegisterBenchmark(full.c_str(),
-                                   [schedule, rd](benchmark::State& s) {
-                                     run_table1(s, schedule, rd);
-                                   })
-          ->Arg(256)
-          ->Arg(512)
-          ->Arg(1024)
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime()
-          ->MinTime(1.0);
-    }
+  for (auto [name, schedule] :
+       {std::pair{"stream", ClSchedule::kStream}, std::pair{"blocked", ClSchedule::kBlocked}})
+    for (bool rd : {false, true})
+      for (int n : sizes_from_env()) {
+        const std::string full =
+            std::string("Table1/opencl-") + name + (rd ? "/ard/" : "/fluid/") + std::to_string(n);
+        benchmark::RegisterBenchmark(
+            full.c_str(),
+            [schedule, rd, n](benchmark::State& s) { run_table1(s, schedule, rd, n); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
 }
 
 }  // namespace
