@@ -109,10 +109,10 @@ void put_rect(ImageRgb8& img, int x0, int y0, int x1, int y1, const uint8_t rgb[
     }
 }
 
-void put_number(ImageRgb8& img, int x, int y, int value, int scale, const uint8_t rgb[3]) {
-  const std::string s = std::to_string(value);
+void put_text(ImageRgb8& img, int x, int y, const std::string& s, int scale, const uint8_t rgb[3]) {
+  static constexpr const char* kDot = "000000000000010";
   for (char c : s) {
-    const char* g = kDigits[c - '0'];
+    const char* g = c == '.' ? kDot : kDigits[c - '0'];
     for (int r = 0; r < 5; ++r)
       for (int k = 0; k < 3; ++k)
         if (g[r * 3 + k] == '1')
@@ -277,20 +277,22 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       return;
     }
     // The chart: per size, Cell then each schedule, fluid (light) and fluid+RD (dark) bars on a
-    // log scale from 1 to 10^4 FPS.
+    // log scale from 0.1 to 10^4 FPS.
     const int group = 2 * int(schedules.size() + 1) * 14 + 20, h = 300, base = h - 30;
     ImageRgb8 img;
     img.resize(60 + group * int(sizes.size()), h);
     const uint8_t white[3] = {255, 255, 255}, grid[3] = {220, 220, 220}, ink[3] = {40, 40, 40};
     put_rect(img, 0, 0, img.width, img.height, white);
+    // Decades 0.1 .. 10^4 FPS.
     const auto y_of = [&](double fps) {
-      const double t = std::clamp(std::log10(std::max(fps, 1.0)) / 4.0, 0.0, 1.0);
+      const double t = std::clamp((std::log10(std::max(fps, 0.1)) + 1.0) / 5.0, 0.0, 1.0);
       return base - int(t * (base - 10));
     };
-    for (int d = 0; d <= 4; ++d) {
-      put_rect(img, 40, y_of(std::pow(10.0, d)), img.width, y_of(std::pow(10.0, d)) + 1, grid);
-      put_number(img, 4, y_of(std::pow(10.0, d)) - 5,
-                 int(std::pow(10.0, d)) >= 1000 ? d : int(std::pow(10.0, d)), 2, ink);
+    const char* decades[] = {"0.1", "1", "10", "100", "1000", "10000"};
+    for (int d = -1; d <= 4; ++d) {
+      const int y = y_of(std::pow(10.0, d));
+      put_rect(img, 46, y, img.width, y + 1, grid);
+      put_text(img, 2, y - 5, decades[d + 1], 2, ink);
     }
     const uint8_t colours[4][2][3] = {{{190, 190, 190}, {110, 110, 110}},  // Cell
                                       {{240, 180, 150}, {200, 90, 50}},    // serial
@@ -317,7 +319,7 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
           x += 14;
         }
       }
-      put_number(img, 60 + int(gi) * group, base + 8, n, 3, ink);
+      put_text(img, 60 + int(gi) * group, base + 8, std::to_string(n), 3, ink);
     }
     st = write_png(dir / "table1.png", img);
     if (!st) {
