@@ -92,6 +92,23 @@ TEST(FluidEngine, EveryScenePlaysFiniteAndResetRestarts) {
   }
 }
 
+TEST(FluidEngine, InkBoxWithEveryWallKind) {
+  for (FluidWalls walls : {FluidWalls::kFreeSlip, FluidWalls::kNoSlip, FluidWalls::kPeriodic}) {
+    SceneConfig scene = small("ink", {32, 32});
+    scene.fluid.walls = walls;
+    Engine engine(scene);
+    for (int k = 0; k < 30; ++k) engine.step();
+    const SimState& s = engine.state();
+    EXPECT_TRUE(all_finite(s)) << int(walls);
+    if (walls == FluidWalls::kPeriodic) {
+      // No walls: the ghost cells are the opposite side.
+      for (int j = 0; j < 32; ++j) EXPECT_EQ(s.u(-1, j), s.u(31, j));
+    } else {
+      for (int j = 0; j < 32; ++j) EXPECT_EQ(s.u(-1, j), -s.u(0, j));  // no flow through walls
+    }
+  }
+}
+
 TEST(FluidEngine, DeterministicAcrossInstances) {
   Engine a(small("ink", {40, 40})), b(small("ink", {40, 40}));
   for (int k = 0; k < 20; ++k) {
