@@ -20,75 +20,18 @@
 namespace {
 
 namespace article {
-constexpr int SCREEN_WIDTH = 400;
-constexpr int SCREEN_HEIGHT = 400;
-
-double table[2][2][SCREEN_HEIGHT + 2][SCREEN_WIDTH + 2];
-double prod1Table[2][SCREEN_HEIGHT + 2][SCREEN_WIDTH + 2];
-double prod2Table[2][SCREEN_HEIGHT + 2][SCREEN_WIDTH + 2];
-int curT = 0;
-
-double DA = 1.0;
-double DB = 0.5;
-double f = 0.055;
-double k = 0.062;
-
-void product() {
-  for (int t = 0; t < 2; t++) {
-    for (int y = 0; y < SCREEN_HEIGHT + 2; ++y)
-      for (int x = 1; x < SCREEN_WIDTH + 1; ++x)
-        prod1Table[t][y][x] =
-            table[curT][t][y][x - 1] + 4.0f * table[curT][t][y][x] + table[curT][t][y][x + 1];
-
-    for (int y = 1; y < SCREEN_HEIGHT + 1; ++y)
-      for (int x = 1; x < SCREEN_WIDTH + 1; ++x)
-        prod2Table[t][y][x] =
-            prod1Table[t][y - 1][x] + 4.0f * prod1Table[t][y][x] + prod1Table[t][y + 1][x];
-  }
-}
-
-void update() {
-  double ca = 1.0 - f - 1.8 * DA;
-  double cb = 1.0 - f - 1.8 * DB - k;
-
-  for (int t = 0; t < 2; ++t) {
-    for (int x = 0; x < SCREEN_WIDTH + 2; ++x) {
-      table[curT][t][SCREEN_HEIGHT + 1][x] = table[curT][t][1][x];
-      table[curT][t][0][x] = table[curT][t][SCREEN_HEIGHT][x];
-    }
-    for (int y = 0; y < SCREEN_HEIGHT + 2; ++y) {
-      table[curT][t][y][SCREEN_WIDTH + 1] = table[curT][t][y][1];
-      table[curT][t][y][0] = table[curT][t][y][SCREEN_WIDTH];
-    }
-  }
-
-  product();
-
-  for (int y = 1; y < SCREEN_HEIGHT + 1; ++y)
-    for (int x = 1; x < SCREEN_WIDTH + 1; ++x) {
-      double A = table[curT][0][y][x];
-      double B = table[curT][1][y][x];
-
-      table[1 - curT][0][y][x] = 0.05 * DA * prod2Table[0][y][x] - A * B * B + ca * A + f;
-      table[1 - curT][1][y][x] = 0.05 * DB * prod2Table[1][y][x] + A * B * B + cb * B;
-    }
-
-  curT = 1 - curT;
-}
-
-void init() {
-  curT = 0;
-  for (int c = 0; c < 2; ++c)
-    for (int y = 0; y < SCREEN_HEIGHT + 2; ++y)
-      for (int x = 0; x < SCREEN_WIDTH + 2; ++x) {
-        table[c][0][y][x] = 1.0;
-        table[c][1][y][x] = 0.0;
-      }
-  for (int y = 0; y < 10; ++y)
-    for (int x = 0; x < 10; ++x)
-      table[0][1][SCREEN_HEIGHT / 2 + y - 5 + 1][SCREEN_WIDTH / 2 + x - 5 + 1] = 1.0;
-}
+#include "bench/seed001_article.inc"
 }  // namespace article
+
+// The same source compiled as the article's own build would be: -O2 for generic x86-64
+// (SSE2 doubles), no -march=native.
+#pragma GCC push_options
+#pragma GCC target("arch=x86-64")
+#pragma GCC optimize("O2")
+namespace article_generic {
+#include "bench/seed001_article.inc"
+}  // namespace article_generic
+#pragma GCC pop_options
 
 void BM_Seed001_ArticleBaseline_2000Steps(benchmark::State& state) {
   for (auto _ : state) {
@@ -102,6 +45,21 @@ void BM_Seed001_ArticleBaseline_2000Steps(benchmark::State& state) {
       400.0 * 400.0 * 2000.0 * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Seed001_ArticleBaseline_2000Steps)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+void BM_Seed001_ArticleBaselineGenericX86_2000Steps(benchmark::State& state) {
+  for (auto _ : state) {
+    state.PauseTiming();
+    article_generic::init();
+    state.ResumeTiming();
+    for (int i = 0; i < 2000; ++i) article_generic::update();
+    benchmark::DoNotOptimize(article_generic::table[article_generic::curT][1][200][200]);
+  }
+  state.counters["cells_per_s"] = benchmark::Counter(
+      400.0 * 400.0 * 2000.0 * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Seed001_ArticleBaselineGenericX86_2000Steps)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
 
 void BM_Seed001_Ours_2000Steps(benchmark::State& state) {
   const int threads = int(state.range(0));

@@ -84,33 +84,57 @@ void ParallelGrayScott9::seed_square() {
 
 void ParallelGrayScott9::run(int64_t steps) {
   if (steps <= 0) return;
-  wrap_periodic(a_[cur_]);
-  wrap_periodic(b_[cur_]);
   const int nx = size_.x, ny = size_.y, n = threads_;
+  const std::ptrdiff_t row_len = nx + 2;  // x = -1 .. nx
+  wrap_rows_x(a_[cur_], 0, ny);
+  wrap_rows_x(b_[cur_], 0, ny);
   SpinBarrier barrier(n);
+  int final_cur = cur_;
   auto work = [&](int t) {
     const int y0 = int(int64_t(ny) * t / n), y1 = int(int64_t(ny) * (t + 1) / n);
-    // Row sums scratch, kept per thread (no allocation inside the step loop).
-    std::vector<float> scratch(2 * std::size_t(nx + 2) + 16);
-    const Box2 band{{0, y0}, {nx, y1}};
+    // Levels 1 .. kBlockSteps - 1 keep a ring of 4 rows per chemical; the last level writes
+    // straight into the next global buffer. Allocated once per run().
+    std::vector<float> ring(std::size_t(kBlockSteps) * 4 * 2 * std::size_t(row_len));
+    std::vector<float> scratch(2 * std::size_t(row_len) + 16);
+    auto ring_row = [&](int level, int y, int chem) {
+      const int slot = ((y % 4) + 4) % 4;
+      return ring.data() + ((std::size_t(level - 1) * 4 + slot) * 2 + chem) * row_len;
+    };
     int cur = cur_;
-    for (int64_t s = 0; s < steps; ++s) {
+    for (int64_t done = 0; done < steps;) {
+      const int k = int(std::min<int64_t>(kBlockSteps, steps - done));
       const int nxt = 1 - cur;
-      gray_scott9_explicit_tile(a_[cur].view(), b_[cur].view(), a_[nxt].view(), b_[nxt].view(),
-                                band, params_, scratch.data());
-      wrap_rows_x(a_[nxt], y0, y1);
-      wrap_rows_x(b_[nxt], y0, y1);
-      if (y0 == 0) {
-        copy_row(a_[nxt], 0, ny);
-        copy_row(b_[nxt], 0, ny);
-      }
-      if (y1 == ny) {
-        copy_row(a_[nxt], ny - 1, -1);
-        copy_row(b_[nxt], ny - 1, -1);
+      auto input = [&](int level, int y, int chem) -> const float* {
+        if (level == 0) {
+          const FieldF& f = chem == 0 ? a_[cur] : b_[cur];
+          return f.row(((y % ny) + ny) % ny) - 1;
+        }
+        return ring_row(level, y, chem);
+      };
+      // Wavefront: at each tt, level l computes row tt - (l - 1), whose inputs (rows y - 1 ..
+      // y + 1 of level l - 1) are ready; level l spans the band grown by k - l rows.
+      for (int tt = y0 - (k - 1); tt < y1 + (k - 1); ++tt) {
+        for (int l = 1; l <= k; ++l) {
+          const int y = tt - (l - 1);
+          if (y < y0 - (k - l) || y >= y1 + (k - l)) continue;
+          const float* a_in[3] = {input(l - 1, y - 1, 0), input(l - 1, y, 0),
+                                  input(l - 1, y + 1, 0)};
+          const float* b_in[3] = {input(l - 1, y - 1, 1), input(l - 1, y, 1),
+                                  input(l - 1, y + 1, 1)};
+          float* ao = l == k ? a_[nxt].row(y) - 1 : ring_row(l, y, 0);
+          float* bo = l == k ? b_[nxt].row(y) - 1 : ring_row(l, y, 1);
+          gray_scott9_explicit_row(a_in, b_in, ao + 1, bo + 1, nx, params_, scratch.data());
+          ao[0] = ao[nx];  // periodic ghosts in x
+          ao[nx + 1] = ao[1];
+          bo[0] = bo[nx];
+          bo[nx + 1] = bo[1];
+        }
       }
       barrier.wait();
       cur = nxt;
+      done += k;
     }
+    if (t == 0) final_cur = cur;
   };
   if (n == 1) {
     work(0);
@@ -120,7 +144,9 @@ void ParallelGrayScott9::run(int64_t steps) {
     for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
     work(0);
   }
-  if (steps % 2) cur_ = 1 - cur_;
+  cur_ = final_cur;
+  wrap_periodic(a_[cur_]);
+  wrap_periodic(b_[cur_]);
 }
 
 }  // namespace ardcell

@@ -75,6 +75,20 @@ inline void gray_scott9_row(const float* __restrict a0, const float* __restrict 
 
 }  // namespace
 
+void gray_scott9_explicit_row(const float* const a_rows[3], const float* const b_rows[3],
+                              float* a_out, float* b_out, int n, const GrayScott9Params& p,
+                              float* scratch) {
+  const Gs9Row c{p.F,
+                 p.F + p.k,
+                 p.dt,
+                 0.05f * p.diffusion_a,
+                 0.05f * p.diffusion_b,
+                 1.8f * p.diffusion_a,
+                 1.8f * p.diffusion_b};
+  gray_scott9_row(a_rows[0], a_rows[1], a_rows[2], b_rows[0], b_rows[1], b_rows[2], scratch,
+                  scratch + (n + 2), a_out, b_out, n, c);
+}
+
 void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<float> a_out,
                                View<float> b_out, Box2 region, const GrayScott9Params& p,
                                float* scratch) {
