@@ -39,8 +39,11 @@ inline void locate(const AxisLimits& a, float p, int& i0, float& s1) {
     p = p - a.period * std::floor(p / a.period);  // [0, n): cell n - 1 interpolates to ghost n
     if (!(p < a.period)) p = 0.0f;                // p / n rounded up to 1
   }
-  p = std::min(std::max(p, a.lo), a.hi);
-  int i = int(std::floor(p));
+  // Written so that a NaN lands on lo (a broken velocity must not index out of the view).
+  p = p > a.lo ? p : a.lo;
+  p = p < a.hi ? p : a.hi;
+  // p >= view_min, so truncation after the shift is floor (and much cheaper than std::floor).
+  int i = int(p - float(a.view_min)) + a.view_min;
   i = std::min(std::max(i, a.view_min), a.view_max - 2);
   i0 = i;
   s1 = p - float(i);

@@ -18,6 +18,7 @@ class IccgSolver final : public LinearSolver {
         size_(size),
         n_(std::size_t(size.x) * size.y),
         pivot_(n_),
+        inv_pivot_(n_),
         x_(n_),
         r_(n_),
         z_(n_),
@@ -26,6 +27,7 @@ class IccgSolver final : public LinearSolver {
         wx_(std::size_t(size.x + 1) * size.y),
         wy_(std::size_t(size.x) * (size.y + 1)),
         diag_(n_),
+        scratch_row_(std::size_t(size.x)),
         rf_(size, 1),
         null_space_(size) {}
 
@@ -50,6 +52,7 @@ class IccgSolver final : public LinearSolver {
         const double floor = 1e-3 * diag_[idx(i, j)];
         if (!(d > floor)) d = diag_[idx(i, j)] > 0.0 ? diag_[idx(i, j)] : 1.0;
         pivot_[idx(i, j)] = d;
+        inv_pivot_[idx(i, j)] = 1.0 / d;
       }
   }
 
@@ -112,39 +115,66 @@ class IccgSolver final : public LinearSolver {
     return s;
   }
 
-  // out = A in (wrap couplings included).
+  // out = A in (wrap couplings included). Row pointers; the edge cells take the wrap.
   void multiply(const std::vector<double>& in, std::vector<double>& out) const {
     const int nx = size_.x, ny = size_.y;
     for (int j = 0; j < ny; ++j) {
       const int jb = j > 0 ? j - 1 : (periodic_y_ ? ny - 1 : j);
       const int ja = j < ny - 1 ? j + 1 : (periodic_y_ ? 0 : j);
-      for (int i = 0; i < nx; ++i) {
+      const double* x0 = &in[idx(0, j)];
+      const double* xb = &in[idx(0, jb)];
+      const double* xa = &in[idx(0, ja)];
+      const double* d = &diag_[idx(0, j)];
+      const double* wx = &wx_[std::size_t(j) * (nx + 1)];
+      const double* wyb = &wy_[std::size_t(j) * nx];
+      const double* wya = &wy_[std::size_t(j + 1) * nx];
+      double* y = &out[idx(0, j)];
+      for (int i = 1; i < nx - 1; ++i)
+        y[i] = d[i] * x0[i] -
+               (wx[i] * x0[i - 1] + wx[i + 1] * x0[i + 1] + wyb[i] * xb[i] + wya[i] * xa[i]);
+      for (int i : {0, nx - 1}) {
         const int il = i > 0 ? i - 1 : (periodic_x_ ? nx - 1 : i);
         const int ir = i < nx - 1 ? i + 1 : (periodic_x_ ? 0 : i);
-        out[idx(i, j)] = diag_[idx(i, j)] * in[idx(i, j)] -
-                         (wxf(i, j) * in[idx(il, j)] + wxf(i + 1, j) * in[idx(ir, j)] +
-                          wyf(i, j) * in[idx(i, jb)] + wyf(i, j + 1) * in[idx(i, ja)]);
+        y[i] =
+            d[i] * x0[i] - (wx[i] * x0[il] + wx[i + 1] * x0[ir] + wyb[i] * xb[i] + wya[i] * xa[i]);
       }
     }
   }
 
-  // z = M^-1 r: forward then backward substitution.
+  // z = M^-1 r: forward then backward substitution, row by row.
   void precondition(const std::vector<double>& r, std::vector<double>& z) const {
     const int nx = size_.x, ny = size_.y;
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        double t = r[idx(i, j)];
-        if (i > 0) t += wxf(i, j) * z[idx(i - 1, j)];
-        if (j > 0) t += wyf(i, j) * z[idx(i, j - 1)];
-        z[idx(i, j)] = t / pivot_[idx(i, j)];
+    for (int j = 0; j < ny; ++j) {
+      const double* rj = &r[idx(0, j)];
+      const double* inv = &inv_pivot_[idx(0, j)];
+      const double* wx = &wx_[std::size_t(j) * (nx + 1)];
+      const double* wyb = &wy_[std::size_t(j) * nx];
+      double* zj = &z[idx(0, j)];
+      if (j > 0) {
+        const double* zb = &z[idx(0, j - 1)];
+        for (int i = 0; i < nx; ++i) zj[i] = rj[i] + wyb[i] * zb[i];  // vectorises
+      } else {
+        for (int i = 0; i < nx; ++i) zj[i] = rj[i];
       }
-    for (int j = ny - 1; j >= 0; --j)
-      for (int i = nx - 1; i >= 0; --i) {
-        double t = 0.0;
-        if (i < nx - 1) t += wxf(i + 1, j) * z[idx(i + 1, j)];
-        if (j < ny - 1) t += wyf(i, j + 1) * z[idx(i, j + 1)];
-        z[idx(i, j)] += t / pivot_[idx(i, j)];
+      zj[0] *= inv[0];
+      for (int i = 1; i < nx; ++i) zj[i] = (zj[i] + wx[i] * zj[i - 1]) * inv[i];
+    }
+    for (int j = ny - 1; j >= 0; --j) {
+      const double* inv = &inv_pivot_[idx(0, j)];
+      const double* wx = &wx_[std::size_t(j) * (nx + 1)];
+      double* zj = &z[idx(0, j)];
+      // t = wy(i, j+1) z(i, j+1) (vectorises), then the recurrence along the row.
+      double* t = &scratch_row_[0];
+      if (j < ny - 1) {
+        const double* wya = &wy_[std::size_t(j + 1) * nx];
+        const double* za = &z[idx(0, j + 1)];
+        for (int i = 0; i < nx; ++i) t[i] = wya[i] * za[i];
+      } else {
+        for (int i = 0; i < nx; ++i) t[i] = 0.0;
       }
+      zj[nx - 1] += t[nx - 1] * inv[nx - 1];
+      for (int i = nx - 2; i >= 0; --i) zj[i] += (t[i] + wx[i + 1] * zj[i + 1]) * inv[i];
+    }
     if (null_space_.singular()) project(z);
   }
 
@@ -163,7 +193,8 @@ class IccgSolver final : public LinearSolver {
 
   Int2 size_;
   std::size_t n_;
-  std::vector<double> pivot_, x_, r_, z_, p_, q_, wx_, wy_, diag_;
+  std::vector<double> pivot_, inv_pivot_, x_, r_, z_, p_, q_, wx_, wy_, diag_;
+  mutable std::vector<double> scratch_row_;  // one row of the backward substitution
   FieldF rf_;
   stencil::NullSpace null_space_;
   bool periodic_x_ = false, periodic_y_ = false;
