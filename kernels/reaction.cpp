@@ -129,17 +129,13 @@ ImplicitResult solve_meinhardt(const ReactionParams& p, double dt, double A, dou
 }
 
 double fhn_box_m(const ReactionParams& p) {
-  // Smallest M > 1 with M^3 - M >= (M + |a0|) / a1: the square |A| <= M, |B| <= M^3 - M is
-  // invariant (R_A <= 0 on A = M, R_B <= 0 on B = N, and symmetrically).
+  // The largest root M > 1 of M^3 - M = (M + |a0|) / a1: the square |A| <= M, |B| <= M^3 - M
+  // is invariant (R_A <= 0 on A = M, R_B <= 0 on B = N, and symmetrically). Depressed cubic
+  // M^3 + P M + Q = 0 with P < 0: the trigonometric form of its largest root.
   const double a0 = std::abs(double(p.fhn_a0)), a1 = p.fhn_a1;
-  auto f = [&](double M) { return M * M * M - M - (M + a0) / a1; };
-  double lo = 1.0, hi = 2.0;
-  while (f(hi) < 0) hi *= 2.0;
-  for (int i = 0; i < 100; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (f(mid) < 0 ? lo : hi) = mid;
-  }
-  return hi;
+  const double P = -(1.0 + 1.0 / a1), Q = -a0 / a1;
+  const double c = std::clamp(1.5 * Q / P * std::sqrt(-3.0 / P), -1.0, 1.0);
+  return 2.0 * std::sqrt(-P / 3.0) * std::cos(std::acos(c) / 3.0);
 }
 
 ImplicitResult solve_fhn(const ReactionParams& p, double dt, double A, double B, double tol) {
