@@ -12,7 +12,10 @@ namespace ardcell {
 #define ARDCELL_SUBCOMMANDS(X) \
   X(run)                       \
   X(info)                      \
-  X(bench)
+  X(bench)                     \
+  X(devices)                   \
+  X(tablet)                    \
+  X(live)
 
 #define ARDCELL_DECLARE_COMMAND(name) void add_##name##_command(CLI::App&, CliContext&);
 ARDCELL_SUBCOMMANDS(ARDCELL_DECLARE_COMMAND)
