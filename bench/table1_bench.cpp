@@ -7,7 +7,8 @@
 // Environment: ARDCELL_BENCH_SIZES (e.g. "128,256") restricts the sizes; ARDCELL_BENCH_SERIAL_MAX
 // (default 1024) is the largest size run on the slow serial schedule;
 // ARDCELL_BENCH_STORE_KIB sets the local store of the blocked schedule (default 1024: one
-// EPYC L2; the stream schedule keeps the SPE's 256 KiB).
+// EPYC L2; the stream schedule keeps the SPE's 256 KiB); ARDCELL_BENCH_SWEEPS the blocked
+// schedule's sweeps per residency (default 20: one load per solve).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
@@ -55,8 +56,10 @@ void run_table1(benchmark::State& state, Table1Schedule schedule, bool rd, int n
   o.rd = rd;
   o.schedule = schedule;
   o.workers = 0;
-  if (schedule == Table1Schedule::kBlocked)
+  if (schedule == Table1Schedule::kBlocked) {
     o.local_store_bytes = std::size_t(env_int("ARDCELL_BENCH_STORE_KIB", 1024)) * 1024;
+    o.sweeps_per_residency = env_int("ARDCELL_BENCH_SWEEPS", Table1Constants::kSweeps);
+  }
   Table1Workload w(o);
   w.step();  // warm: first touch of every field and store
   w.plan().reset_stats();
