@@ -45,8 +45,10 @@ struct FluidConfig {
   // whose coefficient varies with the sub-cell position of each departure point, and in a
   // closed box that drifts the total (measured: -1.8% over 1000 steps of the 64^2 cavity, -25%
   // for a small blob in a strong vortex). With conserve_dye, in closed domains (cavity, ink) the
-  // dye is rescaled after each advection so that advection keeps its total, as the continuous
-  // equation does (a global mass fixer, as in semi-Lagrangian transport models).
+  // mass advection lost or gained is put back after each advection, weighted by
+  // (q - min)(max - q) of the field before advection, so advection keeps its total as the
+  // continuous equation does and never leaves the range it started from (a global mass fixer
+  // in the manner of semi-Lagrangian transport models).
   bool conserve_dye = true;
 
   // obstacle: inflow through the top wall (downward, at inflow_speed), outflow at the bottom

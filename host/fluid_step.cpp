@@ -78,11 +78,44 @@ double interior_sum(const FieldF& f) {
   return total;
 }
 
-void scale_interior(FieldF& f, double factor) {
-  const float k = float(factor);
+struct Range {
+  double sum = 0.0;
+  float lo = 0.0f, hi = 0.0f;
+};
+
+Range interior_range(const FieldF& f) {
+  Range r{0.0, f(0, 0), f(0, 0)};
   for (int j = 0; j < f.ny(); ++j) {
-    float* r = f.row(j);
-    for (int i = 0; i < f.nx(); ++i) r[i] *= k;
+    const float* row = f.row(j);
+    double row_total = 0.0;
+    for (int i = 0; i < f.nx(); ++i) {
+      row_total += row[i];
+      r.lo = std::min(r.lo, row[i]);
+      r.hi = std::max(r.hi, row[i]);
+    }
+    r.sum += row_total;
+  }
+  return r;
+}
+
+// Puts `missing` mass back where advection is least certain: weights (q - lo)(hi - q) vanish at
+// the extremes of the field before advection, so plateaus (and the max principle) survive; the
+// result is clamped to [lo, hi] (the mass then stays short only when the weights cannot hold
+// it, far beyond any normal step).
+void restore_mass(FieldF& f, double missing, float lo, float hi) {
+  double total_weight = 0.0;
+  for (int j = 0; j < f.ny(); ++j) {
+    const float* row = f.row(j);
+    for (int i = 0; i < f.nx(); ++i) total_weight += double(row[i] - lo) * double(hi - row[i]);
+  }
+  if (!(total_weight > 0.0)) return;
+  const double k = missing / total_weight;
+  for (int j = 0; j < f.ny(); ++j) {
+    float* row = f.row(j);
+    for (int i = 0; i < f.nx(); ++i) {
+      const float q = row[i] + float(k * double(row[i] - lo) * double(hi - row[i]));
+      row[i] = std::min(std::max(q, lo), hi);
+    }
   }
 }
 
@@ -318,13 +351,12 @@ void FluidStep::step(SimState& state) {
   const bool closed =
       config_.kind == FluidSceneKind::kCavity || config_.kind == FluidSceneKind::kInk;
   const bool fix_mass = config_.conserve_dye && closed;
-  const double mass_before = fix_mass ? interior_sum(state.dye) : 0.0;
+  const Range before = fix_mass ? interior_range(state.dye) : Range{};
   const bool periodic = fill_dye_.left.rule == EdgeRule::kPeriodic;
   advect_scalar_mac(scratch_b_.view(), face_u_.view(), face_v_.view(), state.dye.view(),
                     state.dye.interior(), {float(state.dt / h_), size_, periodic});
   if (fix_mass) {
-    const double mass_after = interior_sum(state.dye);
-    if (mass_before > 0.0 && mass_after > 0.0) scale_interior(state.dye, mass_before / mass_after);
+    restore_mass(state.dye, before.sum - interior_sum(state.dye), before.lo, before.hi);
   }
   fill_boundary(state.dye.view(), size_, fill_dye_);
 }
