@@ -96,8 +96,8 @@ SceneConfig space_cookie(int lobes) {
   s.default_steps = 1500;
   s.fluid.kind = FluidSceneKind::kNone;
   s.rd = gray_scott_rd();
-  s.rd.reaction.F = 0.0367f;
-  s.rd.reaction.k = 0.0649f;
+  s.rd.reaction.F = 0.04f;  // Pearson's growing labyrinth regime
+  s.rd.reaction.k = 0.06f;
   s.rd.initial = RdInitialPattern::kCentreSquare;
   s.rd.seed_size = 0.06;
   s.rd.steps_per_frame = 2;
