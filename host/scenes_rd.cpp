@@ -13,8 +13,8 @@ RdConfig gray_scott_rd() {
   RdConfig rd;
   rd.enabled = true;
   rd.reaction.model = ReactionModel::kGrayScott;
-  rd.reaction.F = 0.055f;
-  rd.reaction.k = 0.062f;
+  rd.reaction.F = 0.04f;  // Pearson's growing regime: seeds spread into labyrinths
+  rd.reaction.k = 0.06f;
   rd.diffusion_a = 1.0;
   rd.diffusion_b = 0.5;
   rd.dt = 1.0;
@@ -96,8 +96,6 @@ SceneConfig space_cookie(int lobes) {
   s.default_steps = 1500;
   s.fluid.kind = FluidSceneKind::kNone;
   s.rd = gray_scott_rd();
-  s.rd.reaction.F = 0.04f;  // Pearson's growing labyrinth regime
-  s.rd.reaction.k = 0.06f;
   s.rd.initial = RdInitialPattern::kCentreSquare;
   s.rd.seed_size = 0.06;
   s.rd.steps_per_frame = 2;
