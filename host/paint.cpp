@@ -127,6 +127,10 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
           if (!s.dye.empty()) s.dye(x, y) += k * (c.deposit_dye - s.dye(x, y));
           break;
         case PaintMode::kOrient:
+          if (c.orient_deposits) {
+            if (!s.A.empty()) s.A(x, y) += k * (c.deposit_a - s.A(x, y));
+            if (!s.B.empty()) s.B(x, y) += k * (c.deposit_b - s.B(x, y));
+          }
           if (len > 0) {  // a dot has no direction
             weight_(x, y) = 1;
             dir_cos_(x, y) = float(ux);

@@ -48,6 +48,8 @@ struct PaintConfig {
   // orient: theta0 = theta_scale * angle + theta_offset (see above).
   float theta_scale = -1.0f;
   float theta_offset = -3.14159265f;
+  // orient strokes also deposit the chemicals (the stroke seeds the pattern it steers).
+  bool orient_deposits = true;
   // Coarsening of the orientation extension: 0 = automatic (about 128 coarse cells across).
   int orient_coarsening = 0;
 };

@@ -7,6 +7,7 @@ const SceneRegistry& builtin_scenes() {
     SceneRegistry r;
     register_fluid_scenes(r);
     register_rd_scenes(r);
+    register_paint_scenes(r);
     return r;
   }();
   return registry;

@@ -37,5 +37,6 @@ const SceneRegistry& builtin_scenes();
 // Registration hooks, one per area (defined next to each area's scenes).
 void register_fluid_scenes(SceneRegistry& registry);
 void register_rd_scenes(SceneRegistry& registry);
+void register_paint_scenes(SceneRegistry& registry);
 
 }  // namespace ardcell
