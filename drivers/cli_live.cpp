@@ -1,0 +1,269 @@
+// `ardcell live [PRESET]`: the real-time window (drivers/display_sdl.h) running the live loop
+// (host/live_loop.h) with presets, adaptive quality, attract mode, GPIO buttons, OSC and
+// recording. See README "Live display, presets and kiosk".
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+#include "drivers/cli.h"
+#include "drivers/ffmpeg_pipe.h"
+#include "drivers/gpio_buttons.h"
+#include "drivers/png_writer.h"
+#include "host/attract_mode.h"
+#include "host/live_engine.h"
+#include "host/preset.h"
+#ifdef ARDCELL_WITH_SDL2
+#include "drivers/display_sdl.h"
+#endif
+#ifdef ARDCELL_WITH_GPIOD
+#include "drivers/gpio_gpiod.h"
+#endif
+#ifdef ARDCELL_WITH_LIBLO
+#include "drivers/osc_liblo.h"
+#endif
+#ifdef ARDCELL_WITH_SYSTEMD
+#include <systemd/sd-daemon.h>
+#endif
+
+// Sanitizer builds: SDL's D-Bus helper keeps one allocation for the life of the process.
+extern "C" const char* __lsan_default_suppressions() { return "leak:libdbus-1.so\n"; }
+
+namespace ardcell {
+
+namespace {
+
+struct LiveArgs {
+  std::string preset;
+  double fps = 0;
+  bool rt = false;
+  int osc_port = -1;
+  std::string osc_bind = "127.0.0.1";
+  double attract_seconds = 0;
+  std::string attract_dir;
+  std::string gpio_config;
+  int64_t frames = 0;
+  int display = 0;
+  bool fullscreen = false;
+  bool no_vsync = false;
+  int scale = 0;
+  bool hud = false;
+  bool no_adaptive = false;
+  std::string record;
+  std::string screenshot;
+  std::string screenshot_dir = ".";
+  std::vector<std::string> playlist;
+  int crossfade = 30;
+  bool keys = false;
+  bool list = false;
+};
+
+// FrameSink (drivers/) as the live loop's FrameWriter.
+class SinkWriter final : public FrameWriter {
+ public:
+  explicit SinkWriter(std::unique_ptr<FrameSink> sink) : sink_(std::move(sink)) {}
+  Status write(const ImageRgb8& frame) override { return sink_->write(frame, {index_++, 0, 0}); }
+  Status finish() override { return sink_->finish(); }
+
+ private:
+  std::unique_ptr<FrameSink> sink_;
+  int64_t index_ = 0;
+};
+
+class PngWriter final : public FrameWriter {
+ public:
+  explicit PngWriter(std::string path) : path_(std::move(path)) {}
+  Status write(const ImageRgb8& frame) override { return write_png(path_, frame); }
+  Status finish() override { return Status::ok(); }
+
+ private:
+  std::string path_;
+};
+
+void request_realtime(std::FILE* err) {
+  sched_param sp{};
+  sp.sched_priority = 10;
+  if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
+    std::fprintf(err, "ardcell live: --rt: SCHED_FIFO refused (%s); running at normal priority\n",
+                 std::strerror(errno));
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    std::fprintf(err, "ardcell live: --rt: mlockall refused (%s); memory may be paged\n",
+                 std::strerror(errno));
+}
+
+int run_live(const LiveArgs& a, CliContext& ctx) {
+  if (a.keys) {
+    for (const ParamSpec& s : preset_params())
+      std::fprintf(ctx.out, "%-36.*s %s; %.*s\n", int(s.key.size()), s.key.data(),
+                   param_expectation(s).c_str(), int(s.help.size()), s.help.data());
+    return kExitOk;
+  }
+  if (a.list) {
+    for (const std::string& n : preset_names()) std::fprintf(ctx.out, "%s\n", n.c_str());
+    return kExitOk;
+  }
+#ifndef ARDCELL_WITH_SDL2
+  return cli_usage_error(ctx, "live", "this build has no SDL2 display (ARDCELL_WITH_SDL2=OFF)");
+#else
+  LiveOptions o;
+  o.playlist = a.playlist.empty() ? preset_names() : a.playlist;
+  const std::string first = !a.preset.empty()    ? a.preset
+                            : o.playlist.empty() ? std::string("cavity")
+                                                 : o.playlist.front();
+  Preset preset;
+  if (Status s = load_preset(first, preset); !s) return cli_usage_error(ctx, "live", s.message());
+  if (a.rt) request_realtime(ctx.err);
+
+  Status error = Status::ok();
+  auto display = SdlDisplay::open({.display = a.display,
+                                   .fullscreen = a.fullscreen,
+                                   .vsync = !a.no_vsync,
+                                   .scale = a.scale,
+                                   .title = "ardcell"},
+                                  preset.scene.size, error);
+  if (!display) {
+    std::fprintf(ctx.err, "ardcell live: %s\n", error.message().c_str());
+    return kExitFailure;
+  }
+  o.fps = a.fps > 0 ? a.fps : (display->refresh_rate() > 0 ? display->refresh_rate() : 60.0);
+  o.max_frames = a.frames;
+  o.hud = a.hud;
+  o.adaptive = !a.no_adaptive;
+  o.crossfade_frames = a.crossfade;
+  o.record_path = a.record;
+  o.screenshot_dir = a.screenshot_dir;
+  o.exit_screenshot = a.screenshot;
+  o.log = ctx.err;
+  o.recorder = [](const std::string& path, Int2 size, double fps,
+                  Status& err) -> std::unique_ptr<FrameWriter> {
+    std::unique_ptr<FrameSink> sink;
+    std::string note;
+    err = make_video_sink(path, size.x, size.y, int(fps + 0.5), sink, note);
+    if (!note.empty()) std::fprintf(stderr, "ardcell live: %s\n", note.c_str());
+    if (!err) return nullptr;
+    return std::make_unique<SinkWriter>(std::move(sink));
+  };
+  o.screenshotter = [](const std::string& path, Int2, double,
+                       Status&) -> std::unique_ptr<FrameWriter> {
+    return std::make_unique<PngWriter>(path);
+  };
+
+  LiveLoop loop(o, make_engine_simulation, *display);
+  if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
+  install_report_signal();
+
+  std::unique_ptr<AttractMode> attract;
+  if (a.attract_seconds > 0) {
+    attract = std::make_unique<AttractMode>(a.attract_seconds);
+    if (!a.attract_dir.empty()) {
+      if (Status s = attract->load_folder(a.attract_dir); !s)
+        std::fprintf(ctx.err, "ardcell live: attract: %s\n", s.message().c_str());
+    }
+    if (attract->recordings() == 0)
+      std::fprintf(ctx.err, "ardcell live: attract: no recordings; attract mode is off\n");
+    loop.set_attract_mode(attract.get());
+  }
+
+#ifdef ARDCELL_WITH_GPIOD
+  std::unique_ptr<GpioButtons> buttons;
+  if (!a.gpio_config.empty()) {
+    GpioConfig cfg;
+    if (Status s = load_gpio_config(a.gpio_config, cfg); !s)
+      return cli_usage_error(ctx, "live", s.message());
+    Status gs = Status::ok();
+    auto src = open_gpiod_source(cfg, gs);
+    if (src)
+      buttons = std::make_unique<GpioButtons>(std::move(src), cfg, loop.commands());
+    else
+      std::fprintf(ctx.err, "ardcell live: %s\n", gs.message().c_str());
+  }
+#else
+  if (!a.gpio_config.empty())
+    std::fprintf(ctx.err, "ardcell live: --gpio: this build has no libgpiod; buttons are off\n");
+#endif
+#ifdef ARDCELL_WITH_LIBLO
+  std::unique_ptr<OscServer> osc;
+  if (a.osc_port >= 0) {
+    Status os = Status::ok();
+    osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(), os);
+    if (!osc) return cli_usage_error(ctx, "live", os.message());
+    std::fprintf(ctx.err, "ardcell live: OSC on udp://%s:%d\n", a.osc_bind.c_str(), osc->port());
+  }
+#else
+  if (a.osc_port >= 0)
+    return cli_usage_error(ctx, "live", "--osc: this build has no liblo (ARDCELL_WITH_LIBLO=OFF)");
+#endif
+
+  std::atomic<bool> running{true};
+  std::thread watchdog;
+#ifdef ARDCELL_WITH_SYSTEMD
+  sd_notify(0, "READY=1");
+  uint64_t usec = 0;
+  if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0) {
+    // Pings only while frames keep coming: a stuck loop lets systemd restart the kiosk.
+    watchdog = std::thread([&loop, &running, usec] {
+      int64_t seen = -1;
+      while (running.load()) {
+        std::this_thread::sleep_for(std::chrono::microseconds(usec / 2));
+        const int64_t beat = loop.heartbeat().load();
+        if (beat != seen) sd_notify(0, "WATCHDOG=1");
+        seen = beat;
+      }
+    });
+  }
+#endif
+  const Status s = loop.run();
+  running.store(false);
+  if (watchdog.joinable()) watchdog.join();
+  if (!s) {
+    std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
+    return kExitFailure;
+  }
+  return kExitOk;
+#endif
+}
+
+}  // namespace
+
+void add_live_command(CLI::App& app, CliContext& ctx) {
+  auto args = std::make_shared<LiveArgs>();
+  CLI::App* live = app.add_subcommand(
+      "live", "Real-time window: paint with mouse, touch or pen; presets, kiosk, OSC");
+  live->add_option("preset", args->preset, "Preset name or .toml path (`--list`)");
+  live->add_option("--fps", args->fps, "Target frame rate (default: the display's refresh)")
+      ->check(CLI::Range(0.0, 1000.0));
+  live->add_flag("--rt", args->rt, "Ask for SCHED_FIFO and mlockall (goes on when refused)");
+  live->add_option("--osc", args->osc_port, "Listen for OSC on this UDP port")
+      ->check(CLI::Range(0, 65535));
+  live->add_option("--osc-bind", args->osc_bind, "Address OSC binds to (default 127.0.0.1)");
+  live->add_option("--attract", args->attract_seconds,
+                   "Replay recorded strokes after this many idle seconds")
+      ->check(CLI::Range(0.0, 1e6));
+  live->add_option("--attract-dir", args->attract_dir, "Folder of .jsonl stroke recordings");
+  live->add_option("--gpio", args->gpio_config, "GPIO buttons config (TOML)");
+  live->add_option("--frames", args->frames, "Exit after N frames (tests)")
+      ->check(CLI::Range(int64_t(0), int64_t(1) << 40));
+  live->add_option("--display", args->display, "Display index for the window");
+  live->add_flag("--fullscreen", args->fullscreen, "Fullscreen on the display");
+  live->add_flag("--no-vsync", args->no_vsync, "Do not wait for vertical sync");
+  live->add_option("--scale", args->scale, "Window pixels per cell (default: fit the screen)")
+      ->check(CLI::Range(0, 64));
+  live->add_flag("--hud", args->hud, "Start with the HUD shown (H toggles)");
+  live->add_flag("--no-adaptive", args->no_adaptive, "Keep full quality even when frames miss");
+  live->add_option("--record", args->record, "Record from the start (.mp4 via ffmpeg, .y4m)");
+  live->add_option("--screenshot", args->screenshot, "PNG of the window after the last frame");
+  live->add_option("--screenshot-dir", args->screenshot_dir, "Folder for S-key screenshots");
+  live->add_option("--playlist", args->playlist, "Presets for next/previous (default: all)")
+      ->delimiter(',');
+  live->add_option("--crossfade", args->crossfade, "Frames of crossfade on preset switch")
+      ->check(CLI::Range(0, 10000));
+  live->add_flag("--keys", args->keys, "List every preset key and exit");
+  live->add_flag("--list", args->list, "List preset names and exit");
+  live->callback([args, &ctx] { ctx.exit_code = run_live(*args, ctx); });
+}
+
+}  // namespace ardcell
