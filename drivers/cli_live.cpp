@@ -30,9 +30,6 @@
 #include <systemd/sd-daemon.h>
 #endif
 
-// Sanitizer builds: SDL's D-Bus helper keeps one allocation for the life of the process.
-extern "C" const char* __lsan_default_suppressions() { return "leak:libdbus-1.so\n"; }
-
 namespace ardcell {
 
 namespace {

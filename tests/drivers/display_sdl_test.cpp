@@ -11,11 +11,6 @@
 #include "host/engine.h"
 #include "host/live_engine.h"
 
-// SDL's desktop helpers (D-Bus, X11) keep a few allocations for the life of the process.
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libdbus-1.so\nleak:libX11.so\nleak:libSDL2\n";
-}
-
 namespace ardcell {
 namespace {
 
