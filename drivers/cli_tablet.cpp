@@ -166,6 +166,7 @@ int play_command(CliContext& ctx, const PlayArgs& a) {
   if (!frame_field_available(engine.state(), field))
     return cli_usage_error(ctx, "tablet play", "--show: the scene has no such field");
   ImageRgb8 image;
+  image.resize(engine.state().size.x, engine.state().size.y);
   render_frame(engine.state(), default_render_settings(field), image);
   if (Status st = write_png(a.png, image); !st) {
     std::fprintf(ctx.err, "ardcell tablet play: %s\n", st.message().c_str());
