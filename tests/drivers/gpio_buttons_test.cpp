@@ -94,6 +94,13 @@ TEST(GpioButtons, ConfigParsesAndBadConfigsSayWhy) {
   }
 }
 
+TEST(GpioButtons, ExampleKioskConfigLoads) {
+  GpioConfig c;
+  const Status s = load_gpio_config(ARDCELL_SOURCE_DIR "/scripts/kiosk.example.toml", c);
+  ASSERT_TRUE(s.is_ok()) << s.message();
+  EXPECT_EQ(c.buttons.size(), 4u);
+}
+
 #ifdef ARDCELL_WITH_GPIOD
 TEST(GpioButtons, MissingChipGivesOneClearLine) {
   GpioConfig cfg = two_buttons();
