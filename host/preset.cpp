@@ -235,6 +235,9 @@ class PresetParser {
     }
   }
 
+  // One value outside a file (`--set key=value`): messages carry no file:line.
+  void assign(const ParamSpec& spec, const toml::node& node) { value(spec, node, 0); }
+
   std::vector<std::string> errors;
 
  private:
@@ -266,8 +269,9 @@ class PresetParser {
   }
 
   void error(int line, std::string_view key, const std::string& what) {
-    errors.push_back(std::string(source_) + ":" + std::to_string(line) + ": " + std::string(key) +
-                     ": " + what);
+    const std::string where =
+        source_.empty() ? std::string() : std::string(source_) + ":" + std::to_string(line) + ": ";
+    errors.push_back(where + std::string(key) + ": " + what);
   }
 
   void value(const ParamSpec& spec, const toml::node& node, int line) {
@@ -519,6 +523,59 @@ bool presets_share_structure(const Preset& a, const Preset& b) {
     }
   }
   return true;
+}
+
+Status apply_param_override(SceneConfig& scene, std::string_view assignment) {
+  auto trim = [](std::string_view v) {
+    while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+    while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
+    return v;
+  };
+  const size_t eq = assignment.find('=');
+  if (eq == std::string_view::npos)
+    return Status::error("--set " + std::string(assignment) +
+                         ": expected key=value, e.g. rd.reaction.f=0.04");
+  const std::string key(trim(assignment.substr(0, eq)));
+  const std::string_view text = trim(assignment.substr(eq + 1));
+  const ParamSpec* spec = find_param(key);
+  if (!spec || key.starts_with("quality.") || key.starts_with("input.")) {
+    std::string known;
+    for (const ParamSpec& s : kParams)
+      if (!s.key.starts_with("quality.") && !s.key.starts_with("input.")) {
+        if (!known.empty()) known += ", ";
+        known += s.key;
+      }
+    return Status::error("--set " + key + ": unknown scene key; expected one of: " + known);
+  }
+  if (text.empty())
+    return Status::error("--set " + key + ": expected " + param_expectation(*spec) +
+                         ", got nothing after '='");
+  // The value is TOML; a bare word is a string (choices, names), "256x256" a size.
+  std::string value(text);
+  if (spec->kind == ParamKind::kSize) {
+    const size_t x = value.find('x');
+    if (x != std::string::npos && value.front() != '[')
+      value = "[" + value.substr(0, x) + ", " + value.substr(x + 1) + "]";
+  }
+  toml::table doc;
+  try {
+    doc = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    if (spec->kind == ParamKind::kChoice || spec->kind == ParamKind::kString) {
+      doc = toml::table{};
+      doc.insert("v", std::string(text));
+    } else {
+      return Status::error("--set " + key + ": expected " + param_expectation(*spec) + ", got '" +
+                           std::string(text) + "'");
+    }
+  }
+  Preset edited;
+  edited.scene = scene;
+  PresetParser parser("", edited);
+  parser.assign(*spec, *doc.get("v"));
+  if (!parser.errors.empty()) return Status::error("--set " + parser.errors.front());
+  scene = std::move(edited.scene);
+  return Status::ok();
 }
 
 bool set_param(Preset& preset, const ParamSpec& spec, double value, std::string* why) {

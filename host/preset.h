@@ -82,6 +82,13 @@ std::string preset_difference(const Preset& a, const Preset& b);
 // True when b differs from a only in parameters that can change on a running simulation.
 bool presets_share_structure(const Preset& a, const Preset& b);
 
+// Applies one "key=value" assignment (`ardcell run --set fluid.viscosity=0.02`) to `scene`
+// through the key table: the value is a TOML value (numbers, true/false, "strings" or bare
+// words for choices and strings, [a, b] arrays). Keys outside the scene (quality.*, input.*)
+// are refused. On failure `scene` is unchanged and the message is one line naming the key and
+// what was expected: "--set rd.reaction.f: expected a number in [0, 1], got 2".
+Status apply_param_override(SceneConfig& scene, std::string_view assignment);
+
 // Validates and sets one numeric parameter (OSC, GPIO, crossfades); never allocates on success.
 // Choices may be given by index. Returns false with a one-line reason in `why` when invalid.
 bool set_param(Preset& preset, const ParamSpec& spec, double value, std::string* why = nullptr);
