@@ -1,6 +1,7 @@
-// `ardcell bench table1`: runs the Table 1 benchmark program (bench/table1_bench.cpp, built next
-// to the ardcell binary) and reports it beside the paper's Cell figures: a Markdown table on
-// stdout, and table1.md, table1.csv and table1.png (bar chart, log FPS) in --out.
+// `ardcell bench table1`: runs the Table 1 benchmark programs (bench/table1_bench.cpp for the CPU
+// rows and bench/table1_opencl_bench.cpp for the opencl-* rows, built next to the ardcell binary)
+// and reports it beside the paper's Cell figures: a Markdown table on stdout, and table1.md,
+// table1.csv and table1.png (bar chart, log FPS) in --out.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -44,26 +45,38 @@ struct Result {
   bool present = false;
 };
 
+constexpr const char* kCpuSchedules[] = {"serial", "stream", "blocked"};
+constexpr const char* kOpenClSchedules[] = {"opencl-stream", "opencl-blocked"};
+
+bool is_opencl_schedule(const std::string& s) {
+  return s == kOpenClSchedules[0] || s == kOpenClSchedules[1];
+}
+bool is_cpu_schedule(const std::string& s) {
+  return s == kCpuSchedules[0] || s == kCpuSchedules[1] || s == kCpuSchedules[2];
+}
+
 struct BenchOptions {
   std::string sizes = "128,256,512,1024,2048";
-  std::string schedules = "serial,stream,blocked";
+  std::string schedules = "serial,stream,blocked,opencl-stream,opencl-blocked";
   double min_time = 0.5;
   int serial_max = 1024;
   int store_kib = 1024;
   std::string out = "bench-results";
   std::string binary;
+  std::string opencl_binary;
+  int cl_device = -1;
 };
 
-fs::path default_binary() {
+fs::path default_binary(const char* name) {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path("table1_bench") : self.parent_path() / "table1_bench";
+  return ec ? fs::path(name) : self.parent_path() / name;
 }
 
-// Runs the bench program with output to json_path; its console output goes to stderr.
-int run_bench_program(const BenchOptions& o, const std::string& filter,
+// Runs a bench program with output to json_path; its console output goes to stderr.
+int run_bench_program(const BenchOptions& o, const std::string& binary, const std::string& filter,
                       const std::string& json_path) {
-  std::vector<std::string> args = {o.binary, "--benchmark_filter=" + filter,
+  std::vector<std::string> args = {binary, "--benchmark_filter=" + filter,
                                    "--benchmark_min_time=" + std::to_string(o.min_time),
                                    "--benchmark_out=" + json_path, "--benchmark_out_format=json"};
   const pid_t pid = fork();
@@ -72,6 +85,7 @@ int run_bench_program(const BenchOptions& o, const std::string& filter,
     setenv("ARDCELL_BENCH_SIZES", o.sizes.c_str(), 1);
     setenv("ARDCELL_BENCH_SERIAL_MAX", std::to_string(o.serial_max).c_str(), 1);
     setenv("ARDCELL_BENCH_STORE_KIB", std::to_string(o.store_kib).c_str(), 1);
+    if (o.cl_device >= 0) setenv("ARDCELL_CL_DEVICE", std::to_string(o.cl_device).c_str(), 1);
     dup2(STDERR_FILENO, STDOUT_FILENO);
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
@@ -130,6 +144,43 @@ Status write_text_atomically(const fs::path& path, const std::string& text) {
   return f.commit();
 }
 
+// Reads a Google Benchmark JSON report into results ("<schedule>/<fluid|ard>/<N>") and the
+// STREAM triad; rows that reported an error are left out, the first error kept in *skipped.
+Status read_bench_json(const std::string& json_path, std::map<std::string, Result>& results,
+                       double& triad, std::string* skipped) {
+  try {
+    std::ifstream in(json_path);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    for (const auto& b : j.at("benchmarks")) {
+      std::string name = b.at("name").get<std::string>();
+      if (b.value("error_occurred", false)) {
+        if (skipped && skipped->empty())
+          *skipped = name + ": " + b.value("error_message", std::string("error"));
+        continue;
+      }
+      if (name.rfind("STREAM/triad", 0) == 0) {
+        triad = b.value("bytes_per_s", 0.0);
+        continue;
+      }
+      if (name.rfind("Table1/", 0) != 0) continue;
+      name = name.substr(7);
+      const auto cut = name.find("/min_time");
+      if (cut != std::string::npos) name = name.substr(0, cut);
+      const auto cut2 = name.find("/real_time");
+      if (cut2 != std::string::npos) name = name.substr(0, cut2);
+      Result r;
+      r.fps = b.value("fps", 0.0);
+      r.bytes_per_s = b.value("bytes_per_s", 0.0);
+      r.fps_unshared = b.value("fps_if_unshared", 0.0);
+      r.present = true;
+      results[name] = r;
+    }
+  } catch (const std::exception& e) {
+    return Status::error("cannot read " + json_path + ": " + e.what());
+  }
+  return Status::ok();
+}
+
 }  // namespace
 
 void add_bench_command(CLI::App& app, CliContext& ctx) {
@@ -139,7 +190,9 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       "table1", "Fluid and fluid+RD FPS per size and schedule beside the Cell's (seed 000)");
   auto o = std::make_shared<BenchOptions>();
   t1->add_option("--sizes", o->sizes, "Grid sizes N, comma-separated")->capture_default_str();
-  t1->add_option("--schedules", o->schedules, "serial,stream,blocked (any subset)")
+  t1->add_option("--schedules", o->schedules,
+                 "serial,stream,blocked,opencl-stream,opencl-blocked (any subset; the OpenCL "
+                 "rows come from table1_opencl_bench)")
       ->capture_default_str();
   t1->add_option("--min-time", o->min_time, "Seconds per benchmark (at least)")
       ->capture_default_str();
@@ -150,7 +203,11 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
   t1->add_option("--out", o->out, "Folder for table1.md, table1.csv, table1.png")
       ->capture_default_str();
   t1->add_option("--bench-binary", o->binary, "The table1_bench program (default: beside ardcell)");
-  t1->callback([o, &ctx] {
+  t1->add_option("--opencl-bench-binary", o->opencl_binary,
+                 "The table1_opencl_bench program (default: beside ardcell)");
+  auto* cl_device_opt = t1->add_option("--cl-device", o->cl_device,
+                                       "OpenCL device of the opencl rows (ardcell devices)");
+  t1->callback([o, &ctx, cl_device_opt, t1] {
     const std::string cmd = "bench table1";
     std::vector<int> sizes;
     for (const std::string& s : split(o->sizes)) {
@@ -164,17 +221,44 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
     }
     std::vector<std::string> schedules = split(o->schedules);
     for (const std::string& s : schedules)
-      if (s != "serial" && s != "stream" && s != "blocked") {
-        ctx.exit_code = cli_usage_error(
-            ctx, cmd, "--schedules: '" + s + "' is not one of serial, stream, blocked");
+      if (!is_cpu_schedule(s) && !is_opencl_schedule(s)) {
+        ctx.exit_code = cli_usage_error(ctx, cmd,
+                                        "--schedules: '" + s +
+                                            "' is not one of serial, stream, blocked, "
+                                            "opencl-stream, opencl-blocked");
         return;
       }
+    if (cl_device_opt->count() && o->cl_device < 0) {
+      ctx.exit_code = cli_usage_error(ctx, cmd, "--cl-device: expected a device index (0 or more)");
+      return;
+    }
+    // The OpenCL rows: from table1_opencl_bench when it was built; left out with a note when
+    // they were not asked for by name.
+    const bool opencl_asked = t1->get_option("--schedules")->count() > 0;
+    if (o->opencl_binary.empty()) o->opencl_binary = default_binary("table1_opencl_bench").string();
+    const bool want_opencl = std::any_of(schedules.begin(), schedules.end(), is_opencl_schedule);
+    if (want_opencl && access(o->opencl_binary.c_str(), X_OK) != 0) {
+      if (opencl_asked) {
+        ctx.exit_code = cli_usage_error(ctx, cmd,
+                                        "OpenCL benchmark program '" + o->opencl_binary +
+                                            "' not found or not executable (build the "
+                                            "table1_opencl_bench target, or pass "
+                                            "--opencl-bench-binary)");
+        return;
+      }
+      std::fprintf(ctx.err,
+                   "ardcell bench table1: note: no %s (built without OpenCL?); the opencl rows "
+                   "are left out\n",
+                   o->opencl_binary.c_str());
+      std::erase_if(schedules, is_opencl_schedule);
+    }
+    const bool want_cpu = std::any_of(schedules.begin(), schedules.end(), is_cpu_schedule);
     if (sizes.empty() || schedules.empty() || !(o->min_time > 0) || o->store_kib < 8) {
       ctx.exit_code = cli_usage_error(
           ctx, cmd, "need at least one size and schedule, --min-time > 0, --store-kib >= 8");
       return;
     }
-    if (o->binary.empty()) o->binary = default_binary().string();
+    if (o->binary.empty()) o->binary = default_binary("table1_bench").string();
     if (access(o->binary.c_str(), X_OK) != 0) {
       ctx.exit_code = cli_usage_error(ctx, cmd,
                                       "benchmark program '" + o->binary +
@@ -189,49 +273,40 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
           cli_usage_error(ctx, cmd, "--out: cannot create '" + o->out + "': " + ec.message());
       return;
     }
-    std::string filter = "STREAM/triad|Table1/(";
-    for (std::size_t i = 0; i < schedules.size(); ++i) filter += (i ? "|" : "") + schedules[i];
-    filter += ")/";
-    const std::string json_path = (fs::path(o->out) / ".table1_bench.json").string();
-    const int rc = run_bench_program(*o, filter, json_path);
-    if (rc != 0) {
-      std::fprintf(ctx.err, "ardcell bench table1: %s exited with status %d\n", o->binary.c_str(),
-                   rc);
-      ctx.exit_code = kExitFailure;
-      return;
-    }
-    // Parse the results.
+    // The CPU program measures the STREAM triad too (the bandwidth every row is compared with).
     std::map<std::string, Result> results;  // "<schedule>/<fluid|ard>/<N>"
     double triad = 0;
-    try {
-      std::ifstream in(json_path);
-      const nlohmann::json j = nlohmann::json::parse(in);
-      for (const auto& b : j.at("benchmarks")) {
-        std::string name = b.at("name").get<std::string>();
-        if (name.rfind("STREAM/triad", 0) == 0) {
-          triad = b.value("bytes_per_s", 0.0);
-          continue;
-        }
-        if (name.rfind("Table1/", 0) != 0) continue;
-        name = name.substr(7);
-        const auto cut = name.find("/min_time");
-        if (cut != std::string::npos) name = name.substr(0, cut);
-        const auto cut2 = name.find("/real_time");
-        if (cut2 != std::string::npos) name = name.substr(0, cut2);
-        Result r;
-        r.fps = b.value("fps", 0.0);
-        r.bytes_per_s = b.value("bytes_per_s", 0.0);
-        r.fps_unshared = b.value("fps_if_unshared", 0.0);
-        r.present = true;
-        results[name] = r;
+    const auto run_program = [&](const std::string& binary, const std::string& filter,
+                                 const std::string& json_path) {
+      const int rc = run_bench_program(*o, binary, filter, json_path);
+      if (rc != 0) {
+        std::fprintf(ctx.err, "ardcell bench table1: %s exited with status %d\n", binary.c_str(),
+                     rc);
+        return false;
       }
-    } catch (const std::exception& e) {
-      std::fprintf(ctx.err, "ardcell bench table1: cannot read %s: %s\n", json_path.c_str(),
-                   e.what());
+      std::string skipped;
+      if (Status st = read_bench_json(json_path, results, triad, &skipped); !st) {
+        std::fprintf(ctx.err, "ardcell bench table1: %s\n", st.message().c_str());
+        return false;
+      }
+      if (!skipped.empty())
+        std::fprintf(ctx.err, "ardcell bench table1: rows left out (%s)\n", skipped.c_str());
+      std::error_code rm;
+      fs::remove(json_path, rm);
+      return true;
+    };
+    std::string cpu_filter = "STREAM/triad", cl_filter;
+    for (const std::string& s : schedules)
+      (is_opencl_schedule(s) ? cl_filter : cpu_filter) += "|Table1/" + s + "/";
+    if (!cl_filter.empty()) cl_filter = cl_filter.substr(1);
+    if (!want_cpu) cpu_filter = "STREAM/triad";
+    if (!run_program(o->binary, cpu_filter, (fs::path(o->out) / ".table1_bench.json").string()) ||
+        (!cl_filter.empty() &&
+         !run_program(o->opencl_binary, cl_filter,
+                      (fs::path(o->out) / ".table1_opencl_bench.json").string()))) {
       ctx.exit_code = kExitFailure;
       return;
     }
-    fs::remove(json_path, ec);
     // The table.
     std::ostringstream md, csv;
     char line[512];
@@ -294,10 +369,12 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       put_rect(img, 46, y, img.width, y + 1, grid);
       put_text(img, 2, y - 5, decades[d + 1], 2, ink);
     }
-    const uint8_t colours[4][2][3] = {{{190, 190, 190}, {110, 110, 110}},  // Cell
+    const uint8_t colours[6][2][3] = {{{190, 190, 190}, {110, 110, 110}},  // Cell
                                       {{240, 180, 150}, {200, 90, 50}},    // serial
                                       {{160, 200, 240}, {40, 110, 190}},   // stream
-                                      {{170, 230, 170}, {40, 150, 60}}};   // blocked
+                                      {{170, 230, 170}, {40, 150, 60}},    // blocked
+                                      {{220, 180, 240}, {130, 60, 180}},   // opencl-stream
+                                      {{240, 220, 150}, {190, 150, 20}}};  // opencl-blocked
     for (std::size_t gi = 0; gi < sizes.size(); ++gi) {
       const int n = sizes[gi];
       int x = 60 + int(gi) * group;
@@ -311,10 +388,13 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
             const std::string& s = schedules[std::size_t(series - 1)];
             fps = results[s + (k ? "/ard/" : "/fluid/") + std::to_string(n)].fps;
           }
-          const int ci = series == 0                                      ? 0
-                         : schedules[std::size_t(series - 1)] == "serial" ? 1
-                         : schedules[std::size_t(series - 1)] == "stream" ? 2
-                                                                          : 3;
+          const std::string& name = series == 0 ? "" : schedules[std::size_t(series - 1)];
+          const int ci = series == 0               ? 0
+                         : name == "serial"        ? 1
+                         : name == "stream"        ? 2
+                         : name == "blocked"       ? 3
+                         : name == "opencl-stream" ? 4
+                                                   : 5;
           if (fps > 0) put_rect(img, x, y_of(fps), x + 12, base, colours[ci][k]);
           x += 14;
         }

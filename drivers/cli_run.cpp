@@ -6,6 +6,7 @@
 #include <csignal>
 #include <ctime>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -16,6 +17,11 @@
 #include "host/offline_run.h"
 #include "host/preset.h"
 #include "host/state_io.h"
+#include "host/table1.h"
+#include "runtime/opencl/backend_choice.h"
+#if defined(ARDCELL_WITH_OPENCL)
+#include "bench/table1_opencl.h"
+#endif
 
 namespace ardcell {
 namespace {
@@ -27,13 +33,36 @@ extern "C" void on_interrupt(int) { g_stop.store(true); }
 
 struct RunArgs {
   std::string scene, scene_positional, size, solver, out, save_state, load_state;
-  std::string colormap, show, video;
-  bool list = false, no_png = false, quiet = false;
+  std::string colormap, show, video, schedule, backend;
+  std::vector<std::string> sets;
+  bool list = false, no_png = false, quiet = false, stats = false;
   int64_t steps = 0, every = 0;
   double dt = 0, re = 0;
-  int sweeps = 0, fps = 30;
+  int sweeps = 0, fps = 30, cl_device = -1, workers = 0;
   CLI::Option *steps_opt, *every_opt, *dt_opt, *re_opt, *sweeps_opt, *solver_opt, *size_opt;
-  CLI::Option *colormap_opt, *show_opt;
+  CLI::Option *colormap_opt, *show_opt, *schedule_opt, *backend_opt, *cl_device_opt, *workers_opt;
+};
+
+// The scenes that run the Table 1 workload (host/table1.h) on the frame plan.
+constexpr const char* kTable1Scenes[][2] = {
+    {"table1", "Table 1 workload (seed 000, 7.2): Stam's stable fluid alone, on the frame plan"},
+    {"table1-ard", "Table 1 workload: fluid + Gray-Scott RD riding on it, on the frame plan"}};
+
+bool is_table1_scene(const std::string& name) {
+  return name == kTable1Scenes[0][0] || name == kTable1Scenes[1][0];
+}
+
+// --stats keeps at most this many per-frame times (8 MiB), allocated before the run.
+constexpr int64_t kMaxTimedFrames = int64_t(1) << 20;
+
+class EngineStepper final : public OfflineStepper {
+ public:
+  explicit EngineStepper(Engine& engine) : engine_(engine) {}
+  void step() override { engine_.step(); }
+  const SimState& frame_state() override { return engine_.state(); }
+
+ private:
+  Engine& engine_;
 };
 
 std::string timestamp() {
@@ -90,7 +119,324 @@ int list_scenes(CliContext& ctx) {
     if (load_preset(name, p)) description = p.scene.description;
     std::fprintf(ctx.out, "%-24s %s\n", name.c_str(), description.c_str());
   }
+  for (const auto& [name, description] : kTable1Scenes)
+    std::fprintf(ctx.out, "%-24s %s\n", name, description);
   return kExitOk;
+}
+
+// What a run writes (PNG frames, video), opened before the first step.
+struct RunOutputs {
+  std::vector<fs::path> created;
+  std::vector<std::unique_ptr<FrameSink>> sinks;
+  std::string out;
+  bool png = false;
+};
+
+// Checks and creates the outputs; on a usage error removes what it made and returns the exit
+// code, else kExitOk.
+int open_outputs(RunArgs& a, CliContext& ctx, const std::string& scene_name, Int2 size,
+                 const std::string& show, int64_t every, RunOutputs& o) {
+  auto usage = [&](const std::string& m) {
+    remove_created(o.created);
+    return cli_usage_error(ctx, "run", m);
+  };
+  o.png = every > 0 && !a.no_png;
+  o.out = !a.out.empty() ? a.out : "out/" + scene_name + "-" + timestamp();
+  if (o.png) {
+    if (Status s = make_output_folder(o.out, o.created); !s) return usage(s.message());
+    o.sinks.push_back(std::make_unique<PngSequenceSink>(o.out, show));
+  }
+  if (!a.video.empty()) {
+    const fs::path video(a.video);
+    std::error_code ec;
+    const fs::path parent = video.parent_path().empty() ? fs::path(".") : video.parent_path();
+    if (!fs::is_directory(parent, ec) || ::access(parent.c_str(), W_OK) != 0)
+      return usage("--video " + a.video + ": folder " + parent.string() +
+                   " does not exist or is not writable");
+    std::unique_ptr<FrameSink> sink;
+    std::string note;
+    std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg gives EPIPE, not a silent exit
+    if (Status s = make_video_sink(video, size.x, size.y, a.fps, sink, note); !s)
+      return usage(s.message());
+    if (!note.empty()) std::fprintf(ctx.err, "ardcell run: %s\n", note.c_str());
+    o.sinks.push_back(std::move(sink));
+  }
+  if (every == 0 && !o.sinks.empty()) o.sinks.clear();
+  return kExitOk;
+}
+
+// Steps the run, finishes the sinks, saves the state and prints the summary line (and, with
+// --stats, the per-frame times; `after_run` prints what else the run can tell).
+int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const SceneConfig& scene,
+                   int64_t steps, int64_t every, const RenderSettings& render, RunOutputs& outputs,
+                   const std::function<void()>& after_run = {}) {
+  OfflineRunOptions options;
+  options.steps = steps;
+  options.every = every;
+  options.render = render;
+  options.progress = (!a.quiet && ::isatty(STDERR_FILENO)) ? ctx.err : nullptr;
+  options.stop = &g_stop;
+  std::vector<double> frame_seconds;
+  if (a.stats) {
+    frame_seconds.assign(std::size_t(std::min(steps, kMaxTimedFrames)), 0.0);
+    options.frame_seconds = frame_seconds;
+  }
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  std::vector<FrameSink*> sink_ptrs;
+  for (auto& s : outputs.sinks) sink_ptrs.push_back(s.get());
+  OfflineRunSummary summary;
+  Status run = run_offline(stepper, options, sink_ptrs, summary);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (!run) {
+    std::fprintf(ctx.err, "ardcell run: %s\n", run.message().c_str());
+    return kExitFailure;
+  }
+  for (auto& s : outputs.sinks)
+    if (Status f = s->finish(); !f) {
+      std::fprintf(ctx.err, "ardcell run: %s\n", f.message().c_str());
+      return kExitFailure;
+    }
+  if (summary.non_finite_cells > 0)
+    std::fprintf(ctx.err,
+                 "ardcell run: warning: %lld cells of the last frame were not finite (drawn "
+                 "magenta)\n",
+                 static_cast<long long>(summary.non_finite_cells));
+  if (summary.stopped_early)
+    std::fprintf(ctx.err, "ardcell run: interrupted after %lld frames\n",
+                 static_cast<long long>(summary.steps));
+  if (!a.save_state.empty()) {
+    if (Status s = save_state(a.save_state, stepper.frame_state(), scene); !s) {
+      std::fprintf(ctx.err, "ardcell run: --save-state %s\n", s.message().c_str());
+      return kExitFailure;
+    }
+  }
+  const std::string where = outputs.png ? outputs.out : (!a.video.empty() ? a.video : "-");
+  std::fprintf(ctx.out, "%s\n", format_summary(summary, where).c_str());
+  if (!a.save_state.empty()) std::fprintf(ctx.out, "state=%s\n", a.save_state.c_str());
+  if (a.stats) {
+    const std::size_t timed = std::min(frame_seconds.size(), std::size_t(summary.steps));
+    const FrameTimeStats st = frame_time_stats(std::span<double>(frame_seconds).first(timed));
+    std::fprintf(ctx.out, "%s\n", format_frame_time_stats(st).c_str());
+    if (after_run) after_run();
+  }
+  std::fflush(ctx.out);
+  return summary.stopped_early ? 130 : kExitOk;
+}
+
+// The Table 1 workload shown as a SimState: on the CPU (Table1Workload on the serial or threads
+// back end) or on an OpenCL device (OpenClStamFrame, fields resident on the device).
+class Table1Stepper final : public OfflineStepper {
+ public:
+  explicit Table1Stepper(const Table1Options& options)
+      : workload_(std::make_unique<Table1Workload>(options)) {
+    init_state(options);
+  }
+#if defined(ARDCELL_WITH_OPENCL)
+  // Takes the device from choose_backend; null + *error when the kernels cannot be had.
+  static std::unique_ptr<Table1Stepper> on_opencl(const Table1Options& options,
+                                                  std::unique_ptr<OpenClContext> ctx,
+                                                  ClSchedule schedule, std::string* error) {
+    std::unique_ptr<OpenClKernels> kernels = OpenClKernels::create(*ctx, error);
+    if (!kernels) return nullptr;
+    std::unique_ptr<Table1Stepper> s(new Table1Stepper());
+    s->init_state(options);
+    s->ctx_ = std::move(ctx);
+    s->kernels_ = std::move(kernels);
+    Table1Options initial = options;
+    initial.schedule = Table1Schedule::kSerial;
+    const Table1Workload w(initial);  // initial conditions only; never stepped
+    s->frame_ = std::make_unique<OpenClStamFrame>(*s->kernels_,
+                                                  table1_cl_params(w.grid(), options.rd), schedule);
+    table1_cl_upload(w, *s->frame_);
+    s->frame_->finish();
+    return s;
+  }
+  std::string device_name() const { return ctx_ ? ctx_->device().device_name : ""; }
+#endif
+
+  void step() override {
+#if defined(ARDCELL_WITH_OPENCL)
+    if (frame_) {
+      frame_->step();
+      frame_->finish();  // a frame counts when it is done, as when it is shown
+      return;
+    }
+#endif
+    workload_->step();
+  }
+
+  const SimState& frame_state() override {
+#if defined(ARDCELL_WITH_OPENCL)
+    if (frame_) {
+      frame_->download(ClField::kU, state_.u);
+      frame_->download(ClField::kV, state_.v);
+      frame_->download(ClField::kDye, state_.dye);
+      if (!state_.A.empty()) {
+        frame_->download(ClField::kA, state_.A);
+        frame_->download(ClField::kB, state_.B);
+      }
+      return stamp(frame_->frame());
+    }
+#endif
+    state_.u = workload_->u();  // same layout: copies, no allocation
+    state_.v = workload_->v();
+    state_.dye = workload_->dye();
+    if (!state_.A.empty()) {
+      state_.A = workload_->a();
+      state_.B = workload_->b();
+    }
+    return stamp(workload_->frame());
+  }
+
+  Table1Workload* workload() { return workload_.get(); }
+
+ private:
+  Table1Stepper() = default;
+  void init_state(const Table1Options& o) {
+    const Int2 grid = o.grid.x > 0 ? o.grid : Int2{o.n, o.n};
+    state_.size = grid;
+    state_.h = 1.0 / double(grid.x);
+    state_.dt = Table1Constants::kDt;
+    state_.u = FieldF(grid, 1);
+    state_.v = FieldF(grid, 1);
+    state_.dye = FieldF(grid, 1);
+    if (o.rd) {
+      state_.A = FieldF(grid, 1);
+      state_.B = FieldF(grid, 1);
+    }
+  }
+  const SimState& stamp(std::int64_t frame) {
+    state_.step = frame;
+    state_.time = double(frame) * state_.dt;
+    return state_;
+  }
+
+  std::unique_ptr<Table1Workload> workload_;
+#if defined(ARDCELL_WITH_OPENCL)
+  std::unique_ptr<OpenClContext> ctx_;
+  std::unique_ptr<OpenClKernels> kernels_;
+  std::unique_ptr<OpenClStamFrame> frame_;
+#endif
+  SimState state_;
+};
+
+int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
+  auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "run", m); };
+  const std::string fixed = ": the " + scene_name +
+                            " scene runs the fixed Table 1 workload (bench/README.md); expected "
+                            "no ";
+  if (!a.load_state.empty()) return usage("--load-state" + fixed + "--load-state");
+  if (a.dt_opt->count()) return usage("--dt" + fixed + "--dt");
+  if (a.re_opt->count()) return usage("--re" + fixed + "--re");
+  if (a.solver_opt->count()) return usage("--solver" + fixed + "--solver");
+  if (a.sweeps_opt->count()) return usage("--sweeps" + fixed + "--sweeps");
+  if (!a.sets.empty()) return usage("--set" + fixed + "--set");
+
+  Table1Options options;
+  options.rd = scene_name == "table1-ard";
+  Int2 grid{256, 256};
+  if (a.size_opt->count())
+    if (Status s = parse_grid_size(a.size, grid); !s) return usage(s.message());
+  if (grid.x < 8 || grid.y < 8)
+    return usage("--size " + a.size + ": the Table 1 workload needs at least 8 x 8 cells");
+  options.grid = grid;
+  options.n = grid.x;
+  if (a.workers_opt->count()) {
+    if (a.workers < 1 || a.workers > 256)
+      return usage("--workers " + std::to_string(a.workers) + ": expected 1..256");
+    options.workers = a.workers;
+  }
+
+  BackendKind kind = BackendKind::kAuto;
+  if (a.backend_opt->count()) parse_backend_kind(a.backend, kind);  // validated by do_run
+  Table1Schedule schedule =
+      kind == BackendKind::kSerial ? Table1Schedule::kSerial : Table1Schedule::kBlocked;
+  if (a.schedule_opt->count()) parse_table1_schedule(a.schedule, schedule);  // validated
+  if (kind == BackendKind::kSerial && schedule != Table1Schedule::kSerial)
+    return usage("--schedule " + a.schedule +
+                 " needs a tiling back end (threads or opencl); --backend serial runs the "
+                 "whole-grid reference (expected --schedule serial or no --schedule)");
+  if (kind == BackendKind::kOpenCl && schedule == Table1Schedule::kSerial)
+    return usage(
+        "--schedule serial is the whole-grid CPU reference; expected stream or blocked with "
+        "--backend opencl");
+  options.schedule = schedule;
+
+  const int64_t steps = a.steps_opt->count() ? a.steps : 100;
+  if (steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
+  const int64_t every = a.every_opt->count() ? a.every : std::max<int64_t>(1, steps / 50);
+  if (every < 0) return usage("--every " + std::to_string(a.every) + ": expected 0 or more");
+  if (a.fps < 1 || a.fps > 1000) return usage("--fps: expected 1..1000");
+
+  SceneConfig scene;
+  scene.name = scene_name;
+  scene.size = grid;
+  scene.dt = Table1Constants::kDt;
+  const std::string show = a.show_opt->count() ? a.show : "dye";
+  FrameField field;
+  if (!parse_frame_field(show, field))
+    return usage("--show '" + show + "': expected one of " + std::string(frame_field_names()));
+  if (field == FrameField::kPressure ||
+      (!options.rd && (field == FrameField::kA || field == FrameField::kB)))
+    return usage("--show " + show + ": scene '" + scene_name + "' has no " + show +
+                 " field (expected dye, speed, vorticity" + (options.rd ? ", A or B)" : ")"));
+  RenderSettings render = default_render_settings(field);
+  std::string colormap = a.colormap_opt->count() ? a.colormap : "";
+  if (colormap.empty() &&
+      (field == FrameField::kDye || field == FrameField::kA || field == FrameField::kB))
+    colormap = scene.output.colormap;
+  if (!colormap.empty() && !parse_colormap(colormap, render.colormap))
+    return usage("--colormap '" + colormap + "': expected one of " + std::string(colormap_names()));
+  if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
+
+  // The back end: OpenCL when asked for (or auto with a GPU) and it can be had, else the CPU.
+  std::unique_ptr<Table1Stepper> stepper;
+  std::string backend_name = schedule == Table1Schedule::kSerial ? "serial" : "threads";
+  if (schedule != Table1Schedule::kSerial &&
+      (kind == BackendKind::kOpenCl || kind == BackendKind::kAuto)) {
+#if defined(ARDCELL_WITH_OPENCL)
+    BackendChoice choice = choose_backend(kind, a.cl_device, &OpenClKernels::prepare);
+#else
+    BackendChoice choice = choose_backend(kind, a.cl_device);
+#endif
+    if (!choice.message.empty()) std::fprintf(ctx.err, "%s\n", choice.message.c_str());
+    if (!choice.detail.empty()) std::fprintf(ctx.err, "%s\n", choice.detail.c_str());
+#if defined(ARDCELL_WITH_OPENCL)
+    if (choice.kind == BackendKind::kOpenCl) {
+      std::string error;
+      stepper = Table1Stepper::on_opencl(
+          options, std::move(choice.opencl),
+          schedule == Table1Schedule::kStream ? ClSchedule::kStream : ClSchedule::kBlocked, &error);
+      if (stepper)
+        backend_name = "opencl (" + stepper->device_name() + ")";
+      else
+        std::fprintf(ctx.err, "ardcell: %s; falling back to the threads back end\n",
+                     error.substr(0, error.find('\n')).c_str());
+    }
+#endif
+  }
+  if (!stepper) stepper = std::make_unique<Table1Stepper>(options);
+
+  RunOutputs outputs;
+  if (int rc = open_outputs(a, ctx, scene_name, grid, show, every, outputs); rc != kExitOk)
+    return rc;
+  Table1Workload* cpu = stepper->workload();
+  if (a.stats) {
+    std::fprintf(ctx.out, "scene=%s size=%dx%d schedule=%s backend=%s", scene_name.c_str(), grid.x,
+                 grid.y, std::string(table1_schedule_name(schedule)).c_str(), backend_name.c_str());
+    if (cpu) std::fprintf(ctx.out, " workers=%d", cpu->backend().workers());
+    std::fputc('\n', ctx.out);
+  }
+  return run_and_report(a, ctx, *stepper, scene, steps, every, render, outputs, [&] {
+    if (cpu)
+      cpu->plan().print_stats(ctx.out);
+    else
+      std::fprintf(ctx.out,
+                   "passes: the OpenCL frame is timed whole (its kernels are queued, not "
+                   "planned)\n");
+  });
 }
 
 int do_run(RunArgs& a, CliContext& ctx) {
@@ -101,6 +447,34 @@ int do_run(RunArgs& a, CliContext& ctx) {
     return usage("scene given twice ('" + a.scene_positional + "' and --scene " + a.scene +
                  "); expected one");
   std::string scene_name = !a.scene.empty() ? a.scene : a.scene_positional;
+
+  // Back end and schedule: checked for every scene, used by the table1 scenes.
+  BackendKind backend = BackendKind::kAuto;
+  if (a.backend_opt->count() && !parse_backend_kind(a.backend, backend))
+    return usage("--backend '" + a.backend + "': expected auto, threads, serial or opencl");
+  Table1Schedule schedule;
+  if (a.schedule_opt->count() && !parse_table1_schedule(a.schedule, schedule))
+    return usage("--schedule '" + a.schedule + "': expected serial, stream or blocked");
+  if (a.cl_device_opt->count() && a.cl_device < 0)
+    return usage("--cl-device " + std::to_string(a.cl_device) +
+                 ": expected a device index (0 or more, see ardcell devices)");
+  if (is_table1_scene(scene_name)) return do_run_table1(a, ctx, scene_name);
+  {
+    const std::string general =
+        " applies to the table1 scenes (the Table 1 workload on the frame plan); scene '" +
+        (scene_name.empty() ? std::string("cavity") : scene_name) +
+        "' runs on the CPU engine (expected no ";
+    if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
+    if (a.workers_opt->count()) return usage("--workers" + general + "--workers)");
+    if (a.cl_device_opt->count()) return usage("--cl-device" + general + "--cl-device)");
+    if (backend == BackendKind::kOpenCl)
+      return usage("--backend opencl" + general + "--backend opencl)");
+    if (a.backend_opt->count() && backend == BackendKind::kAuto)
+      std::fprintf(ctx.err,
+                   "ardcell run: note: OpenCL and the tiled schedules apply to the table1 scenes; "
+                   "scene '%s' runs on the CPU engine\n",
+                   scene_name.empty() ? "cavity" : scene_name.c_str());
+  }
 
   // The scene: a saved state's, or a built-in scene / preset by name or path.
   Preset preset;
@@ -155,6 +529,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
     o.solver = kind;
   }
   if (Status s = apply_overrides(o, scene); !s) return usage(s.message());
+  for (const std::string& assignment : a.sets)
+    if (Status s = apply_param_override(scene, assignment); !s) return usage(s.message());
   const int64_t steps = a.steps_opt->count() ? a.steps : scene.default_steps;
   if (steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
   const int64_t every = a.every_opt->count() ? a.every : std::max<int64_t>(1, steps / 50);
@@ -186,80 +562,11 @@ int do_run(RunArgs& a, CliContext& ctx) {
       return usage("--load-state " + s.message());
 
   // Outputs: checked and created before the first step, removed again on a usage error.
-  const bool png = every > 0 && !a.no_png;
-  const std::string out = !a.out.empty() ? a.out : "out/" + scene.name + "-" + timestamp();
-  std::vector<fs::path> created;
-  std::vector<std::unique_ptr<FrameSink>> sinks;
-  if (png) {
-    if (Status s = make_output_folder(out, created); !s) {
-      remove_created(created);
-      return usage(s.message());
-    }
-    sinks.push_back(std::make_unique<PngSequenceSink>(out, show));
-  }
-  if (!a.video.empty()) {
-    const fs::path video(a.video);
-    std::error_code ec;
-    const fs::path parent = video.parent_path().empty() ? fs::path(".") : video.parent_path();
-    if (!fs::is_directory(parent, ec) || ::access(parent.c_str(), W_OK) != 0) {
-      remove_created(created);
-      return usage("--video " + a.video + ": folder " + parent.string() +
-                   " does not exist or is not writable");
-    }
-    std::unique_ptr<FrameSink> sink;
-    std::string note;
-    std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg gives EPIPE, not a silent exit
-    if (Status s = make_video_sink(video, scene.size.x, scene.size.y, a.fps, sink, note); !s) {
-      remove_created(created);
-      return usage(s.message());
-    }
-    if (!note.empty()) std::fprintf(ctx.err, "ardcell run: %s\n", note.c_str());
-    sinks.push_back(std::move(sink));
-  }
-  if (every == 0 && !sinks.empty()) sinks.clear();
-
-  OfflineRunOptions options;
-  options.steps = steps;
-  options.every = every;
-  options.render = render;
-  options.progress = (!a.quiet && ::isatty(STDERR_FILENO)) ? ctx.err : nullptr;
-  options.stop = &g_stop;
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
-  std::vector<FrameSink*> sink_ptrs;
-  for (auto& s : sinks) sink_ptrs.push_back(s.get());
-  OfflineRunSummary summary;
-  Status run = run_offline(engine, options, sink_ptrs, summary);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
-  if (!run) {
-    std::fprintf(ctx.err, "ardcell run: %s\n", run.message().c_str());
-    return kExitFailure;
-  }
-  for (auto& s : sinks)
-    if (Status f = s->finish(); !f) {
-      std::fprintf(ctx.err, "ardcell run: %s\n", f.message().c_str());
-      return kExitFailure;
-    }
-  if (summary.non_finite_cells > 0)
-    std::fprintf(ctx.err,
-                 "ardcell run: warning: %lld cells of the last frame were not finite (drawn "
-                 "magenta)\n",
-                 static_cast<long long>(summary.non_finite_cells));
-  if (summary.stopped_early)
-    std::fprintf(ctx.err, "ardcell run: interrupted after %lld frames\n",
-                 static_cast<long long>(summary.steps));
-  if (!a.save_state.empty()) {
-    if (Status s = save_state(a.save_state, engine.state(), scene); !s) {
-      std::fprintf(ctx.err, "ardcell run: --save-state %s\n", s.message().c_str());
-      return kExitFailure;
-    }
-  }
-  std::string where = png ? out : (!a.video.empty() ? a.video : "-");
-  std::fprintf(ctx.out, "%s\n", format_summary(summary, where).c_str());
-  if (!a.save_state.empty()) std::fprintf(ctx.out, "state=%s\n", a.save_state.c_str());
-  std::fflush(ctx.out);
-  return summary.stopped_early ? 130 : kExitOk;
+  RunOutputs outputs;
+  if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs); rc != kExitOk)
+    return rc;
+  EngineStepper stepper(engine);
+  return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs);
 }
 
 }  // namespace
@@ -294,6 +601,19 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
   run->add_option("--save-state", a.save_state, "save the final state to this folder");
   run->add_option("--load-state", a.load_state, "resume from a state saved by --save-state");
   run->add_flag("--quiet", a.quiet, "no progress bar");
+  run->add_option("--set", a.sets,
+                  "set a scene parameter, key=value (repeatable; e.g. fluid.viscosity=0.02)");
+  a.schedule_opt = run->add_option("--schedule", a.schedule,
+                                   "table1 scenes: serial | stream | blocked (default blocked)");
+  a.backend_opt = run->add_option("--backend", a.backend,
+                                  "table1 scenes: auto | threads | serial | opencl (default auto: "
+                                  "an OpenCL GPU, else threads)");
+  a.cl_device_opt =
+      run->add_option("--cl-device", a.cl_device, "OpenCL device index (see ardcell devices)");
+  a.workers_opt = run->add_option(
+      "--workers", a.workers, "table1 scenes: threads back end workers (default: one per core)");
+  run->add_flag("--stats", a.stats,
+                "print per-frame times (mean, p50, p99) and, for table1 scenes, per-pass timings");
   run->callback([args, &ctx] {
     try {
       ctx.exit_code = do_run(*args, ctx);

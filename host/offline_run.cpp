@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -154,13 +155,33 @@ Status check_memory_for_grid(const SceneConfig& scene) {
   return Status::ok();
 }
 
+namespace {
+
+class EngineStepper final : public OfflineStepper {
+ public:
+  explicit EngineStepper(Engine& engine) : engine_(engine) {}
+  void step() override { engine_.step(); }
+  const SimState& frame_state() override { return engine_.state(); }
+
+ private:
+  Engine& engine_;
+};
+
+}  // namespace
+
 Status run_offline(Engine& engine, const OfflineRunOptions& options,
                    std::span<FrameSink* const> sinks, OfflineRunSummary& summary) {
+  EngineStepper stepper(engine);
+  return run_offline(stepper, options, sinks, summary);
+}
+
+Status run_offline(OfflineStepper& stepper, const OfflineRunOptions& options,
+                   std::span<FrameSink* const> sinks, OfflineRunSummary& summary) {
   summary = {};
-  const SimState& state = engine.state();
-  summary.cells = int64_t(state.size.x) * state.size.y;
+  const Int2 size = stepper.frame_state().size;
+  summary.cells = int64_t(size.x) * size.y;
   ImageRgb8 image;
-  if (options.every > 0 && !sinks.empty()) image.resize(state.size.x, state.size.y);
+  if (options.every > 0 && !sinks.empty()) image.resize(size.x, size.y);
 
   Clock::time_point last_draw = Clock::now();
   for (int64_t i = 1; i <= options.steps; ++i) {
@@ -169,11 +190,15 @@ Status run_offline(Engine& engine, const OfflineRunOptions& options,
       break;
     }
     const Clock::time_point t0 = Clock::now();
-    engine.step();
-    summary.step_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    stepper.step();
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    summary.step_seconds += seconds;
+    if (i <= int64_t(options.frame_seconds.size()))
+      options.frame_seconds[std::size_t(i - 1)] = seconds;
     summary.steps = i;
 
     if (!image.empty() && i % options.every == 0) {
+      const SimState& state = stepper.frame_state();
       const RenderStats stats = render_frame(state, options.render, image);
       summary.non_finite_cells = stats.non_finite;
       const FrameInfo info{summary.frames_written, state.step, state.time};
@@ -194,6 +219,32 @@ Status run_offline(Engine& engine, const OfflineRunOptions& options,
     std::fflush(options.progress);
   }
   return Status::ok();
+}
+
+FrameTimeStats frame_time_stats(std::span<double> seconds) {
+  FrameTimeStats st;
+  st.frames = int64_t(seconds.size());
+  if (seconds.empty()) return st;
+  std::sort(seconds.begin(), seconds.end());
+  double sum = 0;
+  for (double s : seconds) sum += s;
+  // Nearest-rank percentiles.
+  const auto rank = [&](double q) {
+    const std::size_t r = std::size_t(std::ceil(q * double(seconds.size())));
+    return seconds[std::min(seconds.size() - 1, r == 0 ? 0 : r - 1)];
+  };
+  st.mean_ms = 1e3 * sum / double(seconds.size());
+  st.p50_ms = 1e3 * rank(0.50);
+  st.p99_ms = 1e3 * rank(0.99);
+  st.max_ms = 1e3 * seconds.back();
+  return st;
+}
+
+std::string format_frame_time_stats(const FrameTimeStats& s) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "frame ms: mean=%.3f p50=%.3f p99=%.3f max=%.3f (%lld frames)",
+                s.mean_ms, s.p50_ms, s.p99_ms, s.max_ms, static_cast<long long>(s.frames));
+  return buf;
 }
 
 std::string format_summary(const OfflineRunSummary& s, const std::string& out) {

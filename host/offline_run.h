@@ -41,12 +41,26 @@ uint64_t available_memory_bytes();
 // Error when the grid needs more memory than is available.
 Status check_memory_for_grid(const SceneConfig& scene);
 
+// What the run loop steps: an Engine (the general scenes), or another workload (the Table 1
+// scenes) that shows its fields as a SimState for rendering.
+class OfflineStepper {
+ public:
+  virtual ~OfflineStepper() = default;
+  // One frame; returns when its results are complete (timed by the loop).
+  virtual void step() = 0;
+  // The state to render; called only after steps whose frame is written (may copy fields).
+  virtual const SimState& frame_state() = 0;
+};
+
 struct OfflineRunOptions {
   int64_t steps = 0;                        // frames to simulate
   int64_t every = 0;                        // write a frame after every `every` steps; 0: none
   RenderSettings render;                    // what frames show
   std::FILE* progress = nullptr;            // progress bar stream (a terminal), or none
   const std::atomic<bool>* stop = nullptr;  // set asynchronously (Ctrl-C) to end early
+  // When non-empty, frame i's step time in seconds goes to frame_seconds[i - 1] (for as many
+  // frames as it holds): the caller allocates it before the run (`--stats`).
+  std::span<double> frame_seconds;
 };
 
 struct OfflineRunSummary {
@@ -66,6 +80,17 @@ struct OfflineRunSummary {
 // Runs the loop; fails on the first sink error (the sinks are not finished here).
 Status run_offline(Engine& engine, const OfflineRunOptions& options,
                    std::span<FrameSink* const> sinks, OfflineRunSummary& summary);
+Status run_offline(OfflineStepper& stepper, const OfflineRunOptions& options,
+                   std::span<FrameSink* const> sinks, OfflineRunSummary& summary);
+
+// Per-frame step times: mean, median and 99th percentile in ms (sorts `seconds` in place).
+struct FrameTimeStats {
+  int64_t frames = 0;
+  double mean_ms = 0, p50_ms = 0, p99_ms = 0, max_ms = 0;
+};
+FrameTimeStats frame_time_stats(std::span<double> seconds);
+// "frame ms: mean=3.210 p50=3.100 p99=4.020 max=4.500 (500 frames)"
+std::string format_frame_time_stats(const FrameTimeStats& stats);
 
 // "frames=500 ms/frame=3.21 cells/s=2.04e+07 images=50 out=out/cavity"
 std::string format_summary(const OfflineRunSummary& summary, const std::string& out);

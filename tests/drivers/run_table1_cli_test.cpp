@@ -1,0 +1,171 @@
+// `ardcell run table1 | table1-ard` through the real binary (ARDCELL_BINARY): the Table 1
+// workload on the frame plan with --schedule, --backend, --cl-device, --workers and --stats.
+//   - blocked with --stats prints the summary, the frame times and one timing line per pass;
+//   - serial, stream and blocked save bitwise-identical dye, A and B (.npy bytes);
+//   - --backend opencl (PoCL) agrees with serial within 1e-5 relative in the max norm
+//     (max |cl - serial| / max |serial| over the interior, per field);
+//   - --cl-device 99 prints the fallback line and still runs (on threads);
+//   - bad --schedule / --backend exit 2 with one line; general scenes refuse --schedule and
+//     --backend opencl with one line.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "host/npy.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+class RunTable1Test : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ardcell_run_table1_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "work");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  Result run(const std::string& args) {
+    const std::string cmd = "cd '" + (dir_ / "work").string() + "' && exec '" ARDCELL_BINARY "' " +
+                            args + " >'" + (dir_ / "stdout").string() + "' 2>'" +
+                            (dir_ / "stderr").string() + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(dir_ / "stdout");
+    r.err = slurp(dir_ / "stderr");
+    return r;
+  }
+  fs::path work() const { return dir_ / "work"; }
+  fs::path dir_;
+};
+
+constexpr const char* kSmall = "run table1-ard --size 48 --steps 5 --quiet ";
+
+TEST_F(RunTable1Test, BlockedWithStatsPrintsPassTimingsAndFrames) {
+  const Result r = run(std::string(kSmall) + "--schedule blocked --backend threads --stats " +
+                       "--workers 2 --every 5 --out frames");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("frames=5 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("schedule=blocked backend=threads workers=2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frame ms: mean="), std::string::npos) << r.out;
+  // The plan's passes: at least the sources pass and a projection, each with a ms figure.
+  EXPECT_GE(count_lines(r.out), 5) << r.out;
+  EXPECT_NE(r.out.find("ms"), std::string::npos);
+  ASSERT_TRUE(fs::is_directory(work() / "frames"));
+  EXPECT_TRUE(
+      std::any_of(fs::directory_iterator(work() / "frames"), fs::directory_iterator(),
+                  [](const fs::directory_entry& e) { return e.path().extension() == ".png"; }))
+      << "no PNG frame written";
+}
+
+TEST_F(RunTable1Test, SchedulesSaveBitwiseIdenticalFields) {
+  for (const char* schedule : {"serial", "stream", "blocked"}) {
+    const Result r = run(std::string(kSmall) + "--every 0 --schedule " + schedule +
+                         " --backend threads --save-state " + schedule);
+    ASSERT_EQ(r.code, 0) << schedule << ": " << r.err;
+  }
+  for (const char* field : {"dye.npy", "A.npy", "B.npy", "u.npy", "v.npy"}) {
+    const std::string serial = slurp(work() / "serial" / field);
+    ASSERT_GT(serial.size(), 48u * 48u * 4u) << field;
+    EXPECT_EQ(serial, slurp(work() / "stream" / field)) << field << " stream vs serial";
+    EXPECT_EQ(serial, slurp(work() / "blocked" / field)) << field << " blocked vs serial";
+  }
+  // The fields moved: the dye is not all zero after 5 frames of splats.
+  NpyArray dye;
+  ASSERT_TRUE(read_npy(work() / "serial" / "dye.npy", dye));
+  EXPECT_GT(*std::max_element(dye.data.begin(), dye.data.end()), 0.0f);
+}
+
+double relative_max_error(const NpyArray& got, const NpyArray& ref) {
+  double diff = 0, mag = 0;
+  for (std::size_t i = 0; i < ref.data.size(); ++i) {
+    diff = std::max(diff, std::abs(double(got.data[i]) - double(ref.data[i])));
+    mag = std::max(mag, std::abs(double(ref.data[i])));
+  }
+  return diff / std::max(mag, 1e-30);
+}
+
+TEST_F(RunTable1Test, OpenClAgreesWithSerial) {
+#if !defined(ARDCELL_WITH_OPENCL)
+  GTEST_SKIP() << "built without OpenCL";
+#else
+  ASSERT_EQ(run(std::string(kSmall) + "--every 0 --schedule serial --save-state serial").code, 0);
+  for (const char* schedule : {"stream", "blocked"}) {
+    const std::string dir = std::string("cl-") + schedule;
+    const Result r = run(std::string(kSmall) + "--every 0 --backend opencl --stats --schedule " +
+                         schedule + " --save-state " + dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(r.err.find("falling back"), std::string::npos) << "no OpenCL device: " << r.err;
+    EXPECT_NE(r.out.find("backend=opencl"), std::string::npos) << r.out;
+    for (const char* field : {"u.npy", "v.npy", "dye.npy", "A.npy", "B.npy"}) {
+      NpyArray got, ref;
+      ASSERT_TRUE(read_npy(work() / dir / field, got)) << field;
+      ASSERT_TRUE(read_npy(work() / "serial" / field, ref)) << field;
+      ASSERT_EQ(got.data.size(), ref.data.size());
+      EXPECT_LE(relative_max_error(got, ref), 1e-5) << schedule << " " << field;
+    }
+  }
+#endif
+}
+
+TEST_F(RunTable1Test, InvalidClDeviceFallsBackToThreads) {
+  const Result r = run(std::string(kSmall) + "--every 0 --backend opencl --cl-device 99 --stats");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("falling back to the threads back end"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("backend=threads"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frames=5 "), std::string::npos) << r.out;
+}
+
+TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
+  for (const std::string args :
+       {std::string(kSmall) + "--schedule bogus", std::string(kSmall) + "--backend bogus",
+        std::string(kSmall) + "--backend serial --schedule blocked",
+        std::string(kSmall) + "--backend opencl --schedule serial",
+        std::string(kSmall) + "--workers 0", std::string(kSmall) + "--dt 0.5",
+        std::string(kSmall) + "--show pressure", std::string("run table1 --size 48 --show A"),
+        std::string("run cavity --size 16 --steps 1 --schedule blocked"),
+        std::string("run cavity --size 16 --steps 1 --backend opencl"),
+        std::string("run cavity --size 16 --steps 1 --schedule bogus")}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << args;
+    EXPECT_TRUE(fs::is_empty(work())) << args << ": left files behind";
+  }
+}
+
+TEST_F(RunTable1Test, GeneralSceneStatsPrintFrameTimes) {
+  const Result r = run("run cavity --size 16 --steps 20 --every 0 --stats --backend threads");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("frame ms: mean="), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(20 frames)"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace ardcell
