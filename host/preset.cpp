@@ -19,6 +19,15 @@ namespace {
 constexpr std::string_view kFluidScenes[] = {"none", "cavity", "obstacle", "ink"};
 constexpr std::string_view kSolvers[] = {"jacobi", "rbgs", "iccg", "mg"};
 constexpr std::string_view kShows[] = {"dye", "speed", "vorticity", "pressure", "A", "B"};
+constexpr std::string_view kWalls[] = {"free-slip", "no-slip", "periodic"};
+// In the order of the enums (kernels/reaction.h, anisotropy.h, stencil_operator.h, rd_config.h).
+constexpr std::string_view kModels[] = {"gray-scott",      "turing",  "meinhardt",
+                                        "fitzhugh-nagumo", "barkley", "barkley-turbulent"};
+constexpr std::string_view kAnisotropies[] = {"isotropic", "witkin-kass", "lobes", "polar"};
+constexpr std::string_view kBoundaries[] = {"periodic", "neumann", "dirichlet"};
+constexpr std::string_view kSchemes[] = {"implicit", "explicit5", "explicit9"};
+constexpr std::string_view kPatterns[] = {"uniform", "centre-square", "seed-square", "random-spots",
+                                          "stripe"};
 constexpr std::string_view kColormaps[] = {"gray", "viridis", "magma", "rdbu"};
 constexpr std::string_view kModes[] = {"deposit", "orient", "push", "obstacle", "erase"};
 
@@ -46,9 +55,11 @@ double choice_index(std::span<const std::string_view> choices, const std::string
   return -1;
 }
 
-#define ARD_ACCESS(expr)                                      \
-  .get = [](const Preset& p) { return read_number(p.expr); }, \
-  .set = [](Preset& p, double v) { assign_number(p.expr, v); }
+#define ARD_ACCESS(expr)                                                                          \
+  .get = [](const Preset& p) { return read_number(p.expr); },                                     \
+  .set = [](Preset& p, double v) { assign_number(p.expr, v); }, .text = nullptr, .size = nullptr, \
+  .floats = nullptr, .emitters = nullptr, .fill = 0,                                              \
+  .single = std::is_same_v<std::remove_cvref_t<decltype(std::declval<Preset&>().expr)>, float>
 #define ARD_NUMBER(key_, expr, lo, hi, structural_, help_)                        \
   ParamSpec {                                                                     \
     .key = key_, .kind = ParamKind::kNumber, .min = lo, .max = hi, .choices = {}, \
@@ -97,6 +108,21 @@ double choice_index(std::span<const std::string_view> choices, const std::string
       ARD_NUMBER(prefix ".tolerance", scene.fluid.member.tolerance, 0, 1, false,            \
                  "relative residual to stop at; 0 runs every iteration")
 
+#define ARD_RD_SOLVER(prefix, member)                                                    \
+  ARD_ENUM(prefix ".kind", scene.rd.member.kind, kSolvers, true,                         \
+           "jacobi | rbgs (fixed sweeps) | iccg | mg (multigrid)"),                      \
+      ARD_INTEGER(prefix ".iterations", scene.rd.member.max_iterations, 1, 10000, false, \
+                  "sweeps, CG iterations or V-cycles"),                                  \
+      ARD_NUMBER(prefix ".tolerance", scene.rd.member.tolerance, 0, 1, false,            \
+                 "relative residual to stop at; 0 runs every iteration")
+#define ARD_FLOATS(key_, expr, lo, hi, fill_, help_)                                     \
+  ParamSpec {                                                                            \
+    .key = key_, .kind = ParamKind::kFloats, .min = lo, .max = hi, .choices = {},        \
+    .structural = false, .help = help_, .get = nullptr, .set = nullptr, .text = nullptr, \
+    .size = nullptr, .floats = [](Preset& p) { return std::span<float>(p.expr); },       \
+    .emitters = nullptr, .fill = fill_, .single = true                                   \
+  }
+
 const ParamSpec kParams[] = {
     ARD_STRING("name", scene.name, "preset name (defaults to the file name)"),
     ARD_STRING("description", scene.description, "one line for listings"),
@@ -118,9 +144,124 @@ const ParamSpec kParams[] = {
     ARD_NUMBER("fluid.lid_speed", scene.fluid.lid_speed, -1e3, 1e3, false, "cavity lid speed"),
     ARD_NUMBER("fluid.dye_diffusion", scene.fluid.dye_diffusion, 0, 1e3, false,
                "dye diffusion coefficient"),
+    ARD_BOOL("fluid.conserve_dye", scene.fluid.conserve_dye, false,
+             "put back the dye mass advection loses (closed domains)"),
+    ARD_NUMBER("fluid.inflow_speed", scene.fluid.inflow_speed, -1e3, 1e3, false,
+               "obstacle: inflow speed through the top wall"),
+    ARD_NUMBER("fluid.obstacle_x", scene.fluid.obstacle_x, -1e6, 1e6, true,
+               "obstacle: disc centre x (domain units)"),
+    ARD_NUMBER("fluid.obstacle_y", scene.fluid.obstacle_y, -1e6, 1e6, true,
+               "obstacle: disc centre y (domain units)"),
+    ARD_NUMBER("fluid.obstacle_radius", scene.fluid.obstacle_radius, 0, 1e6, true,
+               "obstacle: disc radius (domain units)"),
+    ARD_INTEGER("fluid.inflow_dye_stripes", scene.fluid.inflow_dye_stripes, 0, 4096, false,
+                "obstacle: dye stripes entering with the inflow"),
+    ARD_ENUM("fluid.walls", scene.fluid.walls, kWalls, true, "ink: free-slip | no-slip | periodic"),
+    ParamSpec{
+        .key = "fluid.emitters",
+        .kind = ParamKind::kEmitters,
+        .min = -1e6,
+        .max = 1e6,
+        .choices = {},
+        .structural = false,
+        .help = "ink: [[fluid.emitters]] tables of x, y, radius, dye_rate, force_x, "
+                "force_y, swirl",
+        .emitters = [](Preset& p) -> std::vector<FluidEmitter>& { return p.scene.fluid.emitters; }},
     ARD_SOLVER("fluid.viscosity_solver", viscosity_solver, true),
     ARD_SOLVER("fluid.pressure_solver", pressure_solver, true),
     ARD_BOOL("rd.enabled", scene.rd.enabled, true, "run reaction-diffusion"),
+    ARD_BOOL("rd.react", scene.rd.react, true, "false: passive chemicals (advection only)"),
+    ARD_BOOL("rd.diffuse", scene.rd.diffuse, true, "diffuse the chemicals"),
+    ARD_BOOL("rd.advect", scene.rd.advect, false, "carry the chemicals with the fluid (Eqn 20)"),
+    ARD_ENUM("rd.scheme", scene.rd.scheme, kSchemes, true,
+             "implicit (Eqns 6, 19) | explicit5 | explicit9 (forward Euler)"),
+    ARD_NUMBER("rd.dt", scene.rd.dt, 0, 1e6, false, "RD time step; 0: grid.dt"),
+    ARD_NUMBER("rd.cell_size", scene.rd.cell_size, 0, 1e6, false,
+               "RD cell size h; 0: the grid's h"),
+    ARD_INTEGER("rd.steps_per_frame", scene.rd.steps_per_frame, 1, 10000, false,
+                "RD steps per frame"),
+    ARD_NUMBER("rd.diffusion_a", scene.rd.diffusion_a, 0, 1e6, false, "D_A"),
+    ARD_NUMBER("rd.diffusion_b", scene.rd.diffusion_b, 0, 1e6, false, "D_B"),
+    ARD_ENUM("rd.boundary", scene.rd.boundary, kBoundaries, true,
+             "periodic | neumann | dirichlet (the paper's)"),
+    ARD_NUMBER("rd.boundary_a", scene.rd.boundary_a, -1e6, 1e6, false, "Dirichlet value of A"),
+    ARD_NUMBER("rd.boundary_b", scene.rd.boundary_b, -1e6, 1e6, false, "Dirichlet value of B"),
+    ARD_BOOL("rd.crank_nicolson", scene.rd.crank_nicolson, false,
+             "Crank-Nicolson instead of backward Euler diffusion"),
+    ARD_RD_SOLVER("rd.diffusion_solver", diffusion_solver),
+    ARD_ENUM("rd.reaction.model", scene.rd.reaction.model, kModels, true,
+             "gray-scott | turing | meinhardt | fitzhugh-nagumo | barkley | barkley-turbulent"),
+    ARD_NUMBER("rd.reaction.f", scene.rd.reaction.F, 0, 1, false, "Gray-Scott feed F"),
+    ARD_NUMBER("rd.reaction.k", scene.rd.reaction.k, 0, 1, false, "Gray-Scott kill k"),
+    ARD_NUMBER("rd.reaction.turing_s", scene.rd.reaction.turing_s, 0, 1e3, false, "Turing s"),
+    ARD_NUMBER("rd.reaction.turing_beta", scene.rd.reaction.turing_beta, -1e3, 1e3, false,
+               "Turing beta"),
+    ARD_NUMBER("rd.reaction.meinhardt_s", scene.rd.reaction.meinhardt_s, 0, 1e3, false,
+               "Meinhardt s"),
+    ARD_NUMBER("rd.reaction.meinhardt_alpha", scene.rd.reaction.meinhardt_alpha, 0, 1e6, false,
+               "Meinhardt alpha"),
+    ARD_NUMBER("rd.reaction.meinhardt_p1", scene.rd.reaction.meinhardt_p1, -1e3, 0, false,
+               "Meinhardt p1 (a decay: <= 0)"),
+    ARD_NUMBER("rd.reaction.meinhardt_p2", scene.rd.reaction.meinhardt_p2, -1e3, 0, false,
+               "Meinhardt p2 (a decay: <= 0)"),
+    ARD_NUMBER("rd.reaction.meinhardt_p3", scene.rd.reaction.meinhardt_p3, 0, 1e3, false,
+               "Meinhardt p3 (base production)"),
+    ARD_NUMBER("rd.reaction.fhn_epsilon", scene.rd.reaction.fhn_epsilon, 0, 1e3, false,
+               "FitzHugh-Nagumo epsilon"),
+    ARD_NUMBER("rd.reaction.fhn_a0", scene.rd.reaction.fhn_a0, -1e3, 1e3, false,
+               "FitzHugh-Nagumo a0"),
+    ARD_NUMBER("rd.reaction.fhn_a1", scene.rd.reaction.fhn_a1, 0, 1e3, false,
+               "FitzHugh-Nagumo a1 (>= 0)"),
+    ARD_NUMBER("rd.reaction.barkley_epsilon", scene.rd.reaction.barkley_epsilon, 1e-9, 1e3, false,
+               "Barkley epsilon"),
+    ARD_NUMBER("rd.reaction.barkley_a", scene.rd.reaction.barkley_a, 1e-9, 1e3, false, "Barkley a"),
+    ARD_NUMBER("rd.reaction.barkley_b", scene.rd.reaction.barkley_b, -1e3, 1e3, false, "Barkley b"),
+    ARD_BOOL("rd.table.enabled", scene.rd.use_table, true,
+             "precomputed implicit reaction table (kernels/reaction_table.h)"),
+    ARD_INTEGER("rd.table.resolution", scene.rd.table_resolution, 2, 65536, true,
+                "table samples per axis"),
+    ARD_BOOL("rd.table.range_auto", scene.rd.table_range_auto, true,
+             "true: the model's typical range; false: a_min..b_max"),
+    ARD_NUMBER("rd.table.a_min", scene.rd.table_range.a_lo, -1e6, 1e6, true, "table range of A"),
+    ARD_NUMBER("rd.table.a_max", scene.rd.table_range.a_hi, -1e6, 1e6, true, "table range of A"),
+    ARD_NUMBER("rd.table.b_min", scene.rd.table_range.b_lo, -1e6, 1e6, true, "table range of B"),
+    ARD_NUMBER("rd.table.b_max", scene.rd.table_range.b_hi, -1e6, 1e6, true, "table range of B"),
+    ARD_ENUM("rd.anisotropy.kind", scene.rd.anisotropy.kind, kAnisotropies, false,
+             "isotropic (Eqn 13) | witkin-kass (Eqn 15) | lobes (Eqn 16) | polar (samples)"),
+    ARD_NUMBER("rd.anisotropy.isotropic_value", scene.rd.anisotropy.isotropic_value, 0, 1e3, false,
+               "a everywhere (isotropic); scales the explicit schemes' rates"),
+    ARD_NUMBER("rd.anisotropy.a1", scene.rd.anisotropy.a1, 0, 1e3, false, "Witkin-Kass a1"),
+    ARD_NUMBER("rd.anisotropy.a2", scene.rd.anisotropy.a2, 0, 1e3, false, "Witkin-Kass a2"),
+    ARD_INTEGER("rd.anisotropy.lobes", scene.rd.anisotropy.lobes, 1, kMaxLobes, false,
+                "lobes j (Eqn 16)"),
+    ARD_FLOATS("rd.anisotropy.lobe_speed", scene.rd.anisotropy.lobe_speed, 0, 1e3, 1.0,
+               "speed of each lobe, up to 16 (missing: 1)"),
+    ARD_INTEGER("rd.anisotropy.samples", scene.rd.anisotropy.samples, 0, kMaxPolarSamples, false,
+                "polar samples used"),
+    ARD_FLOATS("rd.anisotropy.sample", scene.rd.anisotropy.sample, 0, 1e3, 0.0,
+               "a at 2 pi i / samples, up to 64 (missing: 0)"),
+    ARD_NUMBER("rd.anisotropy.theta0", scene.rd.anisotropy.theta0, -1e3, 1e3, false,
+               "orientation theta0 in radians (where no per-cell theta0 is painted)"),
+    ARD_NUMBER("rd.anisotropy.gradient_epsilon", scene.rd.anisotropy.gradient_epsilon, 0, 1, false,
+               "gradient below which theta is 0"),
+    ARD_ENUM("rd.initial.pattern", scene.rd.initial, kPatterns, false,
+             "uniform | centre-square | seed-square | random-spots | stripe"),
+    ARD_NUMBER("rd.initial.background_a", scene.rd.background_a, -1e6, 1e6, false,
+               "A outside the seed"),
+    ARD_NUMBER("rd.initial.background_b", scene.rd.background_b, -1e6, 1e6, false,
+               "B outside the seed"),
+    ARD_NUMBER("rd.initial.seed_a", scene.rd.seed_a, -1e6, 1e6, false, "A in the seed"),
+    ARD_NUMBER("rd.initial.seed_b", scene.rd.seed_b, -1e6, 1e6, false, "B in the seed"),
+    ARD_NUMBER("rd.initial.seed_size", scene.rd.seed_size, 0, 1, false,
+               "centre-square / stripe: side as a fraction of the width"),
+    ARD_INTEGER("rd.initial.seed_cells", scene.rd.seed_cells, 1, 8192, false,
+                "seed-square: side in cells"),
+    ARD_INTEGER("rd.initial.spots", scene.rd.spots, 0, 1e6, false, "random-spots: count"),
+    ARD_NUMBER("rd.initial.seed_radius", scene.rd.seed_radius, 0, 8192, false,
+               "random-spots: radius in cells"),
+    ARD_NUMBER("rd.initial.noise", scene.rd.noise, 0, 10, false, "relative noise (Pearson: 0.01)"),
+    ARD_INTEGER("rd.initial.seed", scene.rd.seed, 0, 9007199254740992.0, false,
+                "random seed of the noise and spots"),
     ARD_NAMED("output.show", scene.output.show, kShows, false,
               "field drawn: dye | speed | vorticity | pressure | A | B"),
     ARD_NAMED("output.colormap", scene.output.colormap, kColormaps, false,
@@ -142,6 +283,8 @@ const ParamSpec kParams[] = {
                "pressure response: p^gamma"),
 };
 
+#undef ARD_RD_SOLVER
+#undef ARD_FLOATS
 #undef ARD_ACCESS
 #undef ARD_NUMBER
 #undef ARD_INTEGER
@@ -165,6 +308,20 @@ std::string format_number(double v) {
       break;
     }
   }
+  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
+  return s;
+}
+
+// The shortest decimal that reads back to the same float.
+std::string format_float(float v) {
+  if (!std::isfinite(v)) return format_number(v);
+  char buf[64];
+  std::string s;
+  for (int prec = 1; prec <= 9; ++prec) {
+    std::snprintf(buf, sizeof buf, "%.*g", prec, double(v));
+    if (std::strtof(buf, nullptr) == v) break;
+  }
+  s = buf;
   if (s.find_first_of(".eE") == std::string::npos) s += ".0";
   return s;
 }
@@ -200,6 +357,15 @@ std::string join_choices(std::span<const std::string_view> choices) {
     s += c;
   }
   return s;
+}
+
+constexpr std::string_view kEmitterKeys[] = {"x",       "y",       "radius", "dye_rate",
+                                             "force_x", "force_y", "swirl"};
+double* emitter_field(FluidEmitter& e, std::string_view key) {
+  double* fields[] = {&e.x, &e.y, &e.radius, &e.dye_rate, &e.force_x, &e.force_y, &e.swirl};
+  for (size_t i = 0; i < std::size(kEmitterKeys); ++i)
+    if (kEmitterKeys[i] == key) return fields[i];
+  return nullptr;
 }
 
 std::string describe_node(const toml::node& n) {
@@ -326,6 +492,64 @@ class PresetParser {
         spec.size(out_) = Int2{int(x), int(y)};
         return;
       }
+      case ParamKind::kFloats: {
+        const toml::array* a = node.as_array();
+        const std::span<float> dst = spec.floats(out_);
+        if (!a) return error(line, spec.key, expected + ", got " + describe_node(node));
+        if (a->size() > dst.size())
+          return error(line, spec.key,
+                       expected + ", got " + std::to_string(a->size()) + " numbers");
+        for (size_t i = 0; i < a->size(); ++i) {
+          const toml::node& e = (*a)[i];
+          const double v = e.is_number() ? *e.value<double>() : 0.0;
+          if (!e.is_number() || !(v >= spec.min && v <= spec.max))
+            return error(line, spec.key,
+                         expected + ", got " +
+                             (e.is_number() ? human_number(v) : describe_node(e)) + " at [" +
+                             std::to_string(i) + "]");
+        }
+        for (size_t i = 0; i < dst.size(); ++i)
+          dst[i] = i < a->size() ? float(*(*a)[i].value<double>()) : float(spec.fill);
+        return;
+      }
+      case ParamKind::kEmitters: {
+        const toml::array* a = node.as_array();
+        if (!a) return error(line, spec.key, expected + ", got " + describe_node(node));
+        std::vector<FluidEmitter>& dst = spec.emitters(out_);
+        dst.clear();
+        for (size_t i = 0; i < a->size(); ++i) {
+          const toml::table* t = (*a)[i].as_table();
+          const int at = int((*a)[i].source().begin.line ? (*a)[i].source().begin.line : line);
+          const std::string where = std::string(spec.key) + "[" + std::to_string(i) + "]";
+          if (!t) {
+            error(at, where,
+                  "expected a table of " + join_choices(kEmitterKeys) + ", got " +
+                      describe_node((*a)[i]));
+            continue;
+          }
+          FluidEmitter e;
+          for (auto&& [k, v] : *t) {
+            double* field = emitter_field(e, k.str());
+            const int kl = int(k.source().begin.line ? k.source().begin.line : at);
+            if (!field) {
+              error(kl, where + "." + std::string(k.str()),
+                    "unknown key; expected one of: " + join_choices(kEmitterKeys));
+              continue;
+            }
+            const double x = v.is_number() ? *v.value<double>() : 0.0;
+            if (!v.is_number() || !(x >= spec.min && x <= spec.max)) {
+              error(kl, where + "." + std::string(k.str()),
+                    "expected a number in [" + human_number(spec.min) + ", " +
+                        human_number(spec.max) + "], got " +
+                        (v.is_number() ? human_number(x) : describe_node(v)));
+              continue;
+            }
+            *field = x;
+          }
+          dst.push_back(e);
+        }
+        return;
+      }
     }
   }
 
@@ -367,6 +591,13 @@ std::string param_expectation(const ParamSpec& spec) {
     case ParamKind::kSize:
       return "[nx, ny], two integers in [" + std::to_string(int64_t(spec.min)) + ", " +
              std::to_string(int64_t(spec.max)) + "]";
+    case ParamKind::kFloats: {
+      Preset probe;
+      return "an array of at most " + std::to_string(spec.floats(probe).size()) + " numbers in [" +
+             human_number(spec.min) + ", " + human_number(spec.max) + "]";
+    }
+    case ParamKind::kEmitters:
+      return "an array of tables of " + join_choices(kEmitterKeys);
   }
   return "?";
 }
@@ -456,7 +687,7 @@ std::string preset_to_toml(const Preset& preset) {
     out += leaf + " = ";
     switch (spec.kind) {
       case ParamKind::kNumber:
-        out += format_number(spec.get(p));
+        out += spec.single ? format_float(float(spec.get(p))) : format_number(spec.get(p));
         break;
       case ParamKind::kInteger:
         out += std::to_string(int64_t(spec.get(p)));
@@ -476,6 +707,29 @@ std::string preset_to_toml(const Preset& preset) {
       case ParamKind::kSize: {
         const Int2 s = spec.size(p);
         out += "[" + std::to_string(s.x) + ", " + std::to_string(s.y) + "]";
+        break;
+      }
+      case ParamKind::kFloats: {
+        const std::span<const float> v = spec.floats(p);
+        size_t n = v.size();
+        while (n > 0 && v[n - 1] == float(spec.fill)) --n;
+        out += "[";
+        for (size_t i = 0; i < n; ++i) out += (i ? ", " : "") + format_float(v[i]);
+        out += "]";
+        break;
+      }
+      case ParamKind::kEmitters: {
+        const std::vector<FluidEmitter>& list = spec.emitters(p);
+        out += "[";
+        for (const FluidEmitter& e : list) {
+          FluidEmitter copy = e;
+          out += "\n  {";
+          for (size_t i = 0; i < std::size(kEmitterKeys); ++i)
+            out += std::string(i ? ", " : " ") + std::string(kEmitterKeys[i]) + " = " +
+                   format_number(*emitter_field(copy, kEmitterKeys[i]));
+          out += " },";
+        }
+        out += list.empty() ? "]" : "\n]";
         break;
       }
     }
@@ -498,6 +752,25 @@ std::string preset_difference(const Preset& a, const Preset& b) {
     } else if (spec.kind == ParamKind::kChoice && spec.text) {
       va = spec.text(pa);
       vb = spec.text(pb);
+    } else if (spec.kind == ParamKind::kFloats) {
+      const std::span<const float> x = spec.floats(pa), y = spec.floats(pb);
+      for (size_t i = 0; i < x.size(); ++i)
+        if (x[i] != y[i])
+          return std::string(spec.key) + "[" + std::to_string(i) + "]: " + format_float(x[i]) +
+                 " vs " + format_float(y[i]);
+      continue;
+    } else if (spec.kind == ParamKind::kEmitters) {
+      std::vector<FluidEmitter>&x = spec.emitters(pa), &y = spec.emitters(pb);
+      if (x.size() != y.size())
+        return std::string(spec.key) + ": " + std::to_string(x.size()) + " vs " +
+               std::to_string(y.size()) + " emitters";
+      for (size_t i = 0; i < x.size(); ++i)
+        for (std::string_view k : kEmitterKeys)
+          if (*emitter_field(x[i], k) != *emitter_field(y[i], k))
+            return std::string(spec.key) + "[" + std::to_string(i) + "]." + std::string(k) + ": " +
+                   format_number(*emitter_field(x[i], k)) + " vs " +
+                   format_number(*emitter_field(y[i], k));
+      continue;
     } else {
       const double x = spec.get(a), y = spec.get(b);
       if (x == y || (std::isnan(x) && std::isnan(y))) continue;
@@ -516,6 +789,8 @@ bool presets_share_structure(const Preset& a, const Preset& b) {
     if (!spec.structural) continue;
     if (spec.kind == ParamKind::kSize) {
       if (!(spec.size(pa) == spec.size(pb))) return false;
+    } else if (spec.kind == ParamKind::kFloats || spec.kind == ParamKind::kEmitters) {
+      continue;  // never structural
     } else if (spec.kind == ParamKind::kString) {
       if (spec.text(pa) != spec.text(pb)) return false;
     } else if (spec.get(a) != spec.get(b)) {
@@ -601,7 +876,15 @@ double get_param(const Preset& preset, const ParamSpec& spec) {
 
 void blend_params(const Preset& from, const Preset& to, double t, Preset& out) {
   t = std::clamp(t, 0.0, 1.0);
+  Preset& pf = const_cast<Preset&>(from);
+  Preset& pt = const_cast<Preset&>(to);
   for (const ParamSpec& spec : kParams) {
+    if (spec.kind == ParamKind::kFloats) {
+      const std::span<const float> a = spec.floats(pf), b = spec.floats(pt);
+      const std::span<float> o = spec.floats(out);
+      for (size_t i = 0; i < o.size(); ++i) o[i] = float(a[i] + (b[i] - a[i]) * t);
+      continue;
+    }
     if (!spec.set || spec.structural) continue;
     const double a = spec.get(from), b = spec.get(to);
     double v = b;

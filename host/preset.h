@@ -42,7 +42,19 @@ struct Preset {
   std::string source;  // where it came from: a file path, "embedded:NAME" or "builtin:NAME"
 };
 
-enum class ParamKind : uint8_t { kNumber, kInteger, kBool, kChoice, kString, kSize };
+// kFloats: a fixed float array (rd.anisotropy.lobe_speed[16], .sample[64]) written as a TOML
+// array without its trailing entries equal to `fill` (read back: missing entries are `fill`).
+// kEmitters: the ink scene's emitters, a TOML array of tables ([[fluid.emitters]]).
+enum class ParamKind : uint8_t {
+  kNumber,
+  kInteger,
+  kBool,
+  kChoice,
+  kString,
+  kSize,
+  kFloats,
+  kEmitters
+};
 
 // One key of the preset format. Numeric kinds (number, integer, bool, choice index) go through
 // get/set as double, so a live change never allocates; strings and sizes have their own.
@@ -55,8 +67,12 @@ struct ParamSpec {
   std::string_view help;
   double (*get)(const Preset&) = nullptr;
   void (*set)(Preset&, double) = nullptr;
-  std::string& (*text)(Preset&) = nullptr;  // kString (and kChoice stored as a string)
-  Int2& (*size)(Preset&) = nullptr;         // kSize
+  std::string& (*text)(Preset&) = nullptr;        // kString (and kChoice stored as a string)
+  Int2& (*size)(Preset&) = nullptr;               // kSize
+  std::span<float> (*floats)(Preset&) = nullptr;  // kFloats
+  std::vector<FluidEmitter>& (*emitters)(Preset&) = nullptr;  // kEmitters
+  double fill = 0;      // kFloats: the value of entries not written
+  bool single = false;  // the field is a float: written with float precision
 };
 
 // Every key, in file order.

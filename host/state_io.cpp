@@ -103,6 +103,25 @@ nlohmann::json preset_parameters_to_json(const Preset& preset) {
           out[key] = {s.x, s.y};
         }
         break;
+      case ParamKind::kFloats: {
+        nlohmann::json a = nlohmann::json::array();
+        for (float v : spec.floats(p)) a.push_back(double(v));
+        out[key] = a;
+        break;
+      }
+      case ParamKind::kEmitters: {
+        nlohmann::json a = nlohmann::json::array();
+        for (const FluidEmitter& e : spec.emitters(p))
+          a.push_back({{"x", e.x},
+                       {"y", e.y},
+                       {"radius", e.radius},
+                       {"dye_rate", e.dye_rate},
+                       {"force_x", e.force_x},
+                       {"force_y", e.force_y},
+                       {"swirl", e.swirl}});
+        out[key] = a;
+        break;
+      }
     }
   }
   return out;
@@ -149,6 +168,30 @@ Status apply_preset_parameters(const nlohmann::json& parameters, const std::stri
           return wrong();
         spec->size(preset) = Int2{v[0].get<int>(), v[1].get<int>()};
         break;
+      case ParamKind::kFloats: {
+        const std::span<float> dst = spec->floats(preset);
+        if (!v.is_array() || v.size() > dst.size()) return wrong();
+        for (std::size_t i = 0; i < dst.size(); ++i) {
+          if (i < v.size() && !v[i].is_number()) return wrong();
+          dst[i] = i < v.size() ? v[i].get<float>() : float(spec->fill);
+        }
+        break;
+      }
+      case ParamKind::kEmitters: {
+        if (!v.is_array()) return wrong();
+        std::vector<FluidEmitter> list;
+        for (const nlohmann::json& e : v) {
+          FluidEmitter f;
+          if (!e.is_object() || !get_number(e, "x", f.x) || !get_number(e, "y", f.y) ||
+              !get_number(e, "radius", f.radius) || !get_number(e, "dye_rate", f.dye_rate) ||
+              !get_number(e, "force_x", f.force_x) || !get_number(e, "force_y", f.force_y) ||
+              !get_number(e, "swirl", f.swirl))
+            return wrong();
+          list.push_back(f);
+        }
+        spec->emitters(preset) = std::move(list);
+        break;
+      }
     }
   }
   return Status::ok();
