@@ -294,6 +294,17 @@ const ParamSpec kParams[] = {
 #undef ARD_STRING
 #undef ARD_SOLVER
 
+// "1e+02" reads as 100.0; keep TOML floats recognisable as floats.
+std::string plain_decimal(std::string s, double v) {
+  if (s.find("e+") != std::string::npos && std::abs(v) < 1e15) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f", v);
+    s = buf;
+  }
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
+}
+
 std::string format_number(double v) {
   char buf[64];
   if (std::isnan(v)) return "nan";
@@ -308,8 +319,7 @@ std::string format_number(double v) {
       break;
     }
   }
-  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
-  return s;
+  return plain_decimal(s, v);
 }
 
 // The shortest decimal that reads back to the same float.
@@ -322,8 +332,7 @@ std::string format_float(float v) {
     if (std::strtof(buf, nullptr) == v) break;
   }
   s = buf;
-  if (s.find_first_of(".eE") == std::string::npos) s += ".0";
-  return s;
+  return plain_decimal(s, v);
 }
 
 // For messages: short and readable ("1e-09", "1000", "0.5").

@@ -1,0 +1,91 @@
+// presets/*.toml are the built-in scenes written as TOML (task: every scene is a TOML file).
+// This test keeps them in step with the registry:
+//   ARDCELL_REGENERATE_PRESETS=1 build/<dir>/preset_files_test   rewrites them (temp + rename)
+// and without the variable it fails, naming the file and the first differing key, when a file
+// no longer equals preset_to_toml(built-in scene).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "host/preset.h"
+#include "host/scene_registry.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kPresetDir = ARDCELL_SOURCE_DIR "/presets";
+
+std::string generated_text(const SceneConfig& scene) {
+  return "# Generated from the built-in scene '" + scene.name +
+         "' (host/scene_registry.h); regenerate with\n"
+         "#   ARDCELL_REGENERATE_PRESETS=1 build/<dir>/preset_files_test\n" +
+         preset_to_toml(preset_from_scene(scene));
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool regenerate() {
+  const char* v = std::getenv("ARDCELL_REGENERATE_PRESETS");
+  return v && std::string(v) == "1";
+}
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    ASSERT_TRUE(out) << tmp;
+    out << text;
+    out.close();
+    ASSERT_TRUE(out) << tmp;
+  }
+  fs::rename(tmp, path);
+}
+
+TEST(PresetFiles, EveryBuiltinSceneHasItsGeneratedFile) {
+  for (const SceneEntry& e : builtin_scenes().entries()) {
+    const SceneConfig scene = e.make();
+    const fs::path path = kPresetDir / (e.name + ".toml");
+    const std::string expected = generated_text(scene);
+    if (regenerate()) {
+      if (!fs::exists(path) || read_text(path) != expected) write_atomically(path, expected);
+      continue;
+    }
+    ASSERT_TRUE(fs::exists(path)) << path << " is missing; run ARDCELL_REGENERATE_PRESETS=1 "
+                                  << "preset_files_test";
+    const std::string text = read_text(path);
+    Preset file;
+    const Status s = parse_preset(text, path.string(), file);
+    ASSERT_TRUE(s.is_ok()) << s.message();
+    EXPECT_EQ(preset_difference(file, preset_from_scene(scene)), "") << path;
+    EXPECT_EQ(text, expected) << path << " differs from the built-in scene; regenerate it";
+  }
+}
+
+TEST(PresetFiles, NamesFindTheEmbeddedFileWithTheBuiltinsValues) {
+  for (const SceneEntry& e : builtin_scenes().entries()) {
+    Preset p;
+    const Status s = load_preset(e.name, p);
+    ASSERT_TRUE(s.is_ok()) << s.message();
+    EXPECT_EQ(p.source, "embedded:" + e.name) << "rebuild after adding presets/" << e.name;
+    EXPECT_EQ(preset_difference(p, preset_from_scene(e.make())), "") << e.name;
+    // A path loads the same preset.
+    Preset by_path;
+    ASSERT_TRUE(load_preset((kPresetDir / (e.name + ".toml")).string(), by_path).is_ok());
+    EXPECT_EQ(preset_difference(p, by_path), "") << e.name;
+  }
+}
+
+}  // namespace
+}  // namespace ardcell
