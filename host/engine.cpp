@@ -3,6 +3,9 @@
 #include "host/fluid_step.h"
 #include "host/rd_step.h"
 
+#include <algorithm>
+#include <string>
+
 namespace ardcell {
 
 // The solvers of one scene, built once in the constructor.
@@ -36,6 +39,73 @@ void Engine::reset() {
   state_.dt = config_.dt;
   if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->reset(state_);
   if (solvers_->rd) solvers_->rd->init_state(state_);
+}
+
+namespace {
+
+// The first structural difference between a and b (the key of host/preset.cpp), or nullptr.
+const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
+  const FluidConfig &fa = a.fluid, &fb = b.fluid;
+  const RdConfig &ra = a.rd, &rb = b.rd;
+  if (!(a.size == b.size)) return "grid.size";
+  if (a.domain_width != b.domain_width) return "grid.domain_width";
+  if (fa.kind != fb.kind) return "fluid.scene";
+  if (fa.walls != fb.walls) return "fluid.walls";
+  if (fa.obstacle_x != fb.obstacle_x) return "fluid.obstacle_x";
+  if (fa.obstacle_y != fb.obstacle_y) return "fluid.obstacle_y";
+  if (fa.obstacle_radius != fb.obstacle_radius) return "fluid.obstacle_radius";
+  if (fa.emitters.size() != fb.emitters.size()) return "fluid.emitters (their number)";
+  if (fa.viscosity_solver.kind != fb.viscosity_solver.kind) return "fluid.viscosity_solver.kind";
+  if (fa.pressure_solver.kind != fb.pressure_solver.kind) return "fluid.pressure_solver.kind";
+  if (ra.enabled != rb.enabled) return "rd.enabled";
+  if (!ra.enabled) return nullptr;
+  if (ra.reaction.model != rb.reaction.model) return "rd.reaction.model";
+  if (ra.scheme != rb.scheme) return "rd.scheme";
+  if (ra.boundary != rb.boundary) return "rd.boundary";
+  if (ra.react != rb.react) return "rd.react";
+  if (ra.diffuse != rb.diffuse) return "rd.diffuse";
+  if (ra.diffusion_solver.kind != rb.diffusion_solver.kind) return "rd.diffusion_solver.kind";
+  if (ra.use_table != rb.use_table) return "rd.table.enabled";
+  if (ra.use_table && ra.table_resolution != rb.table_resolution) return "rd.table.resolution";
+  if (ra.use_table &&
+      (ra.table_range_auto != rb.table_range_auto || ra.table_range.a_lo != rb.table_range.a_lo ||
+       ra.table_range.a_hi != rb.table_range.a_hi || ra.table_range.b_lo != rb.table_range.b_lo ||
+       ra.table_range.b_hi != rb.table_range.b_hi))
+    return "rd.table range";
+  return nullptr;
+}
+
+}  // namespace
+
+Status Engine::update_parameters(const SceneConfig& next) {
+  if (const char* key = structural_change(config_, next))
+    return Status::error(std::string(key) +
+                         ": changes the simulation's structure; rebuild the engine (switch "
+                         "presets) to change it");
+  if (!(next.dt > 0.0)) return Status::error("grid.dt: expected a positive time step");
+  if (next.rd.enabled) {
+    if (std::string why = rd_config_problem(next); !why.empty()) return Status::error(why);
+  }
+  // Field by field: the strings (name, description) are left alone so nothing allocates.
+  config_.dt = next.dt;
+  config_.default_steps = next.default_steps;
+  config_.output.show = next.output.show;  // short names: no allocation (SSO)
+  config_.output.colormap = next.output.colormap;
+  FluidConfig& f = config_.fluid;
+  f.viscosity = next.fluid.viscosity;
+  f.lid_speed = next.fluid.lid_speed;
+  f.dye_diffusion = next.fluid.dye_diffusion;
+  f.conserve_dye = next.fluid.conserve_dye;
+  f.inflow_speed = next.fluid.inflow_speed;
+  f.inflow_dye_stripes = next.fluid.inflow_dye_stripes;
+  std::copy(next.fluid.emitters.begin(), next.fluid.emitters.end(), f.emitters.begin());
+  f.viscosity_solver = next.fluid.viscosity_solver;
+  f.pressure_solver = next.fluid.pressure_solver;
+  config_.rd = next.rd;
+  solvers_->fluid->update_parameters(config_.fluid);
+  if (solvers_->rd) solvers_->rd->update_parameters(config_);
+  state_.dt = config_.dt;
+  return Status::ok();
 }
 
 void Engine::step() {

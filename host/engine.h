@@ -6,6 +6,7 @@
 
 #include "host/scene_config.h"
 #include "host/sim_state.h"
+#include "host/status.h"
 
 namespace ardcell {
 
@@ -20,6 +21,17 @@ class Engine {
   void reset();
   // Advances one frame of config().dt.
   void step();
+
+  // Applies the non-structural parameters of `next` from the next frame on, with no reset and
+  // no heap allocation: dt, fluid viscosity, lid / inflow speed, dye diffusion, emitters (same
+  // count), solver iterations and tolerances, RD reaction parameters (F, k, ...), diffusion
+  // rates, anisotropy, RD dt / cell size / steps per frame, initial pattern (used by the next
+  // reset), frame count and output. Structural changes (grid size or width, fluid scene, walls,
+  // obstacle, solver kinds, RD on/off, model, scheme, boundary, react/diffuse, reaction table)
+  // are refused: nothing changes and the message names the first such key and says to rebuild.
+  // An invalid RD parameter is refused the same way. (A reaction table, when on, is rebuilt on
+  // a change of reaction parameters or dt: the one case that allocates.)
+  Status update_parameters(const SceneConfig& next);
 
   SimState& state() { return state_; }
   const SimState& state() const { return state_; }

@@ -201,6 +201,29 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt)
 
 FluidStep::~FluidStep() = default;
 
+void FluidStep::update_parameters(const FluidConfig& c) {
+  config_.viscosity = c.viscosity;
+  config_.lid_speed = c.lid_speed;
+  config_.dye_diffusion = c.dye_diffusion;
+  config_.conserve_dye = c.conserve_dye;
+  config_.inflow_speed = c.inflow_speed;
+  config_.inflow_dye_stripes = c.inflow_dye_stripes;
+  if (c.emitters.size() == config_.emitters.size())
+    std::copy(c.emitters.begin(), c.emitters.end(), config_.emitters.begin());
+  config_.viscosity_solver.max_iterations = c.viscosity_solver.max_iterations;
+  config_.viscosity_solver.tolerance = c.viscosity_solver.tolerance;
+  config_.pressure_solver.max_iterations = c.pressure_solver.max_iterations;
+  config_.pressure_solver.tolerance = c.pressure_solver.tolerance;
+  for (LinearSolver* s : {ops_->solver_u.get(), ops_->solver_v.get(), ops_->solver_dye.get()})
+    s->set_limits(c.viscosity_solver.max_iterations, c.viscosity_solver.tolerance);
+  ops_->solver_p->set_limits(c.pressure_solver.max_iterations, c.pressure_solver.tolerance);
+  if (config_.kind == FluidSceneKind::kCavity)
+    fill_u_ = BoundaryFill::no_slip(float(config_.lid_speed));
+  if (config_.kind == FluidSceneKind::kObstacle)
+    fill_v_.top = {EdgeRule::kMirror, float(-config_.inflow_speed)};
+  prepared_dt_ = -1.0;  // the viscous operators depend on the viscosity
+}
+
 void FluidStep::prepare(double dt) {
   prepared_dt_ = dt;
   const double s_visc = dt * config_.viscosity / (h_ * h_);

@@ -37,6 +37,11 @@ class FluidStep {
   void reset(SimState& state) const;
   // Advances the fluid and the dye by state.dt (re-preparing the operators if dt changed).
   void step(SimState& state);
+  // Takes the non-structural parameters of `config` (viscosity, lid and inflow speed, dye
+  // diffusion, solver iterations and tolerances, emitters when their count is unchanged); the
+  // operators are re-prepared on the next step. Allocates nothing. The caller (Engine) refuses
+  // structural changes (scene kind, walls, obstacle, solver kinds).
+  void update_parameters(const FluidConfig& config);
   // The pressure projection alone (fills boundaries, solves, subtracts the gradient): exposed for
   // tests and tools.
   SolveReport project(SimState& state);

@@ -9,11 +9,6 @@ namespace ardcell {
 
 namespace {
 
-template <class E>
-void update_engine_parameters(E& engine, const SceneConfig& config) {
-  if constexpr (requires { engine.update_parameters(config); }) engine.update_parameters(config);
-}
-
 // Image row 0 is the top (y = ny - 1 in the grid, frame_render's convention).
 struct Brush {
   double cx, cy, radius;
@@ -40,7 +35,9 @@ class EngineSimulation final : public LiveSimulation {
   void step() override { engine_.step(); }
   void reset() override { engine_.reset(); }
   const SimState& state() const override { return engine_.state(); }
-  void apply(const SceneConfig& config) override { update_engine_parameters(engine_, config); }
+  // The live loop applies only parameters that keep the running structure (it switches presets
+  // otherwise, presets_share_structure); a refused change keeps the current parameters.
+  void apply(const SceneConfig& config) override { (void)engine_.update_parameters(config); }
   void paint(std::span<const StrokeSample> samples, const InputMapping& input) override {
     paint_brush(engine_.state(), samples, input, previous_);
   }

@@ -1,7 +1,7 @@
 #pragma once
 // The Engine (host/engine.h) as a LiveSimulation: what `ardcell live` runs. Live parameter
-// changes reach the engine through Engine::update_parameters(const SceneConfig&) when the
-// engine provides it; stroke samples are painted with a simple brush per painting mode.
+// changes reach the engine through Engine::update_parameters(const SceneConfig&); stroke samples
+// are painted with a simple brush per painting mode.
 #include <memory>
 
 #include "host/live_loop.h"

@@ -795,10 +795,13 @@ bool presets_share_structure(const Preset& a, const Preset& b) {
   Preset& pa = const_cast<Preset&>(a);
   Preset& pb = const_cast<Preset&>(b);
   for (const ParamSpec& spec : kParams) {
-    if (!spec.structural) continue;
+    if (!spec.structural && spec.kind != ParamKind::kEmitters) continue;
     if (spec.kind == ParamKind::kSize) {
       if (!(spec.size(pa) == spec.size(pb))) return false;
-    } else if (spec.kind == ParamKind::kFloats || spec.kind == ParamKind::kEmitters) {
+    } else if (spec.kind == ParamKind::kEmitters) {
+      // Their values change live; their number is the structure (Engine::update_parameters).
+      if (spec.emitters(pa).size() != spec.emitters(pb).size()) return false;
+    } else if (spec.kind == ParamKind::kFloats) {
       continue;  // never structural
     } else if (spec.kind == ParamKind::kString) {
       if (spec.text(pa) != spec.text(pb)) return false;
@@ -917,6 +920,7 @@ void apply_quality(const Preset& preset, const QualityLevel& level, SceneConfig&
       scaled(preset.scene.fluid.pressure_solver.max_iterations);
   out.fluid.viscosity_solver.max_iterations =
       scaled(preset.scene.fluid.viscosity_solver.max_iterations);
+  out.rd.diffusion_solver.max_iterations = scaled(preset.scene.rd.diffusion_solver.max_iterations);
 }
 
 std::vector<std::string> preset_names() {

@@ -84,6 +84,36 @@ RdStepper::RdStepper(const SceneConfig& scene) : scene_(scene), rd_(scene.rd) {
 
 RdStepper::~RdStepper() = default;
 
+namespace {
+bool same_reaction(const ReactionParams& a, const ReactionParams& b) {
+  return a.model == b.model && a.F == b.F && a.k == b.k && a.turing_s == b.turing_s &&
+         a.turing_beta == b.turing_beta && a.meinhardt_s == b.meinhardt_s &&
+         a.meinhardt_alpha == b.meinhardt_alpha && a.meinhardt_p1 == b.meinhardt_p1 &&
+         a.meinhardt_p2 == b.meinhardt_p2 && a.meinhardt_p3 == b.meinhardt_p3 &&
+         a.fhn_epsilon == b.fhn_epsilon && a.fhn_a0 == b.fhn_a0 && a.fhn_a1 == b.fhn_a1 &&
+         a.barkley_epsilon == b.barkley_epsilon && a.barkley_a == b.barkley_a &&
+         a.barkley_b == b.barkley_b;
+}
+}  // namespace
+
+void RdStepper::update_parameters(const SceneConfig& scene) {
+  const ReactionParams old_reaction = rd_.reaction;
+  const double old_dt = dt_;
+  rd_ = scene.rd;
+  scene_.rd = scene.rd;
+  scene_.dt = scene.dt;
+  dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
+  h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_.domain_width / scene_.size.x;
+  for (ImplicitDiffusion* d : {diff_a_.get(), diff_b_.get()})
+    if (d)
+      d->set_solver_limits(rd_.diffusion_solver.max_iterations, rd_.diffusion_solver.tolerance);
+  if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit &&
+      (dt_ != old_dt || !same_reaction(old_reaction, rd_.reaction))) {
+    const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
+    table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
+  }
+}
+
 void RdStepper::init_state(SimState& s) const {
   const Int2 n = scene_.size;
   if (s.A.empty() || s.A.size() != n) s.A = FieldF(n, 1);

@@ -39,6 +39,13 @@ class RdStepper {
   // One frame. A, B must be allocated (init_state); u, v are used when allocated.
   void step(SimState& s);
 
+  // Takes the RD parameters of `scene` (reaction parameters, diffusion rates, anisotropy,
+  // dt, cell size, steps per frame, solver iterations and tolerance, initial pattern for the
+  // next reset). The caller (Engine) has refused structural changes (size, model, scheme,
+  // boundary, react/diffuse, table settings) and checked rd_config_problem(). Allocates nothing,
+  // except that a reaction table is rebuilt when the reaction parameters or dt change.
+  void update_parameters(const SceneConfig& scene);
+
   const RdStepStats& stats() const { return stats_; }
   double rd_dt() const { return dt_; }
   double rd_h() const { return h_; }

@@ -34,6 +34,10 @@ class ImplicitDiffusion {
   SolveReport step(FieldF& field, const FieldF* conductivity, const DiffusionStep& s);
 
   const StencilOperator& op() const { return op_; }
+  // The solver's iterations and tolerance (live parameter changes); allocates nothing.
+  void set_solver_limits(int max_iterations, double tolerance) {
+    solver_->set_limits(max_iterations, tolerance);
+  }
   BoundaryKind boundary() const { return boundary_; }
 
  private:

@@ -18,8 +18,8 @@ std::string_view solver_kind_name(SolverKind kind);
 
 struct SolverSettings {
   SolverKind kind = SolverKind::kJacobi;
-  int max_iterations = 20;   // sweeps (Jacobi, RBGS), CG iterations (ICCG), V-cycles (MG)
-  double tolerance = 0.0;    // relative residual |b - A x| / |b| to stop at; 0 = run them all
+  int max_iterations = 20;  // sweeps (Jacobi, RBGS), CG iterations (ICCG), V-cycles (MG)
+  double tolerance = 0.0;   // relative residual |b - A x| / |b| to stop at; 0 = run them all
 };
 
 struct SolveReport {
@@ -37,6 +37,11 @@ class LinearSolver {
   // Improves x (used as the initial guess) towards A x = b.
   virtual SolveReport solve(const StencilOperator& op, const FieldF& b, FieldF& x) = 0;
   const SolverSettings& settings() const { return settings_; }
+  // Live parameter changes (Engine::update_parameters): the stopping rule only, the kind stays.
+  void set_limits(int max_iterations, double tolerance) {
+    settings_.max_iterations = max_iterations;
+    settings_.tolerance = tolerance;
+  }
 
  protected:
   explicit LinearSolver(const SolverSettings& s) : settings_(s) {}
