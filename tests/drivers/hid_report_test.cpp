@@ -102,9 +102,12 @@ TEST_F(Kamvas, EveryEventDecodesToWhatTheDeviceSent) {
       EXPECT_EQ(s.y_tilt, e.p.tilt_y);
       // The generic decoder gives the same numbers, field by field.
       for (const HidDecodedValue& v : report.values) {
-        if (v.usage == hid::kX && v.field->bit_offset == pens[0].x->bit_offset)
+        if (v.usage == hid::kX && v.field->bit_offset == pens[0].x->bit_offset) {
           EXPECT_EQ(v.value, e.p.x);
-        if (v.usage == hid::kXTilt) EXPECT_EQ(v.value, e.p.tilt_x);
+        }
+        if (v.usage == hid::kXTilt) {
+          EXPECT_EQ(v.value, e.p.tilt_x);
+        }
       }
     } else {
       EXPECT_EQ(report.report_id, 0x03);
@@ -137,13 +140,24 @@ TEST_F(Kamvas, LabelsAgreeWithDecodedValues) {
     std::string error;
     ASSERT_TRUE(decode_pen(pens[0], true, ev.data, s, error));
     const std::string& c = ev.comment;
-    if (c.find("Min X Tilt") != std::string::npos) EXPECT_EQ(s.x_tilt, -60);
-    if (c.find("Max X tilt") != std::string::npos) EXPECT_EQ(s.x_tilt, 60);
-    if (c.find("Max Y Tilt") != std::string::npos) EXPECT_EQ(s.y_tilt, 60);
-    if (c.find("Min Y tilt") != std::string::npos) EXPECT_EQ(s.y_tilt, -60);
-    if (c.find("Tip switch") != std::string::npos) EXPECT_TRUE(s.tip);
-    if (c.find("Barrel switch") != std::string::npos && c.find("Secondary") == std::string::npos)
+    if (c.find("Min X Tilt") != std::string::npos) {
+      EXPECT_EQ(s.x_tilt, -60);
+    }
+    if (c.find("Max X tilt") != std::string::npos) {
+      EXPECT_EQ(s.x_tilt, 60);
+    }
+    if (c.find("Max Y Tilt") != std::string::npos) {
+      EXPECT_EQ(s.y_tilt, 60);
+    }
+    if (c.find("Min Y tilt") != std::string::npos) {
+      EXPECT_EQ(s.y_tilt, -60);
+    }
+    if (c.find("Tip switch") != std::string::npos) {
+      EXPECT_TRUE(s.tip);
+    }
+    if (c.find("Barrel switch") != std::string::npos && c.find("Secondary") == std::string::npos) {
       EXPECT_TRUE(s.barrel);
+    }
     if (c.find("Bottom-right") != std::string::npos) {
       EXPECT_EQ(s.x, pens[0].x->logical_max);
       EXPECT_EQ(s.y, pens[0].y->logical_max);

@@ -117,7 +117,9 @@ TEST_P(Stability, ImplicitStaysInTheInvariantBoxWhereExplicitBlowsUp) {
       ASSERT_LE(r.a_hi, box.a_hi + tol) << "step " << step;
       ASSERT_GE(r.b_lo, box.b_lo - tol) << "step " << step;
       ASSERT_LE(r.b_hi, box.b_hi + tol) << "step " << step;
-      if (c.model == ReactionModel::kGrayScott) ASSERT_LE(r.b_hi, 1.0 + tol);
+      if (c.model == ReactionModel::kGrayScott) {
+        ASSERT_LE(r.b_hi, 1.0 + tol);
+      }
     }
   }
   if (!c.anisotropic) {

@@ -107,9 +107,9 @@ TEST(ExplicitRd, ForwardEulerIsStableBelowTheBoundAndBlowsUpAbove) {
       std::swap(a, ao);
       std::swap(b, bo);
     }
-    if (s < 0.25f)
+    if (s < 0.25f) {
       EXPECT_LT(std::abs(a(3, 3)), 1.0f);
-    else
+    } else
       EXPECT_GT(std::abs(a(3, 3)), 1e10f);
   }
 }
