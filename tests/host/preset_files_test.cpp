@@ -87,5 +87,38 @@ TEST(PresetFiles, NamesFindTheEmbeddedFileWithTheBuiltinsValues) {
   }
 }
 
+// The README's key reference: one row per key of the table in host/preset.cpp.
+std::string key_reference() {
+  std::string out = "| key | type and range | live | meaning |\n|---|---|---|---|\n";
+  for (const ParamSpec& spec : preset_params()) {
+    std::string expectation = param_expectation(spec);
+    std::string escaped;
+    for (char c : expectation) escaped += c == '|' ? std::string("\\|") : std::string(1, c);
+    std::string help;
+    for (char c : spec.help) help += c == '|' ? std::string("\\|") : std::string(1, c);
+    const char* live = spec.kind == ParamKind::kString ? "-" : spec.structural ? "rebuild" : "live";
+    out += "| `" + std::string(spec.key) + "` | " + escaped + " | " + live + " | " + help + " |\n";
+  }
+  return out;
+}
+
+TEST(PresetFiles, ReadmeKeyReferenceListsEveryKey) {
+  const fs::path readme = ARDCELL_SOURCE_DIR "/README.md";
+  const std::string text = read_text(readme);
+  const std::string begin = "<!-- preset keys begin -->\n", end = "<!-- preset keys end -->";
+  const size_t b = text.find(begin), e = text.find(end);
+  ASSERT_NE(b, std::string::npos) << "README.md lost its preset key markers";
+  ASSERT_NE(e, std::string::npos);
+  ASSERT_LT(b, e);
+  const std::string current = text.substr(b + begin.size(), e - b - begin.size());
+  const std::string expected = key_reference();
+  if (regenerate()) {
+    if (current != expected)
+      write_atomically(readme, text.substr(0, b + begin.size()) + expected + text.substr(e));
+    return;
+  }
+  EXPECT_EQ(current, expected) << "README.md key reference is stale; regenerate it";
+}
+
 }  // namespace
 }  // namespace ardcell
