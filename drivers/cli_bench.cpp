@@ -326,15 +326,16 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
         const double overhead = (f.present && a.present && a.fps > 0) ? f.fps / a.fps - 1 : NAN;
         const double multiple = (c && a.present) ? a.fps / c->ard : NAN;
         const double share = (a.present && triad > 0) ? a.bytes_per_s / triad : NAN;
-        std::snprintf(line, sizeof line,
-                      "| %d | %s | %.1f | %.1f | %+.1f%% | %.2f | %.2f | %.0f%% | %s | %.1f |\n", n,
-                      s.c_str(), f.fps, a.fps, 100 * overhead, multiple, a.bytes_per_s / 1e9,
-                      100 * share,
-                      c ? (std::to_string(c->fluid).substr(0, 5) + " / " +
-                           std::to_string(c->ard).substr(0, 5))
-                              .c_str()
-                        : "-",
-                      a.fps_unshared);
+        std::snprintf(
+            line, sizeof line,
+            "| %d | %s | %.1f | %.1f | %+.1f%% | %.2f | %.2f | %.0f%% | %s | %s |\n", n, s.c_str(),
+            f.fps, a.fps, 100 * overhead, multiple, a.bytes_per_s / 1e9, 100 * share,
+            c ? (std::to_string(c->fluid).substr(0, 5) + " / " +
+                 std::to_string(c->ard).substr(0, 5))
+                    .c_str()
+              : "-",
+            // Only the threads back end measures it (its counter fps_if_unshared).
+            a.fps_unshared > 0 ? std::to_string(a.fps_unshared).substr(0, 7).c_str() : "-");
         md << line;
         std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.5f,%.4f,%.6g,%.4f,%s,%s,%.4f\n", n,
                       s.c_str(), f.fps, a.fps, overhead, multiple, a.bytes_per_s, share,
