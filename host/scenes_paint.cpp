@@ -1,6 +1,8 @@
 // Kim & Lin Fig. 3: a spiral stroke painted into Gray-Scott. Play the recorded stroke with
-//   ardcell tablet play fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl --png top.png
-//   ardcell tablet play fig3-orient  --strokes presets/strokes/fig3_spiral.jsonl --png bottom.png
+//   ardcell tablet play fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl \
+//     --paint-radius 8 --png docs/fig3_deposit.png
+//   ardcell tablet play fig3-orient --strokes presets/strokes/fig3_spiral.jsonl \
+//     --paint-radius 8 --png docs/fig3_orient.png
 // (or `ardcell run ... --strokes` where the run loop paints). Deposition only: the stroke
 // seeds B once, the pattern grows out and stops. Orientation: the stroke's tangent sets theta0
 // everywhere (fast marching extension) with a single cosine lobe (Eqn 16, j = 1) opposite to
@@ -21,15 +23,20 @@ SceneConfig fig3(bool orient) {
   s.size = {256, 256};
   s.domain_width = 256.0;
   s.dt = 1.0;
-  s.default_steps = 2000;
+  s.default_steps = orient ? 1000 : 1500;
   s.fluid.kind = FluidSceneKind::kNone;
   RdConfig& rd = s.rd;
   rd.enabled = true;
   rd.reaction.model = ReactionModel::kGrayScott;
-  rd.reaction.F = 0.0367f;
-  rd.reaction.k = 0.0649f;
-  rd.diffusion_a = 1.0;
-  rd.diffusion_b = 0.5;
+  // Stripe-forming Gray-Scott (F 0.042, k 0.059): a deposited line grows into stripes that
+  // follow it, the stripes fill the canvas and then hold still. (At F 0.0367, k 0.0649 the
+  // painted line broke into a few spots or decayed.) D_A = 0.8 cells^2 per unit time gives
+  // stripes about 16 cells apart on the 256^2 grid; paint with --paint-radius 8 so the stroke
+  // is about one stripe wide (narrower strokes decay before they can grow).
+  rd.reaction.F = 0.042f;
+  rd.reaction.k = 0.059f;
+  rd.diffusion_a = 0.8;
+  rd.diffusion_b = 0.4;
   rd.dt = 1.0;
   rd.cell_size = 1.0;
   rd.steps_per_frame = 2;
@@ -45,7 +52,9 @@ SceneConfig fig3(bool orient) {
   if (orient) {
     rd.anisotropy.kind = AnisotropyKind::kCosineLobes;
     rd.anisotropy.lobes = 1;
-    rd.anisotropy.lobe_speed[0] = 2.0f;
+    // a(phi) = 2 (1 + cos phi): twice the isotropic rate at the peak, 0 at the back, so the
+    // pattern keeps travelling against the stroke direction instead of settling.
+    rd.anisotropy.lobe_speed[0] = 4.0f;
   }
   s.output.show = "B";
   s.output.colormap = "magma";
