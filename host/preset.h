@@ -9,12 +9,16 @@
 //   [grid]     size = [256, 256]  domain_width = 1.0  dt = 0.01  steps = 500
 //   [fluid]    scene = "cavity"  viscosity = 0.01  lid_speed = 1.0  dye_diffusion = 0.0
 //   [fluid.pressure_solver]  kind = "mg"  iterations = 20  tolerance = 1e-8
-//   [rd]       enabled = false
+//   [rd]       enabled = true  scheme = "implicit"  boundary = "periodic"  diffusion_a = 2e-5
+//   [rd.reaction]    model = "gray-scott"  f = 0.04  k = 0.06
+//   [rd.anisotropy]  kind = "lobes"  lobes = 4  lobe_speed = [2.0, 1.2, 2.0, 1.2]
+//   [rd.initial]     pattern = "centre-square"  seed_size = 0.08  noise = 0.01
 //   [output]   show = "dye"  colormap = "viridis"
 //   [quality]  adaptive = true  min_sweeps = 4  max_sweeps = 20  min_rd_scale = 0.5
 //   [input]    mode = "deposit"  brush_radius = 0.03  strength = 1.0
-// Every key is optional; a missing key keeps the SceneConfig default. presets/README of the
-// README's "Live display, presets and kiosk" section lists them all (`ardcell live --keys`).
+// Every key is optional; a missing key keeps the SceneConfig default. Every SceneConfig member
+// has a key (tests/host/preset_keys_test.cpp); the README's "Live display, presets and kiosk"
+// section lists them all (generated, `ardcell live --keys`).
 #include <cstdint>
 #include <span>
 #include <string>
