@@ -215,12 +215,29 @@ inline void locate(axis_t a, float p, int* i0, float* s1) {
   *s1 = p - (float)i;
 }
 
+// Nested lerps a + s (b - a), as the C++ kernel, so a constant field is reproduced exactly.
 inline float bilinear(__global const float* q, int stride, int origin, int i0, int j0, float s1,
                       float t1) {
   __global const float* r0 = q + origin + j0 * stride;
   __global const float* r1 = r0 + stride;
-  const float s0 = 1.0f - s1, t0 = 1.0f - t1;
-  return t0 * (s0 * r0[i0] + s1 * r0[i0 + 1]) + t1 * (s0 * r1[i0] + s1 * r1[i0 + 1]);
+  const float low = r0[i0] + s1 * (r0[i0 + 1] - r0[i0]);
+  const float high = r1[i0] + s1 * (r1[i0 + 1] - r1[i0]);
+  return low + t1 * (high - low);
+}
+
+// The back-traced point of cell (x, y) by the midpoint rule (RK2), as kernels/advect.cpp: the
+// velocity at x - k/2 u(x) is interpolated from (u, v) with the same clamps as the sample.
+inline void back_trace(__global const float* u, __global const float* v, int stride, int origin,
+                       axis_t ax, axis_t ay, float k, int x, int y, float ux, float vy, int* i0,
+                       int* j0, float* s1, float* t1) {
+  int mi, mj;
+  float ms, mt;
+  locate(ax, (float)x - 0.5f * k * ux, &mi, &ms);
+  locate(ay, (float)y - 0.5f * k * vy, &mj, &mt);
+  const float um = bilinear(u, stride, origin, mi, mj, ms, mt);
+  const float vm = bilinear(v, stride, origin, mi, mj, ms, mt);
+  locate(ax, (float)x - k * um, i0, s1);
+  locate(ay, (float)y - k * vm, j0, t1);
 }
 
 // q = q0 carried by (u, v) over reg (2D range: work-item (i, j) -> cell reg.min + (i, j)).
@@ -234,8 +251,7 @@ __kernel void advect_scalar(__global const float* q0, __global const float* u,
   const int g = global_index(stride, origin, x, y);
   int i0, j0;
   float s1, t1;
-  locate(ax, (float)x - k * u[g], &i0, &s1);
-  locate(ay, (float)y - k * v[g], &j0, &t1);
+  back_trace(u, v, stride, origin, ax, ay, k, x, y, u[g], v[g], &i0, &j0, &s1, &t1);
   q[g] = bilinear(q0, stride, origin, i0, j0, s1, t1);
 }
 
@@ -250,8 +266,7 @@ __kernel void advect_velocity(__global const float* u0, __global const float* v0
   const int g = global_index(stride, origin, x, y);
   int i0, j0;
   float s1, t1;
-  locate(ax, (float)x - k * u0[g], &i0, &s1);
-  locate(ay, (float)y - k * v0[g], &j0, &t1);
+  back_trace(u0, v0, stride, origin, ax, ay, k, x, y, u0[g], v0[g], &i0, &j0, &s1, &t1);
   u[g] = bilinear(u0, stride, origin, i0, j0, s1, t1);
   v[g] = bilinear(v0, stride, origin, i0, j0, s1, t1);
 }
