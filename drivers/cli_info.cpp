@@ -52,7 +52,9 @@ std::string cpu_features() {
 
 std::string compiled_for() {
   std::string out;
-  auto add = [&](const char* name) { out += (out.empty() ? "" : " ") + std::string(name); };
+  [[maybe_unused]] auto add = [&](const char* name) {
+    out += (out.empty() ? "" : " ") + std::string(name);
+  };
 #ifdef __SSE4_2__
   add("sse4.2");
 #endif

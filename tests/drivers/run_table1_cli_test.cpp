@@ -143,7 +143,7 @@ TEST_F(RunTable1Test, InvalidClDeviceFallsBackToThreads) {
 }
 
 TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
-  for (const std::string& args :
+  for (const std::string args :
        {std::string(kSmall) + "--schedule bogus", std::string(kSmall) + "--backend bogus",
         std::string(kSmall) + "--backend serial --schedule blocked",
         std::string(kSmall) + "--backend opencl --schedule serial",
