@@ -13,6 +13,7 @@
 #include "drivers/cli.h"
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/png_writer.h"
+#include "drivers/stroke_sources.h"
 #include "host/atomic_file.h"
 #include "host/offline_run.h"
 #include "host/preset.h"
@@ -41,6 +42,7 @@ struct RunArgs {
   int sweeps = 0, fps = 30, cl_device = -1, workers = 0;
   CLI::Option *steps_opt, *every_opt, *dt_opt, *re_opt, *sweeps_opt, *solver_opt, *size_opt;
   CLI::Option *colormap_opt, *show_opt, *schedule_opt, *backend_opt, *cl_device_opt, *workers_opt;
+  RunPaintOptions paint;  // --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes
 };
 
 // The scenes that run the Table 1 workload (host/table1.h) on the frame plan.
@@ -55,14 +57,20 @@ bool is_table1_scene(const std::string& name) {
 // --stats keeps at most this many per-frame times (8 MiB), allocated before the run.
 constexpr int64_t kMaxTimedFrames = int64_t(1) << 20;
 
+// Steps the engine; with a stroke playback (--strokes / --replay), paints the samples due at
+// the frame's time before each step, as a live pen would.
 class EngineStepper final : public OfflineStepper {
  public:
-  explicit EngineStepper(Engine& engine) : engine_(engine) {}
-  void step() override { engine_.step(); }
+  EngineStepper(Engine& engine, StrokePlayback* playback) : engine_(engine), playback_(playback) {}
+  void step() override {
+    if (playback_) playback_->before_step(engine_.state(), engine_.state().time);
+    engine_.step();
+  }
   const SimState& frame_state() override { return engine_.state(); }
 
  private:
   Engine& engine_;
+  StrokePlayback* playback_;
 };
 
 std::string timestamp() {
@@ -458,7 +466,12 @@ int do_run(RunArgs& a, CliContext& ctx) {
   if (a.cl_device_opt->count() && a.cl_device < 0)
     return usage("--cl-device " + std::to_string(a.cl_device) +
                  ": expected a device index (0 or more, see ardcell devices)");
-  if (is_table1_scene(scene_name)) return do_run_table1(a, ctx, scene_name);
+  if (is_table1_scene(scene_name)) {
+    if (a.paint.any())
+      return usage("--strokes/--replay paint into the engine scenes; '" + scene_name +
+                   "' is the fixed Table 1 workload (expected no stroke options)");
+    return do_run_table1(a, ctx, scene_name);
+  }
   {
     const std::string general =
         " applies to the table1 scenes (the Table 1 workload on the frame plan); scene '" +
@@ -561,11 +574,15 @@ int do_run(RunArgs& a, CliContext& ctx) {
     if (Status s = load_state_fields(a.load_state, meta, engine.state()); !s)
       return usage("--load-state " + s.message());
 
+  // Stroke playback (--strokes / --replay): files are read before any output is created.
+  std::unique_ptr<StrokePlayback> playback;
+  if (std::string error; !a.paint.make(scene, playback, error)) return usage(error);
+
   // Outputs: checked and created before the first step, removed again on a usage error.
   RunOutputs outputs;
   if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs); rc != kExitOk)
     return rc;
-  EngineStepper stepper(engine);
+  EngineStepper stepper(engine, playback.get());
   return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs);
 }
 
@@ -603,6 +620,7 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
   run->add_flag("--quiet", a.quiet, "no progress bar");
   run->add_option("--set", a.sets,
                   "set a scene parameter, key=value (repeatable; e.g. fluid.viscosity=0.02)");
+  add_run_paint_options(*run, a.paint);
   a.schedule_opt = run->add_option("--schedule", a.schedule,
                                    "table1 scenes: serial | stream | blocked (default blocked)");
   a.backend_opt = run->add_option("--backend", a.backend,
