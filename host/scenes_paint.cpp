@@ -1,8 +1,8 @@
 // Kim & Lin Fig. 3: a spiral stroke painted into Gray-Scott. Play the recorded stroke with
-//   ardcell tablet play fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl \
-//     --paint-radius 8 --png docs/fig3_deposit.png
-//   ardcell tablet play fig3-orient --strokes presets/strokes/fig3_spiral.jsonl \
-//     --paint-radius 8 --png docs/fig3_orient.png
+//   ardcell tablet play fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl
+//       --paint-radius 8 --png docs/fig3_deposit.png
+//   ardcell tablet play fig3-orient --strokes presets/strokes/fig3_spiral.jsonl
+//       --paint-radius 8 --png docs/fig3_orient.png
 // (or `ardcell run ... --strokes` where the run loop paints). Deposition only: the stroke
 // seeds B once, the pattern grows out and stops. Orientation: the stroke's tangent sets theta0
 // everywhere (fast marching extension) with a single cosine lobe (Eqn 16, j = 1) opposite to
