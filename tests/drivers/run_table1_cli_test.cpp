@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "host/npy.h"
 
@@ -143,15 +144,19 @@ TEST_F(RunTable1Test, InvalidClDeviceFallsBackToThreads) {
 }
 
 TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
-  for (const std::string args :
-       {std::string(kSmall) + "--schedule bogus", std::string(kSmall) + "--backend bogus",
-        std::string(kSmall) + "--backend serial --schedule blocked",
-        std::string(kSmall) + "--backend opencl --schedule serial",
-        std::string(kSmall) + "--workers 0", std::string(kSmall) + "--dt 0.5",
-        std::string(kSmall) + "--show pressure", std::string("run table1 --size 48 --show A"),
-        std::string("run cavity --size 16 --steps 1 --schedule blocked"),
-        std::string("run cavity --size 16 --steps 1 --backend opencl"),
-        std::string("run cavity --size 16 --steps 1 --schedule bogus")}) {
+  const std::vector<std::string> cases = {
+      std::string(kSmall) + "--schedule bogus",
+      std::string(kSmall) + "--backend bogus",
+      std::string(kSmall) + "--backend serial --schedule blocked",
+      std::string(kSmall) + "--backend opencl --schedule serial",
+      std::string(kSmall) + "--workers 0",
+      std::string(kSmall) + "--dt 0.5",
+      std::string(kSmall) + "--show pressure",
+      std::string("run table1 --size 48 --show A"),
+      std::string("run cavity --size 16 --steps 1 --schedule blocked"),
+      std::string("run cavity --size 16 --steps 1 --backend opencl"),
+      std::string("run cavity --size 16 --steps 1 --schedule bogus")};
+  for (const std::string& args : cases) {
     const Result r = run(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
