@@ -336,10 +336,14 @@ bool parse_colormap(std::string_view name, Colormap& out) {
 
 std::string_view colormap_name(Colormap map) {
   switch (map) {
-    case Colormap::kGray: return "gray";
-    case Colormap::kViridis: return "viridis";
-    case Colormap::kMagma: return "magma";
-    case Colormap::kRdBu: return "rdbu";
+    case Colormap::kGray:
+      return "gray";
+    case Colormap::kViridis:
+      return "viridis";
+    case Colormap::kMagma:
+      return "magma";
+    case Colormap::kRdBu:
+      return "rdbu";
   }
   return "gray";
 }
@@ -349,18 +353,20 @@ std::string_view colormap_names() { return "gray|viridis|magma|rdbu"; }
 bool colormap_is_diverging(Colormap map) { return map == Colormap::kRdBu; }
 
 const std::array<Rgb8, 256>& colormap_lut(Colormap map) {
-  static const std::array<Rgb8, 256> luts[] = {build_lut(Colormap::kGray),
-                                               build_lut(Colormap::kViridis),
-                                               build_lut(Colormap::kMagma),
-                                               build_lut(Colormap::kRdBu)};
+  static const std::array<Rgb8, 256> luts[] = {
+      build_lut(Colormap::kGray), build_lut(Colormap::kViridis), build_lut(Colormap::kMagma),
+      build_lut(Colormap::kRdBu)};
   return luts[static_cast<int>(map)];
 }
 
 std::span<const std::array<float, 3>> colormap_source_table(Colormap map) {
   switch (map) {
-    case Colormap::kViridis: return kViridis;
-    case Colormap::kMagma: return kMagma;
-    default: return {};
+    case Colormap::kViridis:
+      return kViridis;
+    case Colormap::kMagma:
+      return kMagma;
+    default:
+      return {};
   }
 }
 

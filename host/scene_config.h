@@ -12,15 +12,15 @@
 namespace ardcell {
 
 struct OutputConfig {
-  std::string show = "dye";        // field drawn in frames: dye, speed, vorticity, pressure, A, B
+  std::string show = "dye";  // field drawn in frames: dye, speed, vorticity, pressure, A, B
   std::string colormap = "viridis";
 };
 
 struct SceneConfig {
   std::string name;
-  std::string description;         // one line, for `ardcell run --list`
+  std::string description;  // one line, for `ardcell run --list`
   Int2 size{256, 256};
-  double domain_width = 1.0;       // h = domain_width / size.x
+  double domain_width = 1.0;  // h = domain_width / size.x
   double dt = 0.01;
   int64_t default_steps = 500;
   FluidConfig fluid;

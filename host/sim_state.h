@@ -10,14 +10,14 @@ namespace ardcell {
 
 struct SimState {
   Int2 size;
-  double h = 0;     // cell size; the domain is size * h
+  double h = 0;  // cell size; the domain is size * h
   double dt = 0;
   double time = 0;
   int64_t step = 0;
 
-  FieldF u, v, p, dye;          // fluid: velocity, pressure, passive dye
-  FieldF A, B, theta0;          // reaction-diffusion chemicals and per-cell anisotropy angle
-  Field<uint8_t> obstacle;      // 1 = solid cell (flow past obstacles); empty when none
+  FieldF u, v, p, dye;      // fluid: velocity, pressure, passive dye
+  FieldF A, B, theta0;      // reaction-diffusion chemicals and per-cell anisotropy angle
+  Field<uint8_t> obstacle;  // 1 = solid cell (flow past obstacles); empty when none
 
   // Calls f(name, field) for each float field that is allocated, in a fixed order; the names
   // are those of the saved .npy files (u, v, p, dye, A, B, theta0).

@@ -31,8 +31,8 @@ struct Box2 {
     return p.x >= min.x && p.x < max.x && p.y >= min.y && p.y < max.y;
   }
   constexpr bool contains(const Box2& b) const {
-    return b.empty() || (b.min.x >= min.x && b.min.y >= min.y && b.max.x <= max.x &&
-                         b.max.y <= max.y);
+    return b.empty() ||
+           (b.min.x >= min.x && b.min.y >= min.y && b.max.x <= max.x && b.max.y <= max.y);
   }
   // Grown by n cells on every side (shrunk when n < 0).
   constexpr Box2 grown(int n) const { return {{min.x - n, min.y - n}, {max.x + n, max.y + n}}; }

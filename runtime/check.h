@@ -8,8 +8,7 @@
 namespace ardcell::detail {
 [[noreturn]] inline void check_failed(const char* expr, const char* file, int line,
                                       const char* why) {
-  std::fprintf(stderr, "ardcell: internal check failed: %s (%s) at %s:%d\n", why, expr, file,
-               line);
+  std::fprintf(stderr, "ardcell: internal check failed: %s (%s) at %s:%d\n", why, expr, file, line);
   std::abort();
 }
 }  // namespace ardcell::detail
