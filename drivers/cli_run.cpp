@@ -57,22 +57,6 @@ bool is_table1_scene(const std::string& name) {
 // --stats keeps at most this many per-frame times (8 MiB), allocated before the run.
 constexpr int64_t kMaxTimedFrames = int64_t(1) << 20;
 
-// Steps the engine; with a stroke playback (--strokes / --replay), paints the samples due at
-// the frame's time before each step, as a live pen would.
-class EngineStepper final : public OfflineStepper {
- public:
-  EngineStepper(Engine& engine, StrokePlayback* playback) : engine_(engine), playback_(playback) {}
-  void step() override {
-    if (playback_) playback_->before_step(engine_.state(), engine_.state().time);
-    engine_.step();
-  }
-  const SimState& frame_state() override { return engine_.state(); }
-
- private:
-  Engine& engine_;
-  StrokePlayback* playback_;
-};
-
 std::string timestamp() {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};

@@ -155,20 +155,6 @@ Status check_memory_for_grid(const SceneConfig& scene) {
   return Status::ok();
 }
 
-namespace {
-
-class EngineStepper final : public OfflineStepper {
- public:
-  explicit EngineStepper(Engine& engine) : engine_(engine) {}
-  void step() override { engine_.step(); }
-  const SimState& frame_state() override { return engine_.state(); }
-
- private:
-  Engine& engine_;
-};
-
-}  // namespace
-
 Status run_offline(Engine& engine, const OfflineRunOptions& options,
                    std::span<FrameSink* const> sinks, OfflineRunSummary& summary) {
   EngineStepper stepper(engine);

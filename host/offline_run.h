@@ -15,6 +15,7 @@
 #include "host/frame_sink.h"
 #include "host/scene_config.h"
 #include "host/status.h"
+#include "host/stroke_playback.h"
 
 namespace ardcell {
 
@@ -50,6 +51,23 @@ class OfflineStepper {
   virtual void step() = 0;
   // The state to render; called only after steps whose frame is written (may copy fields).
   virtual const SimState& frame_state() = 0;
+};
+
+// The general scenes' stepper: the Engine, with an optional stroke playback (--strokes /
+// --replay) that paints the samples due at the frame's time before each step.
+class EngineStepper final : public OfflineStepper {
+ public:
+  explicit EngineStepper(Engine& engine, StrokePlayback* playback = nullptr)
+      : engine_(engine), playback_(playback) {}
+  void step() override {
+    if (playback_) playback_->before_step(engine_.state(), engine_.state().time);
+    engine_.step();
+  }
+  const SimState& frame_state() override { return engine_.state(); }
+
+ private:
+  Engine& engine_;
+  StrokePlayback* playback_;
 };
 
 struct OfflineRunOptions {

@@ -10,23 +10,7 @@
 #include "host/fluid_step.h"
 #include "host/scene_registry.h"
 
-// Counts heap allocations made while `counting` is set (this test binary replaces the global
-// operator new; sanitizers still see every block through malloc).
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<long> allocations{0};
-}  // namespace
-
-// GCC cannot see that these replace the global pair, and warns about free() on new'd memory.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-void* operator new(std::size_t n) {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/alloc_counter.h"
 
 namespace ardcell {
 namespace {
@@ -120,12 +104,11 @@ TEST(FluidEngine, DeterministicAcrossInstances) {
 
 TEST(FluidEngine, NoHeapAllocationAfterTheFirstFrame) {
   // The counter sees allocations (control).
-  allocations = 0;
-  counting = true;
+  const long before_probe = g_allocations.load();
   auto* probe = new std::vector<int>(100);
-  counting = false;
+  const long probe_allocations = g_allocations.load() - before_probe;
   delete probe;
-  ASSERT_GE(allocations.load(), 1);
+  ASSERT_GE(probe_allocations, 1);
 
   for (SolverKind kind : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel, SolverKind::kIccg,
                           SolverKind::kMultigrid}) {
@@ -135,11 +118,9 @@ TEST(FluidEngine, NoHeapAllocationAfterTheFirstFrame) {
       scene.fluid.dye_diffusion = 1e-4;
       Engine engine(scene);
       engine.step();
-      allocations = 0;
-      counting = true;
+      const long before = g_allocations.load();
       for (int k = 0; k < 5; ++k) engine.step();
-      counting = false;
-      EXPECT_EQ(allocations.load(), 0) << name << " with " << solver_kind_name(kind);
+      EXPECT_EQ(g_allocations.load() - before, 0) << name << " with " << solver_kind_name(kind);
     }
   }
 }
