@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/table1_opencl.h"
+#include "host/table1_opencl.h"
 
 namespace ardcell {
 namespace {

@@ -21,7 +21,7 @@
 #include "host/table1.h"
 #include "runtime/opencl/backend_choice.h"
 #if defined(ARDCELL_WITH_OPENCL)
-#include "bench/table1_opencl.h"
+#include "host/table1_opencl.h"
 #endif
 
 namespace ardcell {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "bench/table1_opencl.h"
+#include "host/table1_opencl.h"
 #include "runtime/opencl/backend_choice.h"
 
 namespace ardcell {

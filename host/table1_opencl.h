@@ -1,7 +1,7 @@
 #pragma once
 // The Table 1 workload (host/table1.h) expressed for the OpenCL frame (kernels/cl/
 // opencl_stam_frame.h): the same constants and splats, and the serial workload's initial state
-// uploaded to the device. Shared by bench/table1_opencl_bench.cpp and
+// uploaded to the device. Shared by bench/table1_opencl_bench.cpp, drivers/cli_run.cpp and
 // tests/host/opencl_table1_test.cpp.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <algorithm>
