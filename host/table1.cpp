@@ -96,24 +96,25 @@ void gradient_kernel(const void* params, Bufs b, Box2 region) {
   subtract_gradient(b[std::size_t(p.p)], b[std::size_t(p.u)], b[std::size_t(p.v)], region, p.pp);
 }
 
-struct AdvVelParams {
+// Semi-Lagrangian advection of up to kMaxAdvectFields fields by (u, v), one shared back-trace
+// (kernels/advect.h advect_fields): velocity self-advection is q0 = {u, v}.
+struct AdvectManyParams {
   AdvectParams ap;
-  int8_t u0 = 0, v0 = 1, u = 2, v = 3;
+  int8_t u = 0, v = 1;
+  int count = 0;
+  std::array<int8_t, kMaxAdvectFields> q0{}, q{};
 };
-void advect_velocity_kernel(const void* params, Bufs b, Box2 region) {
-  const auto& p = *static_cast<const AdvVelParams*>(params);
-  advect_velocity(b[std::size_t(p.u0)], b[std::size_t(p.v0)], b[std::size_t(p.u)],
-                  b[std::size_t(p.v)], region, p.ap);
-}
-
-struct AdvScalarParams {
-  AdvectParams ap;
-  int8_t q0 = 0, u = 1, v = 2, q = 3;
-};
-void advect_scalar_kernel(const void* params, Bufs b, Box2 region) {
-  const auto& p = *static_cast<const AdvScalarParams*>(params);
-  advect_scalar(b[std::size_t(p.q0)], b[std::size_t(p.u)], b[std::size_t(p.v)], b[std::size_t(p.q)],
-                region, p.ap);
+void advect_many_kernel(const void* params, Bufs b, Box2 region) {
+  const auto& p = *static_cast<const AdvectManyParams*>(params);
+  std::array<View<const float>, kMaxAdvectFields> in;
+  std::array<View<float>, kMaxAdvectFields> out;
+  for (int i = 0; i < p.count; ++i) {
+    in[std::size_t(i)] = b[std::size_t(p.q0[std::size_t(i)])];
+    out[std::size_t(i)] = b[std::size_t(p.q[std::size_t(i)])];
+  }
+  advect_fields(b[std::size_t(p.u)], b[std::size_t(p.v)],
+                std::span<const View<const float>>(in.data(), std::size_t(p.count)),
+                std::span<const View<float>>(out.data(), std::size_t(p.count)), region, p.ap);
 }
 
 void jacobi_kernel(const void* params, View<const float> x, View<const float> rhs, View<float> out,
@@ -493,9 +494,9 @@ void Table1Workload::build() {
     const int8_t u1 = add_buffer(d, &f.u1, nullptr, 0, true),
                  v1 = add_buffer(d, &f.v1, nullptr, 0, true);
     const int8_t bu = add_buffer(d, nullptr, &f.u0, 0), bv = add_buffer(d, nullptr, &f.v0, 0);
-    d.ops.push_back(map_op(advect_velocity_kernel,
-                           p_->keep(AdvVelParams{p_->advect, u1, v1, bu, bv}), 0, {bu, bv},
-                           {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+    d.ops.push_back(map_op(advect_many_kernel,
+                           p_->keep(AdvectManyParams{p_->advect, u1, v1, 2, {u1, v1}, {bu, bv}}), 0,
+                           {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
     if (rd && one_residency) {
       // The reaction rides on this halo-0 pass (A and B in place).
       const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
@@ -529,20 +530,22 @@ void Table1Workload::build() {
     // The velocity is read where the back-trace lands (RK2 midpoint): in main memory, like q0.
     const int8_t bu = add_buffer(d, &f.u, nullptr, 0, true),
                  bv = add_buffer(d, &f.v, nullptr, 0, true);
-    const int8_t q0 = add_buffer(d, &f.dye0, nullptr, 0, true),
-                 q = add_buffer(d, nullptr, &f.dye, 0);
-    d.ops.push_back(map_op(advect_scalar_kernel,
-                           p_->keep(AdvScalarParams{p_->advect, q0, bu, bv, q}), 0, {q},
-                           {{q, BoundaryFill::stam(0)}}));
+    // One back-trace for the dye and (RD) A and B.
+    AdvectManyParams ap{p_->advect, bu, bv, 1, {}, {}};
+    ap.q0[0] = add_buffer(d, &f.dye0, nullptr, 0, true);
+    ap.q[0] = add_buffer(d, nullptr, &f.dye, 0);
     if (rd) {
-      for (int which = 0; which < 2; ++which) {
-        const int8_t s0 = add_buffer(d, which == 0 ? &f.A0 : &f.B0, nullptr, 0, true);
-        const int8_t s = add_buffer(d, nullptr, which == 0 ? &f.A : &f.B, 0);
-        d.ops.push_back(map_op(advect_scalar_kernel,
-                               p_->keep(AdvScalarParams{p_->advect, s0, bu, bv, s}), 0, {s},
-                               {{s, BoundaryFill::stam(0)}}));
-      }
+      ap.q0[1] = add_buffer(d, &f.A0, nullptr, 0, true);
+      ap.q[1] = add_buffer(d, nullptr, &f.A, 0);
+      ap.q0[2] = add_buffer(d, &f.B0, nullptr, 0, true);
+      ap.q[2] = add_buffer(d, nullptr, &f.B, 0);
+      ap.count = 3;
     }
+    d.ops.push_back(map_op(advect_many_kernel, p_->keep(ap), 0,
+                           {ap.q[0], rd ? ap.q[1] : -1, rd ? ap.q[2] : -1},
+                           {{ap.q[0], BoundaryFill::stam(0)},
+                            {rd ? ap.q[1] : -1, BoundaryFill::stam(0)},
+                            {rd ? ap.q[2] : -1, BoundaryFill::stam(0)}}));
     plan_->add_pass(std::move(d));
   }
 }

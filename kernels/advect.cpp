@@ -1,6 +1,12 @@
 #include "kernels/advect.h"
 
+#include <array>
 #include <cmath>
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define ARDCELL_ADVECT_AVX2 1
+#endif
 
 namespace ardcell {
 namespace {
@@ -110,6 +116,115 @@ void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, 
       back_trace(u0, v0, ax, ay, k, x, y, ur[x], vr[x], s);
       uo[x] = bilinear(u0, s);
       vo[x] = bilinear(v0, s);
+    }
+  }
+}
+
+namespace {
+
+#if defined(ARDCELL_ADVECT_AVX2)
+// locate() on 8 lanes. Each step is the scalar one: max_ps(p, lo) is p > lo ? p : lo (a NaN
+// lands on lo), min_ps(p, hi) is p < hi ? p : hi, cvtt is int() truncation.
+struct AxisLanes {
+  __m256 lo, hi, view_min_f;
+  __m256i view_min, view_max2;
+  explicit AxisLanes(const AxisLimits& a)
+      : lo(_mm256_set1_ps(a.lo)),
+        hi(_mm256_set1_ps(a.hi)),
+        view_min_f(_mm256_set1_ps(float(a.view_min))),
+        view_min(_mm256_set1_epi32(a.view_min)),
+        view_max2(_mm256_set1_epi32(a.view_max - 2)) {}
+};
+
+inline void locate8(const AxisLanes& a, __m256 p, __m256i& i0, __m256& s1) {
+  p = _mm256_max_ps(p, a.lo);
+  p = _mm256_min_ps(p, a.hi);
+  __m256i i = _mm256_add_epi32(_mm256_cvttps_epi32(_mm256_sub_ps(p, a.view_min_f)), a.view_min);
+  i = _mm256_min_epi32(_mm256_max_epi32(i, a.view_min), a.view_max2);
+  i0 = i;
+  s1 = _mm256_sub_ps(p, _mm256_cvtepi32_ps(i));
+}
+
+// bilinear() on 8 lanes: the four corners gathered, the same nested lerps as fused multiply-adds
+// (what the compiler contracts the scalar a + s (b - a) to).
+struct GatherView {
+  const float* base;  // element (0, 0) of the view's coordinates, as an offset from data()
+  __m256i stride;
+  int stride_i;
+  explicit GatherView(const View<const float>& q)
+      : base(q.data()),
+        stride(_mm256_set1_epi32(int(q.stride()))),
+        stride_i(int(q.stride())),
+        origin_(q.box().min) {}
+  __m256 at(__m256i i0, __m256i j0, __m256 s1, __m256 t1) const {
+    const __m256i idx = _mm256_add_epi32(
+        _mm256_mullo_epi32(_mm256_sub_epi32(j0, _mm256_set1_epi32(origin_.y)), stride),
+        _mm256_sub_epi32(i0, _mm256_set1_epi32(origin_.x)));
+    const __m256 r00 = _mm256_i32gather_ps(base, idx, 4);
+    const __m256 r01 = _mm256_i32gather_ps(base + 1, idx, 4);
+    const __m256 r10 = _mm256_i32gather_ps(base + stride_i, idx, 4);
+    const __m256 r11 = _mm256_i32gather_ps(base + stride_i + 1, idx, 4);
+    const __m256 low = _mm256_fmadd_ps(s1, _mm256_sub_ps(r01, r00), r00);
+    const __m256 high = _mm256_fmadd_ps(s1, _mm256_sub_ps(r11, r10), r10);
+    return _mm256_fmadd_ps(t1, _mm256_sub_ps(high, low), low);
+  }
+
+ private:
+  Int2 origin_;
+};
+#endif
+
+}  // namespace
+
+void advect_fields(View<const float> u, View<const float> v, std::span<const View<const float>> q0,
+                   std::span<const View<float>> q, Box2 region, const AdvectParams& params) {
+  ARDCELL_CHECK(q0.size() == q.size() && q0.size() <= std::size_t(kMaxAdvectFields),
+                "advect_fields: one output per input, at most kMaxAdvectFields");
+  if (region.empty() || q0.empty()) return;
+  Box2 b = u.box().intersected(v.box());
+  for (const View<const float>& f : q0) {
+    ARDCELL_CHECK(f.box() == q0[0].box(), "advect_fields: every source field needs one box");
+    b = b.intersected(f.box());
+  }
+  ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
+  const AxisLimits ax = axis_limits(b.min.x, b.max.x, params.domain.x, params.periodic);
+  const AxisLimits ay = axis_limits(b.min.y, b.max.y, params.domain.y, params.periodic);
+  const float k = params.dt_over_h;
+  const std::size_t nf = q0.size();
+#if defined(ARDCELL_ADVECT_AVX2)
+  const bool vector = !ax.wrap && !ay.wrap;
+  const AxisLanes lx(ax), ly(ay);
+  const GatherView gu(u), gv(v);
+  std::array<GatherView, kMaxAdvectFields> gq{gu, gu, gu, gu};
+  for (std::size_t i = 0; i < nf; ++i) gq[i] = GatherView(q0[i]);
+  const __m256 half_k = _mm256_set1_ps(0.5f * k), kk = _mm256_set1_ps(k);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+#endif
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* ur = u.row(y);
+    const float* vr = v.row(y);
+    int x = region.min.x;
+#if defined(ARDCELL_ADVECT_AVX2)
+    if (vector) {
+      const __m256 fy = _mm256_set1_ps(float(y));
+      for (; x + 8 <= region.max.x; x += 8) {
+        const __m256 fx = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), lane));
+        __m256i mi, mj, i0, j0;
+        __m256 ms, mt, s1, t1;
+        locate8(lx, _mm256_fnmadd_ps(half_k, _mm256_loadu_ps(ur + x), fx), mi, ms);
+        locate8(ly, _mm256_fnmadd_ps(half_k, _mm256_loadu_ps(vr + x), fy), mj, mt);
+        const __m256 um = gu.at(mi, mj, ms, mt), vm = gv.at(mi, mj, ms, mt);
+        locate8(lx, _mm256_fnmadd_ps(kk, um, fx), i0, s1);
+        locate8(ly, _mm256_fnmadd_ps(kk, vm, fy), j0, t1);
+        for (std::size_t i = 0; i < nf; ++i)
+          _mm256_storeu_ps(q[i].row(y) + x, gq[i].at(i0, j0, s1, t1));
+      }
+    }
+#endif
+    for (; x < region.max.x; ++x) {
+      Sample s;
+      back_trace(u, v, ax, ay, k, x, y, ur[x], vr[x], s);
+      for (std::size_t i = 0; i < nf; ++i) q[i].row(y)[x] = bilinear(q0[i], s);
     }
   }
 }

@@ -9,6 +9,8 @@
 // Reads q0, u and v over the region grown by ceil(dt/h |u|max) + 1 cells. Every sample is also
 // clamped to the views, so an undersized tile halo gives a clamped answer, never an
 // out-of-bounds read.
+#include <span>
+
 #include "runtime/field.h"
 
 namespace ardcell {
@@ -27,6 +29,18 @@ void advect_scalar(View<const float> q0, View<const float> u, View<const float> 
 // alias inputs.
 void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, View<float> v,
                      Box2 region, const AdvectParams& params);
+
+// Several scalars carried by one velocity: q[i] = q0[i] at x - dt (u, v)(x - dt/2 (u, v)(x)),
+// the back-trace and its bilinear weights computed once per cell and applied to every field.
+// Bit for bit the same as advect_scalar(q0[i], u, v, q[i]) for each i when all q0 views have
+// one box (the clamps depend on the views' common box); with q0 = {u, v} and outputs {u', v'}
+// it is advect_velocity. Vectorised (AVX2 gathers, 8 cells at a time) where the build targets
+// AVX2 and FMA and the domain is not periodic; the arithmetic is the scalar kernel's, operation
+// for operation, so both paths agree exactly. At most kMaxAdvectFields fields; outputs must not
+// alias inputs.
+inline constexpr int kMaxAdvectFields = 4;
+void advect_fields(View<const float> u, View<const float> v, std::span<const View<const float>> q0,
+                   std::span<const View<float>> q, Box2 region, const AdvectParams& params);
 
 // The same for a scalar carried by the MAC face velocities of the projection
 // (kernels/project.h face_velocities): uf(i, j) on the face between cells (i-1, j) and (i, j),
