@@ -5,10 +5,19 @@
 // sweep-by-sweep minimum traffic of host/table1.h, so GPU figures compare with the device's
 // bandwidth).
 //
+// Table1Ratio/opencl-<schedule>/<fluid|ard>/<N>: the threads back end (Table1Workload, same
+// schedule) and the OpenCL frame ALTERNATELY, one frame each per iteration, in this one process,
+// so both see the same machine load (the machine running the bench may be shared). Counters:
+// threads_ms, opencl_ms (mean per frame), ratio = opencl_ms / threads_ms, and u_rel_diff (the
+// two velocity fields' relative max-norm difference after the run).
+//
 // The device: ARDCELL_CL_DEVICE=N (as `--cl-device N`, see `ardcell devices`), else the first
 // GPU, else the first device. Without OpenCL the rows report an error and the program exits 0.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <sstream>
@@ -38,17 +47,28 @@ Device& device() {
   return d;
 }
 
-void run_table1(benchmark::State& state, ClSchedule schedule, bool rd, int n) {
+// The device, or null after marking the row skipped.
+Device* device_or_skip(benchmark::State& state) {
   Device& d = device();
-  if (!d.cl) {
-    state.SkipWithError(("no OpenCL: " + d.error).c_str());
-    return;
-  }
+  if (d.cl) return &d;
+  state.SkipWithError(("no OpenCL: " + d.error).c_str());
+  return nullptr;
+}
+
+Table1Options table1_options(int n, bool rd, Table1Schedule schedule) {
   Table1Options o;
   o.n = n;
   o.rd = rd;
-  o.schedule = Table1Schedule::kSerial;
-  const Table1Workload initial(o);  // initial conditions only; never stepped
+  o.schedule = schedule;
+  return o;
+}
+
+void run_table1(benchmark::State& state, ClSchedule schedule, bool rd, int n) {
+  Device* dp = device_or_skip(state);
+  if (!dp) return;
+  Device& d = *dp;
+  const Table1Workload initial(
+      table1_options(n, rd, Table1Schedule::kSerial));  // initial conditions only; never stepped
   OpenClStamFrame frame(*d.cl, table1_cl_params({n, n}, rd), schedule);
   table1_cl_upload(initial, frame);
   frame.step();  // warm-up: first launches compile the work-group functions on some drivers
@@ -61,6 +81,47 @@ void run_table1(benchmark::State& state, ClSchedule schedule, bool rd, int n) {
   state.counters["fps"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
   state.counters["bytes_per_s"] =
       benchmark::Counter(frames * initial.bytes_per_frame(), benchmark::Counter::kIsRate);
+  state.SetLabel(d.ctx->device().device_name);
+}
+
+void run_ratio(benchmark::State& state, ClSchedule schedule, bool rd, int n) {
+  Device* dp = device_or_skip(state);
+  if (!dp) return;
+  Device& d = *dp;
+  Table1Workload threads(table1_options(
+      n, rd, schedule == ClSchedule::kStream ? Table1Schedule::kStream : Table1Schedule::kBlocked));
+  OpenClStamFrame frame(*d.cl, table1_cl_params({n, n}, rd), schedule);
+  table1_cl_upload(threads, frame);
+  threads.step();  // warm-up of both
+  frame.step();
+  frame.finish();
+  using Clock = std::chrono::steady_clock;
+  double threads_s = 0, opencl_s = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    threads.step();
+    const auto t1 = Clock::now();
+    frame.step();
+    frame.finish();
+    const auto t2 = Clock::now();
+    threads_s += std::chrono::duration<double>(t1 - t0).count();
+    opencl_s += std::chrono::duration<double>(t2 - t1).count();
+  }
+  const double frames = double(state.iterations());
+  state.counters["threads_ms"] = 1e3 * threads_s / frames;
+  state.counters["opencl_ms"] = 1e3 * opencl_s / frames;
+  state.counters["ratio"] = opencl_s / threads_s;
+  // Both ran the same frames from the same state: the velocity's normwise relative max-norm
+  // difference shows the OpenCL rows computed the same thing.
+  FieldF u(threads.u().size(), threads.u().halo());
+  frame.download(ClField::kU, u);
+  double diff = 0, ref = 0;
+  for (int y = 0; y < u.ny(); ++y)
+    for (int x = 0; x < u.nx(); ++x) {
+      diff = std::max(diff, std::abs(double(u(x, y)) - double(threads.u()(x, y))));
+      ref = std::max(ref, std::abs(double(threads.u()(x, y))));
+    }
+  state.counters["u_rel_diff"] = diff / std::max(ref, 1e-30);
   state.SetLabel(d.ctx->device().device_name);
 }
 
@@ -90,6 +151,13 @@ void register_all() {
         benchmark::RegisterBenchmark(
             full.c_str(),
             [schedule, rd, n](benchmark::State& s) { run_table1(s, schedule, rd, n); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+        const std::string ratio = std::string("Table1Ratio/opencl-") + name +
+                                  (rd ? "/ard/" : "/fluid/") + std::to_string(n);
+        benchmark::RegisterBenchmark(
+            ratio.c_str(),
+            [schedule, rd, n](benchmark::State& s) { run_ratio(s, schedule, rd, n); })
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
       }

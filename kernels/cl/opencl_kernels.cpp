@@ -31,10 +31,17 @@ int tiles_of(Box2 region, int tw, int th) {
 
 }  // namespace
 
+ClTiling default_tiling(const OpenClDeviceInfo& device) {
+  if (device.type == "cpu" || !device.local_mem_dedicated) return ClTiling{256, 32, 1, 4};
+  return ClTiling{};
+}
+
 std::unique_ptr<OpenClKernels> OpenClKernels::create(OpenClContext& ctx, std::string* error) {
   cl_program program = build_program(ctx, error);
   if (!program) return nullptr;
-  return std::unique_ptr<OpenClKernels>(new OpenClKernels(ctx, program));
+  auto kernels = std::unique_ptr<OpenClKernels>(new OpenClKernels(ctx, program));
+  kernels->tiling_ = default_tiling(ctx.device());
+  return kernels;
 }
 
 bool OpenClKernels::prepare(OpenClContext& ctx, std::string* error) {

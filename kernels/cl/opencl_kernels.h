@@ -29,6 +29,17 @@ struct ClTiling {
   int groups_per_unit = 4;
 };
 
+// The tiling OpenClKernels starts with on a device. A GPU (on-chip __local memory): 64
+// work-items per group, each group striding over the cells of a tile, so neighbouring work-items
+// touch neighbouring cells (coalesced). A CPU (PoCL; __local emulated in cached global memory):
+// ONE work-item per group, so the group's loop over a tile row is an ordinary contiguous loop
+// that the kernel compiler vectorises, and the copy into the local store is a memcpy; bigger
+// tiles (256 x 32: two slots of two fields stay in L2) amortise the per-tile overhead. With 64
+// work-items a PoCL group runs each work-item's strided walk in turn (no vectorisation, a cache
+// line touched once per work-item): 3-4x slower than the threads back end at 1024^2, against
+// 0.5-0.8x with this choice (bench/RESULTS_OPENCL.md).
+ClTiling default_tiling(const OpenClDeviceInfo& device);
+
 class OpenClKernels {
  public:
   // The program's name in OpenClContext's cache: building it twice on one context is a no-op.

@@ -158,7 +158,9 @@ std::vector<Box2> regions_of(Int2 size) {
 template <class Body>
 void for_each_tiling(OpenClKernels& cl, Body&& body) {
   const ClTiling saved = cl.tiling();
-  for (ClTiling t : {ClTiling{64, 16, 64, 4}, ClTiling{8, 4, 64, 1}}) {
+  // 64 work-items per group (the GPU choice) and one (the CPU choice, default_tiling).
+  for (ClTiling t : {ClTiling{64, 16, 64, 4}, ClTiling{8, 4, 64, 1}, ClTiling{8, 4, 1, 1},
+                     default_tiling(cl.context().device())}) {
     cl.tiling() = t;
     SCOPED_TRACE(::testing::Message() << "tile " << t.tile_w << "x" << t.tile_h);
     body();
