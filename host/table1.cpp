@@ -409,42 +409,47 @@ void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, Fiel
     plan_->add_pass(std::move(d));
     return;
   }
-  // Divergence pass (p0 = 0 too), with the RD rider.
-  {
-    PassDesc d;
-    d.name = base + ":div";
-    const int8_t bu = add_buffer(d, &u, nullptr, 1), bv = add_buffer(d, &v, nullptr, 1);
-    const int8_t bdiv = add_buffer(d, nullptr, &f.div, 0), bp = add_buffer(d, nullptr, &f.p0, 0);
-    d.ops.push_back(map_op(divergence_kernel, p_->keep(DivParams{p_->project, bu, bv, bdiv, bp}), 0,
-                           {bdiv, bp},
-                           {{bdiv, BoundaryFill::stam(0)}, {bp, BoundaryFill::stam(0)}}));
-    if (rd_rider == 1) append_rd_block(d, f.A, f.A0, &p_->rd_a, p_->keep_alive), d.name += "+rdA";
-    if (rd_rider == 2) append_rd_block(d, f.B, f.B0, &p_->rd_b, p_->keep_alive), d.name += "+rdB";
-    plan_->add_pass(std::move(d));
-  }
-  // Pressure sweeps p0 -> p1 -> p0 ... (p0 is free after the first pass reads it).
+  // Several passes of k sweeps (stream: k = 1). The first computes the divergence over its
+  // tiles grown by k (u, v read with halo k + 1), starts from p = 0 and runs the first k sweeps;
+  // it carries the RD rider. The last runs the last sweeps one cell further (extra reach 1) and
+  // subtracts the gradient in store. Pressure iterates alternate p0 / p1.
   const int passes = (total + k - 1) / k;
-  FieldF* cur = &f.p0;
+  FieldF* cur = nullptr;
   for (int j = 1; j <= passes; ++j) {
     const int sweeps = std::min(k, total - (j - 1) * k);
+    const bool first = j == 1, last = j == passes;
     FieldF* next = cur == &f.p0 ? &f.p1 : &f.p0;
+    const int reach = last ? 1 : 0;  // cells beyond the core the last sweep leaves exact
     PassDesc d;
-    d.name = base + ":pressure";
-    const int8_t a = add_buffer(d, cur, sweeps % 2 == 0 ? next : nullptr, sweeps);
-    const int8_t b = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
-    const int8_t rhs = add_buffer(d, &f.div, nullptr, sweeps - 1);
-    d.ops.push_back(jacobi_op(&p_->pressure, a, b, rhs, sweeps, 0, 0));
+    d.name = base + (first ? ":div+pressure" : last ? ":pressure+gradient" : ":pressure");
+    int8_t a, b, rhs;
+    if (first) {
+      const int8_t bu = add_buffer(d, &u, nullptr, sweeps + reach + 1),
+                   bv = add_buffer(d, &v, nullptr, sweeps + reach + 1);
+      rhs = add_buffer(d, nullptr, &f.div, sweeps + reach);
+      a = add_buffer(d, nullptr, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
+      b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
+      d.ops.push_back(map_op(divergence_kernel, p_->keep(DivParams{p_->project, bu, bv, rhs, -1}),
+                             sweeps + reach, {rhs}, {{rhs, BoundaryFill::stam(0)}}));
+      d.ops.push_back(map_op(zero_kernel, p_->keep(ZeroParams{a}), 0, {a}, {}));
+    } else {
+      a = add_buffer(d, cur, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
+      b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
+      rhs = add_buffer(d, &f.div, nullptr, sweeps + reach - 1);
+    }
+    d.ops.push_back(jacobi_op(&p_->pressure, a, b, rhs, sweeps, reach, 0));
+    if (last) {
+      const int8_t bu = add_buffer(d, &u, &u_out, 0), bv = add_buffer(d, &v, &v_out, 0);
+      const int8_t pres = sweeps % 2 == 0 ? a : b;
+      d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, pres, bu, bv}), 0,
+                             {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+    }
+    if (first && rd_rider == 1)
+      append_rd_block(d, f.A, f.A0, &p_->rd_a, p_->keep_alive), d.name += "+rdA";
+    if (first && rd_rider == 2)
+      append_rd_block(d, f.B, f.B0, &p_->rd_b, p_->keep_alive), d.name += "+rdB";
     plan_->add_pass(std::move(d));
     cur = next;
-  }
-  {
-    PassDesc d;
-    d.name = base + ":gradient";
-    const int8_t bp = add_buffer(d, cur, nullptr, 1);
-    const int8_t bu = add_buffer(d, &u, &u_out, 0), bv = add_buffer(d, &v, &v_out, 0);
-    d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, bp, bu, bv}), 0,
-                           {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
-    plan_->add_pass(std::move(d));
   }
 }
 
@@ -478,14 +483,16 @@ void Table1Workload::build() {
   if (!one_residency) add_sources_pass(rd);
   const DiffusionSpec du{&f.u, &f.u0, &f.tu, &p_->viscosity, 1};
   const DiffusionSpec dv{&f.v, &f.v0, &f.tv, &p_->viscosity, 2};
+  const DiffusionSpec ddye{&f.dye, &f.dye0, &f.tdye, &p_->dye_diffusion, 0};
   if (one_residency) {
     // Each solve alone: three halo-20 buffers already fill a local store.
     add_diffusion("diffuse:u", {&du, 1}, true);
     add_diffusion("diffuse:v", {&dv, 1}, true);
   } else {
-    // Sweep by sweep, u and v share each pass (same tiles, one barrier).
-    const DiffusionSpec both[] = {du, dv};
-    add_diffusion("diffuse:uv", both, false);
+    // Sweep by sweep, u, v and the dye share each pass (same tiles, one barrier): the dye's
+    // diffusion reads only the dye, so dens_step's solve can run beside vel_step's.
+    const DiffusionSpec all[] = {du, dv, ddye};
+    add_diffusion("diffuse:uv+dye", all, false);
   }
   add_projection("project1", f.u0, f.v0, f.u1, f.v1, rd && !blocked ? 1 : 0);
   {
@@ -512,8 +519,7 @@ void Table1Workload::build() {
     plan_->add_pass(std::move(d));
   }
   add_projection("project2", f.u0, f.v0, f.u, f.v, rd && !blocked ? 2 : 0);
-  const DiffusionSpec ddye{&f.dye, &f.dye0, &f.tdye, &p_->dye_diffusion, 0};
-  add_diffusion("diffuse:dye", {&ddye, 1}, one_residency);
+  if (one_residency) add_diffusion("diffuse:dye", {&ddye, 1}, true);
   if (rd && blocked) {
     if (one_residency) {
       add_rd_diffusion_pass();
