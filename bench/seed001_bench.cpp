@@ -8,10 +8,17 @@
 // are rows 0 and H+1, which is what the text describes. Both are compiled with the project's
 // flags (-O3 -march=native in Release), so the compiler may vectorise the baseline too.
 //
-// Ours: ParallelGrayScott9 (host/rd_parallel_gray_scott.h): float, fused row kernel, one band
-// of rows per hardware thread, one barrier per step.
+// Ours: ParallelGrayScott9 (host/rd_parallel_gray_scott.h): float, SIMD row kernel with
+// register-shifted separable sums, one band of rows per hardware thread updated in place,
+// temporally blocked (block_steps steps per barrier).
+//
+// The machine is shared: quote medians of --benchmark_repetitions and `uptime`. The
+// baselines are single-threaded, so their CPU time is their idle-machine time.
 #include <benchmark/benchmark.h>
 
+#include <time.h>
+
+#include <chrono>
 #include <cmath>
 #include <thread>
 
@@ -61,17 +68,41 @@ BENCHMARK(BM_Seed001_ArticleBaselineGenericX86_2000Steps)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 
+double thread_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+double process_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+double wall_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Time column: wall clock. cpu_per_thread_ms: the process's CPU time over the run divided by
+// the thread count, i.e. what the wall time would be on otherwise idle cores with perfect
+// overlap (the machine is shared, so the wall clock of 2 threads includes time spent
+// descheduled).
 void BM_Seed001_Ours_2000Steps(benchmark::State& state) {
   const int threads = int(state.range(0));
   ardcell::ParallelGrayScott9 sim({400, 400}, {}, threads);
+  double cpu = 0;
   for (auto _ : state) {
     state.PauseTiming();
     sim.seed_square();
     state.ResumeTiming();
+    const double c0 = process_cpu_s();
     sim.run(2000);
+    cpu += process_cpu_s() - c0;
     benchmark::DoNotOptimize(sim.b()(200, 200));
   }
   state.counters["threads"] = sim.threads();
+  state.counters["block_steps"] = sim.block_steps();
+  state.counters["cpu_per_thread_ms"] =
+      1e3 * cpu / double(sim.threads()) / double(state.iterations());
   state.counters["cells_per_s"] = benchmark::Counter(
       400.0 * 400.0 * 2000.0 * double(state.iterations()), benchmark::Counter::kIsRate);
 }
@@ -81,6 +112,36 @@ BENCHMARK(BM_Seed001_Ours_2000Steps)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0)
     ->UseRealTime();
+
+// The ratio in one place: each iteration runs the article's loop (-O3 -march=native, thread
+// CPU time, single-threaded) and ours on every core back to back, so that both see the same
+// machine load. ratio_cpu: baseline / ours' CPU per thread; ratio_wall: baseline / ours'
+// wall clock.
+void BM_Seed001_Ratio(benchmark::State& state) {
+  ardcell::ParallelGrayScott9 sim({400, 400}, {}, 0);
+  double base = 0, ours_cpu = 0, ours_wall = 0;
+  for (auto _ : state) {
+    article::init();
+    const double b0 = thread_cpu_s();
+    for (int i = 0; i < 2000; ++i) article::update();
+    base += thread_cpu_s() - b0;
+    benchmark::DoNotOptimize(article::table[article::curT][1][200][200]);
+    sim.seed_square();
+    const double c0 = process_cpu_s(), w0 = wall_s();
+    sim.run(2000);
+    ours_cpu += (process_cpu_s() - c0) / double(sim.threads());
+    ours_wall += wall_s() - w0;
+    benchmark::DoNotOptimize(sim.b()(200, 200));
+  }
+  const double n = double(state.iterations());
+  state.counters["baseline_ms"] = 1e3 * base / n;
+  state.counters["ours_cpu_per_thread_ms"] = 1e3 * ours_cpu / n;
+  state.counters["ours_wall_ms"] = 1e3 * ours_wall / n;
+  state.counters["ratio_cpu"] = base / ours_cpu;
+  state.counters["ratio_wall"] = base / ours_wall;
+  state.counters["threads"] = sim.threads();
+}
+BENCHMARK(BM_Seed001_Ratio)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 // Agreement of the two programs after 2000 steps (float vs double): max |B_ours - B_article|.
 void BM_Seed001_Agreement(benchmark::State& state) {

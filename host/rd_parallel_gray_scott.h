@@ -1,13 +1,21 @@
 #pragma once
-// Seed 001's explicit Gray-Scott (9-point Laplacian, periodic) on every core: the grid is cut
-// into bands of rows, one per thread. Each thread advances its band kBlockSteps steps at a
-// time by a wavefront (temporal blocking): level l's row y is computed as soon as level l-1's
-// rows y-1..y+1 exist, in a ring of 4 rows per level that stays in L1/L2, so the global
-// fields are read and written once per block instead of once per step; the band's halo
-// (kBlockSteps rows each side) is recomputed redundantly. All threads meet at one barrier per
-// block. Rows are float, contiguous and aligned, so the row kernel vectorises. The result is
-// bit-identical to stepping one step at a time (the same row kernel on the same inputs).
+// Seed 001's explicit Gray-Scott (9-point Laplacian, periodic) on every core. Reads halo 1.
+//   A' = A + DA L9(A) + dt (F (1 - A) - A B^2),  B' = B + DB L9(B) + dt (A B^2 - (F + k) B)
+//   L9 = 0.05 S - 1.8 c with S the separable (1 4 1) x (1 4 1) sum (seed 001's rewrite).
+// Schedule: the grid is cut into bands of rows, one per thread, updated in place. Each thread
+// advances its band block_steps steps at a time by a wavefront (temporal blocking): level l's
+// row y is computed as soon as level l-1's rows y-1..y+1 exist, in a ring of 3 rows per level,
+// so a band (about 690 KiB for 400^2 on 2 threads) stays in L2 and the rows in flight in L1;
+// the band's halo (block_steps rows each side, read from copies the neighbours publish before
+// the barrier) is recomputed redundantly. All threads meet at one barrier per block. The row
+// kernel forms each vertical (1 4 1) sum once per SIMD vector and shifts it in registers for
+// the horizontal pass. Every schedule (threads, block_steps) gives the same bits as stepping
+// one step at a time with that row kernel; it differs from the double-precision article loop
+// by float rounding only.
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <vector>
 
 #include "kernels/explicit_rd.h"
 #include "runtime/field.h"
@@ -16,15 +24,19 @@ namespace ardcell {
 
 class ParallelGrayScott9 {
  public:
-  static constexpr int kBlockSteps = 8;
+  // Steps per residency; measured best on Zen 4 (deeper blocks spill the ring out of L1).
+  static constexpr int kBlockSteps = 2;
 
-  // threads <= 0: one per hardware thread.
-  ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads = 0);
+  // threads <= 0: one per hardware thread. block_steps: steps per residency (1 = plain
+  // step-by-step sweeps; any value gives the same bits), capped at the smallest band height.
+  ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads = 0,
+                     int block_steps = kBlockSteps);
 
   // The current state (halo 1). Write initial conditions into the interior, then run().
-  FieldF& a() { return a_[cur_]; }
-  FieldF& b() { return b_[cur_]; }
+  FieldF& a() { return a_; }
+  FieldF& b() { return b_; }
   int threads() const { return threads_; }
+  int block_steps() const { return block_steps_; }
 
   // Seed 001's start: A = 1, B = 0, a 10x10 square of B = 1 at the centre.
   void seed_square();
@@ -32,11 +44,42 @@ class ParallelGrayScott9 {
   void run(int64_t steps);
 
  private:
+  // Rows of floats with x = 0 64-byte aligned: kPad floats before it (the periodic ghost
+  // x = -1 is the last), then the row, its ghost x = nx and SIMD padding.
+  class RowStore {
+   public:
+    static constexpr int kPad = 16;
+    void resize(int rows, std::ptrdiff_t stride);
+    float* row(int y) { return data_.get() + y * stride_ + kPad; }
+
+   private:
+    struct Free {
+      void operator()(float* p) const { std::free(p); }
+    };
+    std::unique_ptr<float[], Free> data_;
+    std::ptrdiff_t stride_ = 0;
+  };
+
+  // One thread's rows [y0, y1), its wavefront ring and the copies of its first and last
+  // block_steps_ rows that its neighbours read as halo (two parities: the previous block's
+  // are being read while the next ones are written).
+  struct Band {
+    int y0 = 0, y1 = 0;
+    RowStore ring, edges;
+    float* edge_row(int parity, int chem, int i, int kmax);
+  };
+  void publish_edges(Band& band, int parity);
+  void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
+
   Int2 size_;
   GrayScott9Params params_;
-  int threads_;
-  FieldF a_[2], b_[2];
-  int cur_ = 0;
+  int threads_ = 1;
+  int block_steps_ = kBlockSteps;
+  FieldF a_, b_;
+  int vectors_ = 0;
+  std::ptrdiff_t stride_ = 0;
+  RowStore grid_a_, grid_b_;
+  std::vector<Band> bands_;
 };
 
 // Copies the periodic ghosts (x = -1, nx; y = -1, ny, corners included) of a halo-1 field.
