@@ -126,6 +126,158 @@ namespace {
 cl_int4 box4(Box2 b) { return {{b.min.x, b.min.y, b.max.x, b.max.y}}; }
 }  // namespace
 
+ClAnisotropyArgs cl_anisotropy_args(const AnisotropyParams& p) {
+  ClAnisotropyArgs a{};
+  a.kind = cl_int(p.kind);
+  a.isotropic_value = p.isotropic_value;
+  a.a1 = p.a1;
+  a.a2 = p.a2;
+  a.lobes = p.lobes;
+  std::copy(std::begin(p.lobe_speed), std::end(p.lobe_speed), a.lobe_speed);
+  a.samples = p.samples;
+  std::copy(std::begin(p.sample), std::end(p.sample), a.sample);
+  a.theta0 = p.theta0;
+  a.gradient_epsilon = p.gradient_epsilon;
+  return a;
+}
+static_assert(sizeof(ClAnisotropyArgs) == 4 * (8 + kMaxLobes + kMaxPolarSamples),
+              "ClAnisotropyArgs must match diffusion.cl's aniso_t");
+
+ClStencilOperator ClStencilOperator::allocate(OpenClContext& ctx, Int2 size,
+                                              BoundaryKind boundary_x, BoundaryKind boundary_y) {
+  ClStencilOperator op;
+  op.size = size;
+  op.diag = ctx.allocate_like(FieldF(size, 1));
+  op.wx = ctx.allocate_like(FieldF(Int2{size.x + 1, size.y}, 1));
+  op.wy = ctx.allocate_like(FieldF(Int2{size.x, size.y + 1}, 1));
+  op.boundary_x = boundary_x;
+  op.boundary_y = boundary_y;
+  return op;
+}
+
+void ClStencilOperator::upload(OpenClContext& ctx, const StencilOperator& op) {
+  ARDCELL_CHECK(op.size == size && op.boundary_x == boundary_x && op.boundary_y == boundary_y,
+                "device operator: size or boundaries differ from the host operator's");
+  ctx.upload(op.diag, diag);
+  ctx.upload(op.wx, wx);
+  ctx.upload(op.wy, wy);
+}
+
+void ClReactionTable::upload(OpenClContext& ctx, const ReactionTableView& table) {
+  ARDCELL_CHECK(table.data && table.n >= 2, "reaction table: empty table");
+  const std::size_t bytes = std::size_t(table.n) * std::size_t(table.n) * 2 * sizeof(float);
+  if (!data || data.bytes() != bytes) data = ctx.allocate(bytes);
+  ctx.write(data, table.data, bytes);
+  n = table.n;
+  a_lo = table.a_lo;
+  a_hi = table.a_hi;
+  b_lo = table.b_lo;
+  b_hi = table.b_hi;
+}
+
+void OpenClKernels::reaction_table(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                   DeviceField& b_out, Box2 region, const ClReactionTable& table) {
+  check_same_layout(a, b);
+  check_same_layout(a, a_out);
+  check_same_layout(a, b_out);
+  ARDCELL_CHECK(table.data && table.n >= 2, "reaction table: not uploaded");
+  if (region.empty()) return;
+  const cl_float4 range = {{table.a_lo, table.a_hi, table.b_lo, table.b_hi}};
+  cl_kernel k = kernel("reaction_table");
+  set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
+                  box4(region), table.data, table.n, range);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::conductivity(const DeviceField& a, const DeviceField* theta0, DeviceField& k,
+                                 Box2 region, const AnisotropyParams& p) {
+  check_same_layout(a, k);
+  if (theta0) check_same_layout(a, *theta0);
+  ARDCELL_CHECK(a.with_halo().contains(region.grown(1)), "conductivity reads halo 1 of A");
+  if (region.empty()) return;
+  const ClAnisotropyArgs args = cl_anisotropy_args(p);
+  cl_kernel kk = kernel("conductivity");
+  set_kernel_args(kk, a.buffer, theta0 ? theta0->buffer : a.buffer, int(theta0 != nullptr),
+                  k.buffer, a.stride, a.origin, box4(region), ByValue<ClAnisotropyArgs>{args});
+  enqueue_cells(kk, region);
+}
+
+void OpenClKernels::check_operator_layout(const ClStencilOperator& op, const DeviceField& f) const {
+  check_same_layout(op.diag, f);
+}
+
+void OpenClKernels::assemble_stencil_operator(ClStencilOperator& op, float identity, float scale,
+                                              const DeviceField* conductivity) {
+  if (conductivity) check_operator_layout(op, *conductivity);
+  const DeviceField& k = conductivity ? *conductivity : op.diag;  // unread without conductivity
+  cl_kernel kk = kernel("stencil_assemble");
+  set_kernel_args(kk, k.buffer, int(conductivity != nullptr), k.stride, k.origin, op.diag, op.wx,
+                  op.wy, op.size.x, op.size.y, int(op.boundary_x), int(op.boundary_y), identity,
+                  scale);
+  enqueue_cells(kk, Box2{{0, 0}, {op.size.x + 1, op.size.y + 1}});
+}
+
+namespace {
+int periodic_x(const ClStencilOperator& op) {
+  return int(op.boundary_x == BoundaryKind::kPeriodic);
+}
+int periodic_y(const ClStencilOperator& op) {
+  return int(op.boundary_y == BoundaryKind::kPeriodic);
+}
+}  // namespace
+
+void OpenClKernels::stencil_jacobi_sweep(const ClStencilOperator& op, const DeviceField& b,
+                                         const DeviceField& x_in, DeviceField& x_out) {
+  check_operator_layout(op, b);
+  check_operator_layout(op, x_in);
+  check_operator_layout(op, x_out);
+  ARDCELL_CHECK(x_in.buffer.get() != x_out.buffer.get(), "stencil Jacobi: x_out aliases x_in");
+  cl_kernel k = kernel("stencil_jacobi");
+  set_kernel_args(k, op.diag, op.wx, op.wy, b.buffer, x_in.buffer, x_out.buffer, op.size.x,
+                  op.size.y, periodic_x(op), periodic_y(op));
+  enqueue_cells(k, box_of_size(op.size));
+}
+
+void OpenClKernels::stencil_rbgs_half_sweep(const ClStencilOperator& op, const DeviceField& b,
+                                            DeviceField& x, int color) {
+  check_operator_layout(op, b);
+  check_operator_layout(op, x);
+  // On a periodic axis of odd length the C++ order makes the last column (row) read the new
+  // first one: extra phases keep that order (diffusion.cl).
+  const int late_x = periodic_x(op) && op.size.x % 2 == 1 && op.size.x > 1;
+  const int late_y = periodic_y(op) && op.size.y % 2 == 1 && op.size.y > 1;
+  cl_kernel k = kernel("stencil_rbgs_half");
+  for (int phase = 0; phase <= late_x + late_y; ++phase) {
+    set_kernel_args(k, op.diag, op.wx, op.wy, b.buffer, x.buffer, op.size.x, op.size.y,
+                    periodic_x(op), periodic_y(op), color, late_x, late_y, phase);
+    enqueue_cells(k, box_of_size(op.size));
+  }
+}
+
+void OpenClKernels::apply_stencil_operator(const ClStencilOperator& op, const DeviceField& x,
+                                           DeviceField& y) {
+  check_operator_layout(op, x);
+  check_operator_layout(op, y);
+  ARDCELL_CHECK(x.buffer.get() != y.buffer.get(), "apply: y aliases x");
+  cl_kernel k = kernel("stencil_apply");
+  set_kernel_args(k, op.diag, op.wx, op.wy, x.buffer, y.buffer, op.size.x, op.size.y,
+                  periodic_x(op), periodic_y(op));
+  enqueue_cells(k, box_of_size(op.size));
+}
+
+void OpenClKernels::diffusion_rhs(const DeviceField& field, const DeviceField* ax, DeviceField& rhs,
+                                  const DeviceField* conductivity, float g) {
+  check_same_layout(field, rhs);
+  if (ax) check_same_layout(field, *ax);
+  if (conductivity) check_same_layout(field, *conductivity);
+  cl_kernel k = kernel("diffusion_rhs");
+  set_kernel_args(k, field.buffer, ax ? ax->buffer : field.buffer, rhs.buffer,
+                  conductivity ? conductivity->buffer : field.buffer, int(conductivity != nullptr),
+                  field.stride, field.origin, field.size.x, field.size.y, int(ax != nullptr),
+                  int(g != 0.0f), g);
+  enqueue_cells(k, field.interior());
+}
+
 void OpenClKernels::fill_boundary(DeviceField& f, const BoundaryFill& fill) {
   const cl_int4 rules = {
       {int(fill.left.rule), int(fill.right.rule), int(fill.bottom.rule), int(fill.top.rule)}};

@@ -10,10 +10,13 @@
 #include <string>
 
 #include "kernels/advect.h"
+#include "kernels/anisotropy.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
+#include "kernels/reaction_table.h"
 #include "kernels/sources.h"
 #include "kernels/stam_sweeps.h"
+#include "kernels/stencil_operator.h"
 #include "runtime/boundary.h"
 #include "runtime/opencl/opencl_context.h"
 
@@ -40,6 +43,42 @@ struct ClTiling {
 // 0.5-0.8x with this choice (bench/RESULTS_OPENCL.md).
 ClTiling default_tiling(const OpenClDeviceInfo& device);
 
+// AnisotropyParams as diffusion.cl's aniso_t (passed by value: one kernel argument).
+struct ClAnisotropyArgs {
+  cl_int kind;
+  cl_float isotropic_value, a1, a2;
+  cl_int lobes;
+  cl_float lobe_speed[kMaxLobes];
+  cl_int samples;
+  cl_float sample[kMaxPolarSamples];
+  cl_float theta0, gradient_epsilon;
+};
+ClAnisotropyArgs cl_anisotropy_args(const AnisotropyParams& p);
+
+// A StencilOperator (kernels/stencil_operator.h) in device memory, each field with the host
+// field's layout (diag: size, wx: size + (1, 0), wy: size + (0, 1), halo 1).
+struct ClStencilOperator {
+  Int2 size{};
+  DeviceField diag, wx, wy;
+  BoundaryKind boundary_x = BoundaryKind::kNeumann;
+  BoundaryKind boundary_y = BoundaryKind::kNeumann;
+
+  static ClStencilOperator allocate(OpenClContext& ctx, Int2 size, BoundaryKind boundary_x,
+                                    BoundaryKind boundary_y);
+  // Copies a host operator of the same size and boundaries (tests; the frame assembles).
+  void upload(OpenClContext& ctx, const StencilOperator& op);
+};
+
+// A reaction table (kernels/reaction_table.h) in device memory.
+struct ClReactionTable {
+  OpenClBuffer data;  // n * n pairs (A^, B^)
+  int n = 0;
+  float a_lo = 0, a_hi = 1, b_lo = 0, b_hi = 1;
+
+  // Copies `table` in, allocating only when its size changed (a new F, k or dt: a write).
+  void upload(OpenClContext& ctx, const ReactionTableView& table);
+};
+
 class OpenClKernels {
  public:
   // The program's name in OpenClContext's cache: building it twice on one context is a no-op.
@@ -59,6 +98,29 @@ class OpenClKernels {
   // Gray-Scott). Outputs may alias inputs.
   void reaction_implicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                          DeviceField& b_out, Box2 region, const ReactionParams& p, float dt);
+
+  // Twin of reaction_table_tile (outputs may alias inputs).
+  void reaction_table(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                      DeviceField& b_out, Box2 region, const ClReactionTable& table);
+
+  // Twin of conductivity_tile (Eqns 15, 16, polar samples): k = a(theta(A) + theta0) over
+  // region. theta0 null: p.theta0 everywhere. Reads a over region grown by 1 (fill it first).
+  void conductivity(const DeviceField& a, const DeviceField* theta0, DeviceField& k, Box2 region,
+                    const AnisotropyParams& p);
+  // Twin of reassemble_stencil_operator (Eqns 13, 17/19): identity I - scale div(k grad .),
+  // k per cell averaged onto faces; conductivity null means k = 1.
+  void assemble_stencil_operator(ClStencilOperator& op, float identity, float scale,
+                                 const DeviceField* conductivity);
+  // Twins of kernels/stencil_sweeps.h (whole interior; x_out must differ from x_in).
+  void stencil_jacobi_sweep(const ClStencilOperator& op, const DeviceField& b,
+                            const DeviceField& x_in, DeviceField& x_out);
+  void stencil_rbgs_half_sweep(const ClStencilOperator& op, const DeviceField& b, DeviceField& x,
+                               int color);
+  void apply_stencil_operator(const ClStencilOperator& op, const DeviceField& x, DeviceField& y);
+  // ImplicitDiffusion::step's right-hand side: field (or 2 field - ax, Crank-Nicolson), plus
+  // the Dirichlet boundary value's flux g k on each boundary side of a cell (g = 0: none).
+  void diffusion_rhs(const DeviceField& field, const DeviceField* ax, DeviceField& rhs,
+                     const DeviceField* conductivity, float g);
 
   // Twin of fill_boundary on a whole field: the ghost ring of the domain (f.size).
   void fill_boundary(DeviceField& f, const BoundaryFill& fill);
@@ -94,6 +156,7 @@ class OpenClKernels {
   // Work-groups for `tiles` tiles, and the global size.
   std::size_t groups_for(int tiles) const;
   void check_same_layout(const DeviceField& a, const DeviceField& b) const;
+  void check_operator_layout(const ClStencilOperator& op, const DeviceField& f) const;
   // A tiled launch: persistent work-groups walk the region's tiles (common.cl).
   void enqueue_tiled(cl_kernel k, Box2 region);
   // One work-item per cell of region (2D), for gathers and halo-0 kernels.

@@ -252,3 +252,32 @@ __kernel void reaction_implicit(__global const float* a, __global const float* b
     barrier(CLK_LOCAL_MEM_FENCE);  // the slot is refilled by the next iteration's prefetch
   }
 }
+
+// Twin of kernels/reaction_table.h: the implicit reaction read from a precomputed table,
+// bilinearly (reaction_table_lookup, float arithmetic in its order). table: n * n pairs
+// (A^, B^), row-major in B; range: (a_lo, a_hi, b_lo, b_hi). Halo 0, one work-item per cell;
+// outputs may alias the inputs. The table is a buffer uploaded once per (model, dt) and its
+// range and size are arguments: a new table is a buffer write, never a rebuild.
+__kernel void reaction_table(__global const float* a, __global const float* b,
+                             __global float* a_out, __global float* b_out, int stride, int origin,
+                             int4 reg, __global const float* table, int n, float4 range) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  const float top = (float)(n - 1);
+  const float sx = top / (range.s1 - range.s0), sy = top / (range.s3 - range.s2);
+  float fx = (a[g] - range.s0) * sx, fy = (b[g] - range.s2) * sy;
+  fx = fx < 0 ? 0 : (fx > top ? top : fx);
+  fy = fy < 0 ? 0 : (fy > top ? top : fy);
+  int i = (int)fx, j = (int)fy;
+  if (i > n - 2) i = n - 2;
+  if (j > n - 2) j = n - 2;
+  const float u = fx - (float)i, v = fy - (float)j;
+  __global const float* p00 = table + (j * n + i) * 2;
+  __global const float* p01 = p00 + n * 2;
+  const float w00 = (1 - u) * (1 - v), w10 = u * (1 - v), w01 = (1 - u) * v, w11 = u * v;
+  const float a_hat = w00 * p00[0] + w10 * p00[2] + w01 * p01[0] + w11 * p01[2];
+  const float b_hat = w00 * p00[1] + w10 * p00[3] + w01 * p01[1] + w11 * p01[3];
+  a_out[g] = a_hat;
+  b_out[g] = b_hat;
+}

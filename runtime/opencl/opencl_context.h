@@ -159,6 +159,17 @@ requires(std::is_same_v<T, cl_float4> || std::is_same_v<T, cl_int4> ||
          std::is_same_v<T, cl_int2>) void set_one_arg(cl_kernel k, cl_uint& i, const T& v) {
   opencl_check(clSetKernelArg(k, i++, sizeof(T), &v), "clSetKernelArg(vector)");
 }
+// A plain struct by value, for an OpenCL C struct argument of the same layout (4-byte members
+// only, so no padding differs between the host and device compilers).
+template <class T>
+struct ByValue {
+  const T& value;
+};
+template <class T>
+void set_one_arg(cl_kernel k, cl_uint& i, ByValue<T> v) {
+  static_assert(std::is_trivially_copyable_v<T> && alignof(T) == 4);
+  opencl_check(clSetKernelArg(k, i++, sizeof(T), &v.value), "clSetKernelArg(struct)");
+}
 // __local scratch of n bytes.
 struct LocalBytes {
   std::size_t bytes;
@@ -173,6 +184,7 @@ void set_one_arg(cl_kernel k, cl_uint& i, T v) {
 }
 }  // namespace detail
 
+using detail::ByValue;
 using detail::LocalBytes;
 
 template <class... Args>

@@ -13,11 +13,17 @@
 #include <string>
 
 #include "kernels/advect.h"
+#include "kernels/aniso_diffusion.h"
+#include "kernels/anisotropy.h"
+#include "kernels/cl/opencl_diffusion.h"
 #include "kernels/cl/opencl_kernels.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
+#include "kernels/reaction_table.h"
 #include "kernels/sources.h"
 #include "kernels/stam_sweeps.h"
+#include "kernels/stencil_operator.h"
+#include "kernels/stencil_sweeps.h"
 #include "runtime/boundary.h"
 
 namespace ardcell {
@@ -57,21 +63,26 @@ void fill_smooth(FieldF& f, float mean, float amplitude, float phase) {
                                  std::cos(two_pi * double(y) / f.ny() + phase));
 }
 
-// Normwise relative max-norm error over `region`; also checks every cell outside it is
-// bit-identical to `before`.
-double relative_error(const FieldF& cl, const FieldF& cpp, const FieldF& before, Box2 region) {
+// Normwise relative max-norm error over `region`.
+double region_error(const FieldF& cl, const FieldF& cpp, Box2 region) {
   double diff = 0, ref = 0;
+  for (int y = region.min.y; y < region.max.y; ++y)
+    for (int x = region.min.x; x < region.max.x; ++x) {
+      diff = std::max(diff, std::abs(double(cl(x, y)) - double(cpp(x, y))));
+      ref = std::max(ref, std::abs(double(cpp(x, y))));
+    }
+  return diff / std::max(ref, 1e-30);
+}
+
+// region_error; also checks every cell outside `region` is bit-identical to `before`.
+double relative_error(const FieldF& cl, const FieldF& cpp, const FieldF& before, Box2 region) {
   for (int y = -cl.halo(); y < cl.ny() + cl.halo(); ++y)
-    for (int x = -cl.halo(); x < cl.nx() + cl.halo(); ++x) {
-      if (region.contains(Int2{x, y})) {
-        diff = std::max(diff, std::abs(double(cl(x, y)) - double(cpp(x, y))));
-        ref = std::max(ref, std::abs(double(cpp(x, y))));
-      } else if (cl(x, y) != before(x, y)) {
+    for (int x = -cl.halo(); x < cl.nx() + cl.halo(); ++x)
+      if (!region.contains(Int2{x, y}) && cl(x, y) != before(x, y)) {
         ADD_FAILURE() << "cell (" << x << ", " << y << ") outside " << region << " was written";
         return 1.0;
       }
-    }
-  return diff / std::max(ref, 1e-30);
+  return region_error(cl, cpp, region);
 }
 
 struct ReactionCase {
@@ -147,7 +158,7 @@ TEST(ClParity, ParameterChangesAreArgumentsNotRebuilds) {
 
 // ---- Fluid kernels and boundary fills -------------------------------------------------------
 
-const Int2 kSizes[] = {{37, 23}, {129, 65}, {5, 3}};
+const Int2 kSizes[] = {{37, 23}, {127, 93}, {129, 65}, {5, 3}};
 
 std::vector<Box2> regions_of(Int2 size) {
   return {box_of_size(size), Box2{{1, size.y / 3}, {size.x - 1, size.y}}};
@@ -353,6 +364,232 @@ TEST(ClParity, SourcesAndSplats) {
       d.cl->add_splat(dx, region, splat);
       EXPECT_LE(relative_error(dev.down(dx), x_ref, x, region), kTolerance) << size << region;
     }
+}
+
+// ---- Reaction-diffusion: the table reaction, anisotropy (Eqns 15, 16, polar), the Eqn 17/19
+// operator, its Jacobi and red-black sweeps, and the whole implicit diffusion step.
+
+const Int2 kRdSizes[] = {{127, 93}, {6, 5}, {1, 1}};
+const BoundaryKind kBoundaryKinds[] = {BoundaryKind::kPeriodic, BoundaryKind::kNeumann,
+                                       BoundaryKind::kDirichlet};
+
+TEST(ClParity, ReactionTableEveryModel) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  ClReactionTable table_cl;
+  for (const ReactionCase& rc : reaction_cases()) {
+    SCOPED_TRACE(std::string(reaction_model_name(rc.params.model)));
+    const ReactionTable table(rc.params, rc.dt, typical_range(rc.params), 33);
+    table_cl.upload(*d.ctx, table.view());
+    for (Int2 size : {Int2{127, 93}, Int2{5, 3}})
+      for (const Box2& region : regions_of(size)) {
+        // Inputs reach past the table's range (clamped there).
+        const ConcentrationBox r = typical_range(rc.params);
+        const double pad_a = 0.1 * (r.a_hi - r.a_lo), pad_b = 0.1 * (r.b_hi - r.b_lo);
+        FieldF a(size, 1), b(size, 1);
+        fill_random(a, float(r.a_lo - pad_a), float(r.a_hi + pad_a), 30);
+        fill_random(b, float(r.b_lo - pad_b), float(r.b_hi + pad_b), 31);
+        FieldF a_ref = a, b_ref = b;
+        reaction_table_tile(a.view(), b.view(), a_ref.view(), b_ref.view(), region, table.view());
+        DeviceField da = dev.up(a), db = dev.up(b);
+        d.cl->reaction_table(da, db, da, db, region, table_cl);  // in place, as a frame runs it
+        EXPECT_LE(relative_error(dev.down(da), a_ref, a, region), kTolerance) << size << region;
+        EXPECT_LE(relative_error(dev.down(db), b_ref, b, region), kTolerance) << size << region;
+      }
+  }
+}
+
+std::vector<std::pair<const char*, AnisotropyParams>> every_anisotropy() {
+  AnisotropyParams iso;
+  iso.kind = AnisotropyKind::kIsotropic;
+  iso.isotropic_value = 0.7f;
+  AnisotropyParams wk;
+  wk.kind = AnisotropyKind::kWitkinKass;
+  wk.a1 = 1.0f;
+  wk.a2 = 0.2f;
+  wk.theta0 = 0.3f;
+  AnisotropyParams one_lobe;
+  one_lobe.kind = AnisotropyKind::kCosineLobes;
+  one_lobe.lobes = 1;
+  one_lobe.lobe_speed[0] = 0.9f;
+  AnisotropyParams five_lobes = one_lobe;
+  five_lobes.lobes = 5;
+  for (int n = 0; n < 5; ++n) five_lobes.lobe_speed[n] = 0.2f * float(n + 1);
+  five_lobes.theta0 = -2.0f;
+  AnisotropyParams polar;
+  polar.kind = AnisotropyKind::kPolarSamples;
+  polar.samples = 7;
+  for (int i = 0; i < 7; ++i) polar.sample[i] = 0.1f + 0.15f * float(i);
+  return {{"isotropic", iso},
+          {"witkin-kass", wk},
+          {"one lobe", one_lobe},
+          {"five lobes", five_lobes},
+          {"polar", polar}};
+}
+
+// A smooth field with a flat block (zero gradient: theta = 0 there), halo filled.
+FieldF chemical(Int2 size) {
+  FieldF a(size, 1);
+  fill_smooth(a, 0.5f, 0.4f, 0.7f);
+  for (int y = size.y / 4; y < size.y / 2; ++y)
+    for (int x = size.x / 4; x < size.x / 2; ++x) a(x, y) = 0.25f;
+  return a;
+}
+
+TEST(ClParity, ConductivityEveryAnisotropy) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (Int2 size : kRdSizes)
+    for (const Box2& region : {box_of_size(size), Box2{{size.x / 3, 0}, {size.x, size.y / 2}}})
+      for (const auto& [name, params] : every_anisotropy())
+        for (bool per_cell : {false, true}) {
+          SCOPED_TRACE(::testing::Message() << name << (per_cell ? " theta0 field" : ""));
+          const FieldF a = chemical(size);
+          FieldF theta0(size, 1), k(size, 1);
+          fill_random(theta0, -4.0f, 8.0f, 32);  // beyond [0, 2 pi): wrapped
+          fill_random(k, -1, 1, 33);
+          FieldF k_ref = k;
+          conductivity_tile(a.view(), per_cell ? theta0.view() : View<const float>{}, k_ref.view(),
+                            region, params);
+          DeviceField da = dev.up(a), dtheta0 = dev.up(theta0), dk = dev.up(k);
+          d.cl->conductivity(da, per_cell ? &dtheta0 : nullptr, dk, region, params);
+          EXPECT_LE(relative_error(dev.down(dk), k_ref, k, region), kTolerance) << size << region;
+        }
+}
+
+TEST(ClParity, StencilOperatorAssemblyEveryBoundary) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (Int2 size : kRdSizes)
+    for (BoundaryKind bx : kBoundaryKinds)
+      for (BoundaryKind by : kBoundaryKinds)
+        for (bool with_k : {false, true})
+          for (auto [identity, scale] : {std::pair{1.0f, 0.37f}, std::pair{0.0f, 1.0f}}) {
+            SCOPED_TRACE(::testing::Message() << size << " boundaries " << int(bx) << int(by)
+                                              << (with_k ? " k" : "") << " identity " << identity);
+            FieldF k(size, 1);
+            fill_random(k, 0.1f, 2.0f, 34);
+            const StencilOperator ref =
+                assemble_stencil_operator(size, identity, scale, with_k ? &k : nullptr, bx, by);
+            ClStencilOperator op = ClStencilOperator::allocate(*d.ctx, size, bx, by);
+            const DeviceField dk = dev.up(k);
+            d.cl->assemble_stencil_operator(op, identity, scale, with_k ? &dk : nullptr);
+            EXPECT_LE(region_error(dev.down(op.diag), ref.diag, ref.diag.interior()), kTolerance);
+            EXPECT_LE(region_error(dev.down(op.wx), ref.wx, ref.wx.interior()), kTolerance);
+            EXPECT_LE(region_error(dev.down(op.wy), ref.wy, ref.wy.interior()), kTolerance);
+          }
+}
+
+// On the same (host-assembled) operator: one Jacobi sweep, y = A x, and three red-black sweeps
+// (127 x 93 is odd both ways: periodic edges then couple cells of one colour).
+TEST(ClParity, StencilJacobiRedBlackAndApplyEveryBoundary) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (Int2 size : kRdSizes)
+    for (BoundaryKind bx : kBoundaryKinds)
+      for (BoundaryKind by : kBoundaryKinds) {
+        SCOPED_TRACE(::testing::Message() << size << " boundaries " << int(bx) << int(by));
+        FieldF k(size, 1), b(size, 1), x(size, 1), out(size, 1);
+        fill_random(k, 0.1f, 2.0f, 35);
+        fill_random(b, -1, 1, 36);
+        fill_random(x, -1, 1, 37);
+        fill_random(out, -1, 1, 38);
+        const StencilOperator op = assemble_stencil_operator(size, 1.0, 0.8, &k, bx, by);
+        ClStencilOperator dop = ClStencilOperator::allocate(*d.ctx, size, bx, by);
+        dop.upload(*d.ctx, op);
+        const DeviceField db = dev.up(b), dx = dev.up(x);
+
+        FieldF jac = out;
+        stencil::jacobi_sweep(op, b, x, jac);
+        DeviceField dout = dev.up(out);
+        d.cl->stencil_jacobi_sweep(dop, db, dx, dout);
+        EXPECT_LE(relative_error(dev.down(dout), jac, out, box_of_size(size)), kTolerance);
+
+        FieldF ax = out;
+        apply_stencil_operator(op, x, ax);
+        DeviceField dax = dev.up(out);
+        d.cl->apply_stencil_operator(dop, dx, dax);
+        EXPECT_LE(relative_error(dev.down(dax), ax, out, box_of_size(size)), kTolerance);
+
+        FieldF rb = x;
+        DeviceField drb = dev.up(x);
+        for (int sweep = 0; sweep < 3; ++sweep) {
+          stencil::rbgs_sweep(op, b, rb);
+          d.cl->stencil_rbgs_half_sweep(dop, db, drb, 0);
+          d.cl->stencil_rbgs_half_sweep(dop, db, drb, 1);
+        }
+        EXPECT_LE(relative_error(dev.down(drb), rb, x, box_of_size(size)), kTolerance);
+      }
+}
+
+// The whole implicit step, conductivity included: ImplicitDiffusion (Jacobi or red-black, fixed
+// sweeps) against OpenClDiffusion fed by the conductivity kernel.
+TEST(ClParity, ImplicitDiffusionStepIsotropicAndAnisotropic) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  AnisotropyParams wk;
+  wk.kind = AnisotropyKind::kWitkinKass;
+  wk.a1 = 1.0f;
+  wk.a2 = 0.1f;
+  for (Int2 size : {Int2{127, 93}, Int2{6, 5}})
+    for (BoundaryKind boundary : kBoundaryKinds)
+      for (SolverKind kind : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel})
+        for (bool crank : {false, true})
+          for (bool anisotropic : {false, true}) {
+            SCOPED_TRACE(::testing::Message()
+                         << size << " boundary " << int(boundary) << " " << solver_kind_name(kind)
+                         << (crank ? " CN" : "") << (anisotropic ? " witkin-kass" : " isotropic"));
+            const DiffusionStep step{2.5, 0.3f, crank};
+            FieldF a = chemical(size);
+            fill_boundary(a.view(), size,
+                          boundary == BoundaryKind::kPeriodic  ? BoundaryFill::periodic()
+                          : boundary == BoundaryKind::kNeumann ? BoundaryFill::copy()
+                                                               : BoundaryFill::fixed(0.3f));
+            FieldF k(size, 1);
+            conductivity_tile(a.view(), {}, k.view(), a.interior(), wk);
+            const SolverSettings solver{kind, 12, 0.0};
+            ImplicitDiffusion cpu(size, boundary, solver);
+            FieldF ref = a;
+            cpu.step(ref, anisotropic ? &k : nullptr, step);
+
+            OpenClDiffusion gpu(*d.cl, size, boundary, solver);
+            DeviceField da = dev.up(a), dk = dev.up(FieldF(size, 1));
+            d.cl->conductivity(da, nullptr, dk, a.interior(), wk);
+            gpu.step(da, anisotropic ? &dk : nullptr, step);
+            EXPECT_LE(relative_error(dev.down(da), ref, a, a.interior()), kTolerance);
+          }
+}
+
+// Every RD parameter is a kernel argument or a buffer write: none rebuilds the program.
+TEST(ClParity, RdParameterChangesRebuildNothing) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  const Int2 size{40, 9};
+  DeviceField a = dev.up(chemical(size)), b = dev.up(chemical(size)), k = dev.up(FieldF(size, 1));
+  const int builds = d.ctx->build_count();
+  ClReactionTable table;
+  OpenClDiffusion diffusion(*d.cl, size, BoundaryKind::kNeumann, {SolverKind::kJacobi, 4, 0.0});
+  for (const auto& [name, params] : every_anisotropy()) {
+    d.cl->conductivity(a, nullptr, k, box_of_size(size), params);
+    for (float rate : {0.5f, 2.0f}) diffusion.step(a, &k, DiffusionStep{rate, 0.0f, false});
+  }
+  diffusion.set_sweeps(9);
+  diffusion.step(a, nullptr, DiffusionStep{1.0, 0.0f, true});
+  for (float F : {0.03f, 0.05f}) {
+    ReactionParams p;
+    p.F = F;
+    const ReactionTable t(p, 1.0, typical_range(p), 8);
+    table.upload(*d.ctx, t.view());
+    d.cl->reaction_table(a, b, a, b, box_of_size(size), table);
+  }
+  d.ctx->finish();
+  EXPECT_EQ(d.ctx->build_count(), builds);
 }
 
 }  // namespace

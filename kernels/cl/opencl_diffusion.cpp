@@ -1,0 +1,71 @@
+#if defined(ARDCELL_WITH_OPENCL)
+#include "kernels/cl/opencl_diffusion.h"
+
+#include <utility>
+
+namespace ardcell {
+
+OpenClDiffusion::OpenClDiffusion(OpenClKernels& cl, Int2 size, BoundaryKind boundary,
+                                 const SolverSettings& solver)
+    : cl_(cl), kind_(solver.kind), sweeps_(solver.max_iterations) {
+  ARDCELL_CHECK(size.x > 0 && size.y > 0, "OpenCL diffusion: size must be positive");
+  ARDCELL_CHECK((kind_ == SolverKind::kJacobi || kind_ == SolverKind::kRedBlackGaussSeidel) &&
+                    solver.tolerance == 0.0,
+                "OpenCL diffusion: the solver must be jacobi or rbgs with fixed sweeps "
+                "(tolerance 0)");
+  ARDCELL_CHECK(sweeps_ >= 0, "OpenCL diffusion: sweeps must be >= 0");
+  OpenClContext& ctx = cl_.context();
+  op_ = ClStencilOperator::allocate(ctx, size, boundary, boundary);
+  const FieldF like(size, 1);
+  for (DeviceField* f : {&rhs_, &x_, &tmp_, &ax_}) *f = ctx.allocate_like(like);
+}
+
+void OpenClDiffusion::set_sweeps(int sweeps) {
+  ARDCELL_CHECK(sweeps >= 0, "OpenCL diffusion: sweeps must be >= 0");
+  sweeps_ = sweeps;
+}
+
+void OpenClDiffusion::step(DeviceField& field, const DeviceField* conductivity,
+                           const DiffusionStep& s) {
+  ARDCELL_CHECK(field.size == op_.size && field.halo == 1,
+                "OpenCL diffusion: field size differs from the solver's");
+  OpenClContext& ctx = cl_.context();
+  const double scale = s.crank_nicolson ? 0.5 * s.rate_dt_over_h2 : s.rate_dt_over_h2;
+  const bool isotropic = conductivity == nullptr;
+  if (!isotropic || !last_isotropic_ || float(scale) != last_scale_) {
+    cl_.assemble_stencil_operator(op_, 1.0f, float(scale), conductivity);
+    last_scale_ = float(scale);
+    last_isotropic_ = isotropic;
+  }
+  if (s.crank_nicolson) cl_.apply_stencil_operator(op_, field, ax_);
+  const bool dirichlet_value =
+      op_.boundary_x == BoundaryKind::kDirichlet && s.boundary_value != 0.0f;
+  const float g = dirichlet_value ? float(s.boundary_value * s.rate_dt_over_h2) : 0.0f;
+  cl_.diffusion_rhs(field, s.crank_nicolson ? &ax_ : nullptr, rhs_, conductivity, g);
+  // The initial guess is the field (whole buffers: the sweeps never write a halo, so the copy
+  // back leaves field's halo as it was).
+  auto copy = [&](const DeviceField& from, DeviceField& to) {
+    opencl_check(clEnqueueCopyBuffer(ctx.queue(), from.buffer.get(), to.buffer.get(), 0, 0,
+                                     from.buffer.bytes(), 0, nullptr, nullptr),
+                 "clEnqueueCopyBuffer");
+  };
+  copy(field, x_);
+  if (kind_ == SolverKind::kJacobi) {
+    DeviceField* from = &x_;
+    DeviceField* to = &tmp_;
+    for (int k = 0; k < sweeps_; ++k) {
+      cl_.stencil_jacobi_sweep(op_, rhs_, *from, *to);
+      std::swap(from, to);
+    }
+    copy(*from, field);
+  } else {
+    for (int k = 0; k < sweeps_; ++k) {
+      cl_.stencil_rbgs_half_sweep(op_, rhs_, x_, 0);
+      cl_.stencil_rbgs_half_sweep(op_, rhs_, x_, 1);
+    }
+    copy(x_, field);
+  }
+}
+
+}  // namespace ardcell
+#endif
