@@ -74,43 +74,82 @@ RowCoeffs row_coeffs(const GrayScott9Params& p) {
           p.dt};
 }
 
+struct RowConsts {
+  Vec four, ca, cb, pa, pb, q, dt;
+};
+
 // (r0 + r2) + 4 r1: the vertical (1 4 1) sum of kLanes columns.
-[[gnu::always_inline]] inline Vec column_sum(const float* r0, const float* r1, const float* r2) {
-  return (load(r0) + load(r2)) + splat(4.0f) * load(r1);
+[[gnu::always_inline]] inline Vec column_sum(Vec r0, Vec r1, Vec r2, const RowConsts& k) {
+  return (r0 + r2) + k.four * r1;
 }
 
-// One output row. Rows point at x = 0 (64-byte aligned) and hold x = -RowStore::kPad .. 16 * (nv +
-// 1) - 1, with the periodic ghosts at x = -1 and x = n filled in. Every output lane depends
-// only on input lanes x - 1 .. x + 1 of the same three rows, so lanes x < n are exact and
-// lanes past n (padding) are harmless. The vertical sums are formed once per vector and
-// shifted in registers for the horizontal pass: 6 loads and 2 stores per kLanes cells.
+// kLanes output cells of both chemicals from the vertical sums left of, at and right of them.
 template <bool kUnitDt>
-void gray_scott9_row_simd(const float* __restrict a0, const float* __restrict a1,
-                          const float* __restrict a2, const float* __restrict b0,
-                          const float* __restrict b1, const float* __restrict b2,
-                          float* __restrict ao, float* __restrict bo, int nv, const RowCoeffs& c) {
-  const Vec four = splat(4.0f), ca = splat(c.ca), cb = splat(c.cb), pa = splat(c.pa),
-            pb = splat(c.pb), q = splat(c.q), dt = splat(c.dt);
-  // Only the last lane of the vector before x = 0 is read: the ghost column x = -1.
-  Vec va_prev = splat((a0[-1] + a2[-1]) + 4.0f * a1[-1]);
-  Vec vb_prev = splat((b0[-1] + b2[-1]) + 4.0f * b1[-1]);
-  Vec va = column_sum(a0, a1, a2), vb = column_sum(b0, b1, b2);
+[[gnu::always_inline]] inline void update_cells(Vec va_prev, Vec va, Vec va_next, Vec vb_prev,
+                                                Vec vb, Vec vb_next, Vec A, Vec B, float* ao,
+                                                float* bo, const RowConsts& k) {
+  const Vec sa = (lefts(va_prev, va, kLaneSeq) + rights(va, va_next, kLaneSeq)) + k.four * va;
+  const Vec sb = (lefts(vb_prev, vb, kLaneSeq) + rights(vb, vb_next, kLaneSeq)) + k.four * vb;
+  const Vec abb = kUnitDt ? A * (B * B) : k.dt * (A * (B * B));
+  store(ao, (k.ca * sa + (k.pa * A + k.q)) - abb);
+  store(bo, (k.cb * sb + k.pb * B) + abb);
+}
+
+// kRows (1 or 2) consecutive output rows from the kRows + 2 input rows around them. Rows
+// point at x = 0 (64-byte aligned) and hold x = -kLanes .. kLanes * (nv + 1) - 1, with the
+// periodic ghosts at x = -1 and x = n filled in. Every output lane depends only on input
+// lanes x - 1 .. x + 1, so lanes x < n are exact and lanes past n (padding) are harmless. The
+// vertical sums are formed once per vector and shifted in registers for the horizontal pass;
+// two rows per call share the loads of their two middle input rows. Both variants evaluate
+// every cell with the same expressions (update_cells), hence the same bits.
+template <int kRows, bool kUnitDt>
+void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_rows,
+                           float* const* a_out, float* const* b_out, int nv, const RowCoeffs& c) {
+  // Local copies, so that the stores below cannot be taken to modify the row pointers.
+  const float* a[kRows + 2];
+  const float* b[kRows + 2];
+  float* ao[kRows];
+  float* bo[kRows];
+  for (int r = 0; r < kRows + 2; ++r) {
+    a[r] = a_rows[r];
+    b[r] = b_rows[r];
+  }
+  for (int r = 0; r < kRows; ++r) {
+    ao[r] = a_out[r];
+    bo[r] = b_out[r];
+  }
+  const RowConsts k{splat(4.0f), splat(c.ca), splat(c.cb), splat(c.pa),
+                    splat(c.pb), splat(c.q),  splat(c.dt)};
+  Vec va_prev[kRows], va[kRows], vb_prev[kRows], vb[kRows];
+  for (int r = 0; r < kRows; ++r) {
+    // Only the last lane of the vector before x = 0 is read: the ghost column x = -1.
+    va_prev[r] = splat((a[r][-1] + a[r + 2][-1]) + 4.0f * a[r + 1][-1]);
+    vb_prev[r] = splat((b[r][-1] + b[r + 2][-1]) + 4.0f * b[r + 1][-1]);
+    va[r] = column_sum(load(a[r]), load(a[r + 1]), load(a[r + 2]), k);
+    vb[r] = column_sum(load(b[r]), load(b[r + 1]), load(b[r + 2]), k);
+  }
   for (int j = 0; j < nv; ++j) {
-    const int x = j * kLanes;
-    const Vec va_next = column_sum(a0 + x + kLanes, a1 + x + kLanes, a2 + x + kLanes);
-    const Vec vb_next = column_sum(b0 + x + kLanes, b1 + x + kLanes, b2 + x + kLanes);
-    const Vec sa = (lefts(va_prev, va, kLaneSeq) + rights(va, va_next, kLaneSeq)) + four * va;
-    const Vec sb = (lefts(vb_prev, vb, kLaneSeq) + rights(vb, vb_next, kLaneSeq)) + four * vb;
-    const Vec A = load(a1 + x), B = load(b1 + x);
-    const Vec abb = kUnitDt ? A * (B * B) : dt * (A * (B * B));
-    store(ao + x, (ca * sa + (pa * A + q)) - abb);
-    store(bo + x, (cb * sb + pb * B) + abb);
-    va_prev = va;
-    va = va_next;
-    vb_prev = vb;
-    vb = vb_next;
+    const int x = j * kLanes, xn = x + kLanes;
+    Vec an[kRows + 2], bn[kRows + 2];
+    for (int r = 0; r < kRows + 2; ++r) {
+      an[r] = load(a[r] + xn);
+      bn[r] = load(b[r] + xn);
+    }
+    for (int r = 0; r < kRows; ++r) {
+      const Vec va_next = column_sum(an[r], an[r + 1], an[r + 2], k);
+      const Vec vb_next = column_sum(bn[r], bn[r + 1], bn[r + 2], k);
+      update_cells<kUnitDt>(va_prev[r], va[r], va_next, vb_prev[r], vb[r], vb_next,
+                            load(a[r + 1] + x), load(b[r + 1] + x), ao[r] + x, bo[r] + x, k);
+      va_prev[r] = va[r];
+      va[r] = va_next;
+      vb_prev[r] = vb[r];
+      vb[r] = vb_next;
+    }
   }
 }
+
+using RowsKernel = void (*)(const float* const*, const float* const*, float* const*, float* const*,
+                            int, const RowCoeffs&);
 
 // Periodic ghosts of a freshly written row; the padding past x = n is zeroed so that it
 // stays finite.
@@ -198,7 +237,8 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
     Band& band = bands_[std::size_t(t)];
     band.y0 = int(int64_t(size.y) * t / threads_);
     band.y1 = int(int64_t(size.y) * (t + 1) / threads_);
-    band.ring.resize(std::max(1, block_steps_ - 1) * 3 * 2, stride_);
+    band.ring.resize(std::max(1, block_steps_ - 1) * kRingRows * 2, stride_);
+    band.next.assign(std::size_t(block_steps_ + 1), 0);
     band.edges.resize(2 * 2 * 2 * block_steps_, stride_);
   }
 }
@@ -213,19 +253,16 @@ void ParallelGrayScott9::seed_square() {
     }
 }
 
-float* ParallelGrayScott9::Band::edge_row(int parity, int chem, int i, int kmax) {
-  return edges.row(((parity * 2 + chem) * 2) * kmax + i);
-}
-
-void ParallelGrayScott9::publish_edges(Band& band, int parity) {
+float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
   const int kmax = block_steps_;
-  for (int chem = 0; chem < 2; ++chem) {
-    RowStore& grid = chem == 0 ? grid_a_ : grid_b_;
-    for (int i = 0; i < kmax; ++i) {
-      copy_whole_row(grid.row(band.y0 + i), band.edge_row(parity, chem, i, kmax));
-      copy_whole_row(grid.row(band.y1 - kmax + i), band.edge_row(parity, chem, kmax + i, kmax));
-    }
+  int edge = -1;
+  if (y - band.y0 < kmax) {
+    edge = y - band.y0;
+  } else if (band.y1 - y <= kmax) {
+    edge = 2 * kmax - (band.y1 - y);
   }
+  if (edge < 0) return chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
+  return band.edges.row(((parity * 2 + chem) * 2) * kmax + edge);
 }
 
 void ParallelGrayScott9::copy_whole_row(const float* from, float* to) const {
@@ -236,71 +273,96 @@ void ParallelGrayScott9::run(int64_t steps) {
   if (steps <= 0) return;
   const int nx = size_.x, ny = size_.y, n = threads_, nv = vectors_, kmax = block_steps_;
   const std::size_t row_bytes = sizeof(float) * std::size_t(nx);
-  for (int y = 0; y < ny; ++y) {
-    float* ra = grid_a_.row(y);
-    float* rb = grid_b_.row(y);
-    std::memcpy(ra, a_.row(y), row_bytes);
-    std::memcpy(rb, b_.row(y), row_bytes);
-    finish_row(ra, nx, nv);
-    finish_row(rb, nx, nv);
-  }
-  for (Band& band : bands_) publish_edges(band, 0);
+  for (Band& band : bands_)
+    for (int y = band.y0; y < band.y1; ++y) {
+      float* ra = band_row(band, 0, y, 0);
+      float* rb = band_row(band, 0, y, 1);
+      std::memcpy(ra, a_.row(y), row_bytes);
+      std::memcpy(rb, b_.row(y), row_bytes);
+      finish_row(ra, nx, nv);
+      finish_row(rb, nx, nv);
+    }
   const RowCoeffs coeffs = row_coeffs(params_);
-  const auto row_kernel =
-      params_.dt == 1.0f ? &gray_scott9_row_simd<true> : &gray_scott9_row_simd<false>;
+  const bool unit_dt = params_.dt == 1.0f;  // drops a multiply: dt * abb == abb then
+  const RowsKernel kernel[2] = {
+      unit_dt ? &gray_scott9_rows_simd<1, true> : &gray_scott9_rows_simd<1, false>,
+      unit_dt ? &gray_scott9_rows_simd<2, true> : &gray_scott9_rows_simd<2, false>};
   BlockBarrier barrier(n);
   auto work = [&](int t) {
     Band& band = bands_[std::size_t(t)];
     Band& above = bands_[std::size_t((t + n - 1) % n)];
     Band& below = bands_[std::size_t((t + 1) % n)];
     const int y0 = band.y0, y1 = band.y1;
-    // Levels 1 .. k - 1 keep a ring of 3 rows per chemical: level l writes row y over row
-    // y - 3, which level l + 1 (run after it in the same wavefront step) no longer reads.
     auto ring_row = [&](int level, int y, int chem) {
-      return band.ring.row(((level - 1) * 3 + int(unsigned(y + 3 * ny) % 3u)) * 2 + chem);
+      const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
+      return band.ring.row(((level - 1) * kRingRows + slot) * 2 + chem);
     };
+    int* next = band.next.data();  // next[l]: the next row level l computes
     int parity = 0;
     for (int64_t done = 0; done < steps;) {
       const int k = int(std::min<int64_t>(kmax, steps - done));
-      // Level 0: the band's own rows are updated in place (level k writes row y after level
-      // 1 has read it for the last time); rows of the neighbours come from the copies they
-      // published before the last barrier.
+      // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
+      // (level k writes row y after level 1 has read it for the last time); the kmax rows at
+      // either end, which the neighbours read as halo, alternate between two copies by block
+      // parity.
       auto level0 = [&](int y, int chem) -> const float* {
-        if (y < y0) return above.edge_row(parity, chem, 2 * kmax - (y0 - y), kmax);
-        if (y >= y1) return below.edge_row(parity, chem, y - y1, kmax);
-        return chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
+        if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
+        if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
+        return band_row(band, parity, y, chem);
       };
       auto input = [&](int level, int y, int chem) -> const float* {
         return level == 0 ? level0(y, chem) : ring_row(level, y, chem);
       };
-      // Wavefront: at step tt, level l computes row tt - (l - 1), whose inputs (rows y - 1 ..
-      // y + 1 of level l - 1) exist; level l spans the band grown by k - l rows.
-      for (int tt = y0 - (k - 1); tt < y1 + (k - 1); ++tt) {
+      // Level l (1 .. k) spans the band grown by k - l rows. Wavefront: each sweep lets every
+      // level compute its next two rows (one at a span's end) once its inputs, rows y - 1 ..
+      // y + 2 of level l - 1, exist, and as long as it does not overwrite ring rows that
+      // level l + 1 still reads (rows >= next[l + 1] - 1).
+      for (int l = 1; l <= k; ++l) next[l] = y0 - (k - l);
+      // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through
+      // the ring and are written back once no longer read.
+      int written_back = y0;
+      while (next[k] < y1) {
+        bool progressed = false;
         for (int l = 1; l <= k; ++l) {
-          const int y = tt - (l - 1);
-          if (y < y0 - (k - l) || y >= y1 + (k - l)) continue;
-          // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go
-          // through the ring and are written back one wavefront step later.
+          const int y = next[l];
+          const int rows = std::min(2, y1 + (k - l) - y);
+          if (rows <= 0) continue;
+          if (l > 1 && next[l - 1] < y + rows + 1) continue;
+          if (l < k && y + rows - kRingRows >= next[l + 1]) continue;
+          if (l == k && k > 1 && next[1] < y + rows + 1) continue;
           const bool to_grid = l == k && k > 1;
-          float* ao = to_grid ? grid_a_.row(y) : ring_row(l, y, 0);
-          float* bo = to_grid ? grid_b_.row(y) : ring_row(l, y, 1);
-          row_kernel(input(l - 1, y - 1, 0), input(l - 1, y, 0), input(l - 1, y + 1, 0),
-                     input(l - 1, y - 1, 1), input(l - 1, y, 1), input(l - 1, y + 1, 1), ao, bo, nv,
-                     coeffs);
-          finish_row(ao, nx, nv);
-          finish_row(bo, nx, nv);
+          const float* a_in[4];
+          const float* b_in[4];
+          float* a_out[2];
+          float* b_out[2];
+          for (int r = 0; r < rows + 2; ++r) {
+            a_in[r] = input(l - 1, y - 1 + r, 0);
+            b_in[r] = input(l - 1, y - 1 + r, 1);
+          }
+          for (int r = 0; r < rows; ++r) {
+            a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
+            b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
+          }
+          kernel[rows - 1](a_in, b_in, a_out, b_out, nv, coeffs);
+          for (int r = 0; r < rows; ++r) {
+            finish_row(a_out[r], nx, nv);
+            finish_row(b_out[r], nx, nv);
+          }
+          next[l] = y + rows;
+          progressed = true;
         }
-        if (k == 1 && tt > y0) {
-          copy_whole_row(ring_row(1, tt - 1, 0), grid_a_.row(tt - 1));
-          copy_whole_row(ring_row(1, tt - 1, 1), grid_b_.row(tt - 1));
+        ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
+        for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
+             ++written_back) {
+          copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
+          copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
         }
       }
-      if (k == 1) {
-        copy_whole_row(ring_row(1, y1 - 1, 0), grid_a_.row(y1 - 1));
-        copy_whole_row(ring_row(1, y1 - 1, 1), grid_b_.row(y1 - 1));
+      for (; k == 1 && written_back < y1; ++written_back) {
+        copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
+        copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
       }
       parity = 1 - parity;
-      publish_edges(band, parity);
       barrier.wait();
       done += k;
     }
@@ -313,10 +375,12 @@ void ParallelGrayScott9::run(int64_t steps) {
     for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
     work(0);
   }
-  for (int y = 0; y < ny; ++y) {
-    std::memcpy(a_.row(y), grid_a_.row(y), row_bytes);
-    std::memcpy(b_.row(y), grid_b_.row(y), row_bytes);
-  }
+  const int final_parity = int(((steps + kmax - 1) / kmax) % 2);
+  for (Band& band : bands_)
+    for (int y = band.y0; y < band.y1; ++y) {
+      std::memcpy(a_.row(y), band_row(band, final_parity, y, 0), row_bytes);
+      std::memcpy(b_.row(y), band_row(band, final_parity, y, 1), row_bytes);
+    }
   wrap_periodic(a_);
   wrap_periodic(b_);
 }

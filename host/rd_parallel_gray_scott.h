@@ -6,8 +6,9 @@
 // advances its band block_steps steps at a time by a wavefront (temporal blocking): level l's
 // row y is computed as soon as level l-1's rows y-1..y+1 exist, in a ring of 3 rows per level,
 // so a band (about 690 KiB for 400^2 on 2 threads) stays in L2 and the rows in flight in L1;
-// the band's halo (block_steps rows each side, read from copies the neighbours publish before
-// the barrier) is recomputed redundantly. All threads meet at one barrier per block. The row
+// the band's halo (block_steps rows each side) is recomputed redundantly. The block_steps rows
+// at either end of a band are double-buffered by block parity, so neighbours read them while
+// their owner writes the next ones; no copies. All threads meet at one barrier per block. The row
 // kernel forms each vertical (1 4 1) sum once per SIMD vector and shifts it in registers for
 // the horizontal pass. Every schedule (threads, block_steps) gives the same bits as stepping
 // one step at a time with that row kernel; it differs from the double-precision article loop
@@ -60,15 +61,19 @@ class ParallelGrayScott9 {
     std::ptrdiff_t stride_ = 0;
   };
 
-  // One thread's rows [y0, y1), its wavefront ring and the copies of its first and last
-  // block_steps_ rows that its neighbours read as halo (two parities: the previous block's
-  // are being read while the next ones are written).
+  // One thread's rows [y0, y1), its wavefront ring, and the storage of its first and last
+  // block_steps_ rows, which its neighbours read as halo: two copies by block parity (the
+  // previous block's are read while the next ones are written).
   struct Band {
     int y0 = 0, y1 = 0;
     RowStore ring, edges;
-    float* edge_row(int parity, int chem, int i, int kmax);
+    std::vector<int> next;  // per level, the next row to compute
   };
-  void publish_edges(Band& band, int parity);
+  // Rows per level in a band's wavefront ring: the next level reads 4 while 2 are written.
+  static constexpr int kRingRows = 5;
+  // Row y of a band as of block parity `parity` (rows within block_steps_ of the band's ends
+  // alternate between two copies, the others are updated in place).
+  float* band_row(Band& band, int parity, int y, int chem);
   void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
 
   Int2 size_;
