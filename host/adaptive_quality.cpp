@@ -12,7 +12,25 @@ QualityBounds sanitized(QualityBounds b) {
   if (!(b.min_rd_scale > 0.0) || b.min_rd_scale > 1.0) b.min_rd_scale = 1.0;
   return b;
 }
+// Rung r's scale, exactly as rd_scale_ladder computes it.
+double rung_scale(int rung, double step) {
+  double s = 1.0;
+  for (int i = 0; i < rung; ++i) s *= step;
+  return s;
+}
+constexpr double kScaleTolerance = 1e-9;
 }  // namespace
+
+std::vector<double> rd_scale_ladder(double min_rd_scale, double step) {
+  std::vector<double> ladder{1.0};
+  if (!(step > 0.0 && step < 1.0)) return ladder;
+  for (int rung = 1; rung < 64; ++rung) {
+    const double s = rung_scale(rung, step);
+    if (s < min_rd_scale - kScaleTolerance) break;
+    ladder.push_back(s);
+  }
+  return ladder;
+}
 
 AdaptiveQuality::AdaptiveQuality(const QualityBounds& bounds, AdaptiveQualitySettings settings)
     : bounds_(sanitized(bounds)), settings_(settings) {
@@ -20,7 +38,7 @@ AdaptiveQuality::AdaptiveQuality(const QualityBounds& bounds, AdaptiveQualitySet
 }
 
 void AdaptiveQuality::restore_full() {
-  level_ = {bounds_.max_sweeps, 1.0};
+  level_ = {bounds_.max_sweeps, 0, 1.0};
   calm_frames_ = 0;
 }
 
@@ -31,7 +49,10 @@ void AdaptiveQuality::set_bounds(const QualityBounds& bounds) {
     return;
   }
   level_.sweeps = std::clamp(level_.sweeps, bounds_.min_sweeps, bounds_.max_sweeps);
-  level_.rd_scale = std::clamp(level_.rd_scale, bounds_.min_rd_scale, 1.0);
+  while (level_.rd_rung > 0 && level_.rd_scale < bounds_.min_rd_scale - kScaleTolerance) {
+    --level_.rd_rung;
+    level_.rd_scale = rung_scale(level_.rd_rung, settings_.rd_scale_step);
+  }
 }
 
 bool AdaptiveQuality::update(int64_t work_ns, int64_t period_ns) {
@@ -44,17 +65,19 @@ bool AdaptiveQuality::update(int64_t work_ns, int64_t period_ns) {
       const int lowered = int(std::floor(level_.sweeps * settings_.sweep_step));
       level_.sweeps =
           std::clamp(std::min(lowered, level_.sweeps - 1), bounds_.min_sweeps, bounds_.max_sweeps);
-    } else if (level_.rd_scale > bounds_.min_rd_scale) {
-      level_.rd_scale = std::max(bounds_.min_rd_scale, level_.rd_scale * settings_.rd_scale_step);
+    } else if (const double lower = rung_scale(level_.rd_rung + 1, settings_.rd_scale_step);
+               settings_.rd_scale_step < 1.0 && lower >= bounds_.min_rd_scale - kScaleTolerance) {
+      ++level_.rd_rung;
+      level_.rd_scale = lower;
     }
     if (!(level_ == before)) ++lowered_;
   } else if (load < settings_.low_water) {
     if (++calm_frames_ >= settings_.raise_after) {
       calm_frames_ = 0;
       // Resolution comes back first: it was the last thing given up.
-      if (level_.rd_scale < 1.0) {
-        level_.rd_scale = std::min(1.0, level_.rd_scale / settings_.rd_scale_step);
-        if (level_.rd_scale > 0.999) level_.rd_scale = 1.0;
+      if (level_.rd_rung > 0) {
+        --level_.rd_rung;
+        level_.rd_scale = rung_scale(level_.rd_rung, settings_.rd_scale_step);
       } else if (level_.sweeps < bounds_.max_sweeps) {
         const int raised = int(std::ceil(level_.sweeps / settings_.sweep_step));
         level_.sweeps =

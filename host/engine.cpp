@@ -117,4 +117,14 @@ void Engine::step() {
   ++state_.step;
 }
 
+void Engine::step_without_rd() {
+  solvers_->fluid->step(state_);
+  state_.time += state_.dt;
+  ++state_.step;
+}
+
+const RdStepStats* Engine::rd_stats() const {
+  return solvers_->rd ? &solvers_->rd->stats() : nullptr;
+}
+
 }  // namespace ardcell

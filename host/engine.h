@@ -10,6 +10,8 @@
 
 namespace ardcell {
 
+struct RdStepStats;
+
 class Engine {
  public:
   explicit Engine(const SceneConfig& config);
@@ -21,6 +23,9 @@ class Engine {
   void reset();
   // Advances one frame of config().dt.
   void step();
+  // The same frame without the RD stage (fluid, time and step count only): for a caller that
+  // advances A and B itself, as the live display does on a coarser RD grid.
+  void step_without_rd();
 
   // Applies the non-structural parameters of `next` from the next frame on, with no reset and
   // no heap allocation: dt, fluid viscosity, lid / inflow speed, dye diffusion, emitters (same
@@ -36,6 +41,8 @@ class Engine {
   SimState& state() { return state_; }
   const SimState& state() const { return state_; }
   const SceneConfig& config() const { return config_; }
+  // What the last RD step's solves did (iterations, residuals); nullptr when the scene has no RD.
+  const RdStepStats* rd_stats() const;
 
  private:
   struct Solvers;  // the fluid and RD solvers and their scratch (host/engine.cpp)

@@ -212,9 +212,7 @@ Status LiveLoop::start(std::string_view name) {
   if (!sim_) return Status::error(std::string(name) + ": cannot build the scene");
   preset_ = p;
   applied_ = p.scene;
-  QualityBounds b = p.quality;
-  b.adaptive = b.adaptive && options_.adaptive;
-  quality_.set_bounds(b);
+  quality_.set_bounds(bounds_for(p));
   quality_.restore_full();
   apply_level();
   for (size_t i = 0; i < options_.playlist.size(); ++i)
@@ -229,9 +227,17 @@ Status LiveLoop::start(std::string_view name) {
   return Status::ok();
 }
 
+QualityBounds LiveLoop::bounds_for(const Preset& preset) const {
+  QualityBounds b = preset.quality;
+  b.adaptive = b.adaptive && options_.adaptive;
+  b.min_rd_scale = std::max(b.min_rd_scale, sim_ ? sim_->lowest_rd_scale() : 1.0);
+  return b;
+}
+
 void LiveLoop::apply_level() {
   apply_quality(preset_, quality_.level(), applied_);
   sim_->apply(applied_);
+  sim_->set_rd_scale(quality_.level().rd_scale);
 }
 
 void LiveLoop::request_preset(std::string name) {
@@ -295,9 +301,7 @@ void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
     preset_ = next;
     image_.resize(sim_->state().size.x, sim_->state().size.y);
   }
-  QualityBounds bounds = next.quality;
-  bounds.adaptive = bounds.adaptive && options_.adaptive;
-  quality_.set_bounds(bounds);
+  quality_.set_bounds(bounds_for(next));
   quality_.restore_full();
   if (fade_frames_ == 0) preset_ = next;
   applied_ = preset_.scene;
@@ -425,11 +429,7 @@ void LiveLoop::handle(const LiveCommand& c) {
         break;
       }
       (void)set_param(target, spec, c.value);
-      if (spec.key.starts_with("quality.")) {
-        QualityBounds b = preset_.quality;
-        b.adaptive = b.adaptive && options_.adaptive;
-        quality_.set_bounds(b);
-      }
+      if (spec.key.starts_with("quality.")) quality_.set_bounds(bounds_for(preset_));
       applied_ = preset_.scene;
       apply_level();
       break;

@@ -2,7 +2,8 @@
 // LiveLoop: the real-time loop of `ardcell live`. Each frame: input (display events, pen/touch
 // strokes, OSC and GPIO commands, the attract mode) -> simulate -> render through the colormap
 // -> present -> record, paced by a FrameClock with absolute deadlines. Adaptive quality lowers
-// the solver sweeps when a frame would miss and raises them with slack; a parameter change
+// the solver sweeps, then the RD resolution, when a frame would miss and raises them with
+// slack; a parameter change
 // applies on the next frame; a preset switch loads and builds the new simulation on a worker
 // thread while the current one keeps running, then crossfades (parameters when the two presets
 // share a grid and models, the displayed image otherwise). After the first frames a
@@ -44,6 +45,12 @@ class LiveSimulation {
   virtual void paint(std::span<const StrokeSample> samples, const InputMapping& mapping) = 0;
   // "threads x2", "opencl NVIDIA ...": for the HUD.
   virtual std::string_view backend() const = 0;
+  // The lowest RD resolution (a rung of rd_scale_ladder) this simulation has a grid for; the
+  // loop never asks for less. 1: the RD always runs on the scene's grid.
+  virtual double lowest_rd_scale() const { return 1.0; }
+  // Runs the RD at `scale` (a rung >= lowest_rd_scale()) from the next step(), carrying the
+  // chemicals across. Must not allocate.
+  virtual void set_rd_scale(double /*scale*/) {}
 };
 using SimulationFactory = std::function<std::unique_ptr<LiveSimulation>(const Preset&)>;
 
@@ -205,6 +212,8 @@ class LiveLoop {
   void stop_recording();
   void take_screenshot(std::string path);
   void apply_level();
+  // The preset's quality bounds, limited to what the running simulation can do.
+  QualityBounds bounds_for(const Preset& preset) const;
 
   LiveOptions options_;
   SimulationFactory factory_;

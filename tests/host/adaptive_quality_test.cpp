@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 namespace ardcell {
 namespace {
 
@@ -36,6 +39,40 @@ TEST(AdaptiveQuality, LowersSweepsUnderLoadAndRestoresAfter) {
   EXPECT_EQ(aq.level().rd_scale, 1.0);
   EXPECT_GT(aq.lowered(), 0);
   EXPECT_GT(aq.raised(), 0);
+}
+
+TEST(AdaptiveQuality, ResolutionMovesOnAFixedLadder) {
+  // Rungs are exact powers of the step, so a simulation can preallocate one grid per rung.
+  const std::vector<double> ladder = rd_scale_ladder(0.5);
+  ASSERT_EQ(ladder.size(), 3u);
+  EXPECT_EQ(ladder[0], 1.0);
+  EXPECT_EQ(ladder[1], 0.75);
+  EXPECT_EQ(ladder[2], 0.5625);
+  EXPECT_EQ(rd_scale_ladder(1.0).size(), 1u);
+  EXPECT_EQ(rd_scale_ladder(0.125).back(), 0.75 * 0.75 * 0.75 * 0.75 * 0.75 * 0.75 * 0.75);
+
+  AdaptiveQuality aq({.min_sweeps = 4, .max_sweeps = 4, .min_rd_scale = 0.5}, {.raise_after = 1});
+  std::vector<double> seen;
+  for (int f = 0; f < 6; ++f) {
+    aq.update(kPeriod * 2, kPeriod);
+    seen.push_back(aq.level().rd_scale);
+  }
+  for (int f = 0; f < 6; ++f) {
+    aq.update(0, kPeriod);
+    seen.push_back(aq.level().rd_scale);
+  }
+  for (double s : seen) {
+    EXPECT_NE(std::find(ladder.begin(), ladder.end(), s), ladder.end()) << s;
+  }
+  EXPECT_EQ(seen[5], 0.5625);
+  EXPECT_EQ(aq.level().rd_rung, 0);
+  EXPECT_EQ(aq.level().rd_scale, 1.0);
+
+  // Narrower bounds later: the level climbs back inside them.
+  for (int f = 0; f < 6; ++f) aq.update(kPeriod * 2, kPeriod);
+  aq.set_bounds({.min_sweeps = 4, .max_sweeps = 4, .min_rd_scale = 0.7});
+  EXPECT_EQ(aq.level().rd_scale, 0.75);
+  EXPECT_EQ(aq.level().rd_rung, 1);
 }
 
 TEST(AdaptiveQuality, NeverLeavesTheBounds) {

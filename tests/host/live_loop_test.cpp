@@ -5,14 +5,21 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <new>
 
+#include <unistd.h>
+
 #include "host/attract_mode.h"
+#include "host/live_engine.h"
+#include "host/rd_step.h"
+#include "host/stroke_playback.h"
+#include "kernels/reaction.h"
 
 // Counts heap allocations made by this process, so the steady-state frame can be checked.
-
 #include "tests/support/alloc_counter.h"
 
 namespace ardcell {
@@ -316,45 +323,368 @@ TEST(LiveLoop, PauseResetAndStrokes) {
   EXPECT_EQ(loop.preset().input.mode, "orient");
 }
 
-// Kiosk soak: 100 000 frames at 16 x 16 with the attract mode replaying strokes. After the
-// warm-up no frame allocates, and no value goes NaN.
-TEST(LiveLoop, SoakWithAttractModeAllocatesNothingAndStaysFinite) {
-  Fixture fx;
-  LiveOptions o = fx.options();
-  o.hud = true;
-  LiveLoop loop(o, fx.factory(), fx.display);
-  ASSERT_TRUE(loop.start(fx.path("small.toml")).is_ok());
-  AttractMode attract(2.0, 0.5);
+// ---- The real engine (host/live_engine.h) ----
+
+// A built-in preset with fluid and RD, shrunk to `n` x `n` cells, as a TOML file; `edit`
+// changes it further.
+std::string small_engine_preset(Fixture& fx, const std::string& builtin, int n, double min_rd_scale,
+                                const std::function<void(Preset&)>& edit = {}) {
+  Preset p;
+  EXPECT_TRUE(load_preset(builtin, p).is_ok());
+  p.scene.size = {n, n};
+  p.quality.min_rd_scale = min_rd_scale;
+  if (edit) edit(p);
+  const std::string name = builtin + "-" + std::to_string(n) + ".toml";
+  fx.write(name, preset_to_toml(p));
+  return fx.path(name);
+}
+
+// One stroke of `count` samples across the middle, pen down all the way, then lifted.
+std::vector<StrokeSample> wave_stroke(int count, double seconds) {
   std::vector<StrokeSample> stroke;
-  for (int i = 0; i < 60; ++i) {
+  for (int i = 0; i <= count; ++i) {
     StrokeSample s;
-    s.time = i / 60.0;
-    s.x = float(0.1 + 0.8 * i / 60.0);
+    s.time = seconds * i / count;
+    s.x = float(0.1 + 0.8 * i / count);
     s.y = float(0.5 + 0.3 * std::sin(i / 10.0));
-    s.pressure = 1;
-    s.buttons = kButtonTip;
+    s.pressure = float(0.4 + 0.6 * (i % 7) / 6.0);
+    s.buttons = i < count ? uint32_t(kButtonTip) : 0u;
     s.in_range = true;
     stroke.push_back(s);
   }
-  attract.add_recording(stroke, "wave");
+  return stroke;
+}
+
+bool all_finite(const SimState& s) {
+  bool ok = true;
+  s.for_each_field([&](std::string_view, const FieldF& f) {
+    for (int y = 0; y < f.ny(); ++y)
+      for (int x = 0; x < f.nx(); ++x) ok = ok && std::isfinite(f(x, y));
+  });
+  return ok;
+}
+
+// A and B inside the model's invariant box (kernels/reaction.h), up to float rounding.
+bool in_invariant_box(const SimState& s, const ReactionParams& r) {
+  const ConcentrationBox box = invariant_box(r);
+  const double tol = 1e-5;
+  for (int y = 0; y < s.size.y; ++y)
+    for (int x = 0; x < s.size.x; ++x) {
+      const double a = s.A(x, y), b = s.B(x, y);
+      if (!(a >= box.a_lo - tol && a <= box.a_hi + tol && b >= box.b_lo - tol &&
+            b <= box.b_hi + tol))
+        return false;
+    }
+  return true;
+}
+
+int64_t resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  int64_t size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * int64_t(sysconf(_SC_PAGESIZE));
+}
+
+// A clock whose every reading costs `cost_ns`: the frame's measured work grows with what the
+// loop does, and the test sets the load (the engine's real time is not looked at).
+class LoadedTime final : public TimeSource {
+ public:
+  int64_t now_ns() override { return now += cost_ns; }
+  void sleep_until_ns(int64_t d) override {
+    if (d > now) now = d;
+  }
+  int64_t now = 1'000'000'000;
+  int64_t cost_ns = 0;
+};
+
+// Kiosk soak: 100 000 frames of the real engine (cavity + Gray-Scott at 16 x 16, the preset
+// `ardcell live cavity-gray-scott` runs, shrunk, with fewer solver iterations) with the attract
+// mode replaying a recorded stroke, resets, load swings that make adaptive quality lower and raise
+// the sweeps and the RD resolution, and preset switches between the five 20 000-frame segments.
+// Inside a segment no frame allocates and the resident set does not grow; every frame, every field
+// is finite and A, B stay in the model's invariant box.
+TEST(LiveEngine, SoakWithAttractModeIsFlatAndFinite) {
+  Fixture fx;
+  LoadedTime time;
+  LiveOptions o = fx.options();
+  o.time = &time;
+  o.hud = true;
+  o.crossfade_frames = 10;
+  // The soak's budget under sanitizers: fewer iterations per solve than the full presets (at
+  // 16 x 16 two multigrid V-cycles nearly solve the pressure; the viscous solve, diagonally
+  // dominant at this viscosity, takes two red-black Gauss-Seidel sweeps instead of V-cycles).
+  const auto cheaper = [](Preset& p) {
+    p.scene.fluid.pressure_solver.max_iterations = 2;
+    p.scene.fluid.viscosity_solver.kind = SolverKind::kRedBlackGaussSeidel;
+    p.scene.fluid.viscosity_solver.max_iterations = 2;
+    p.scene.rd.diffusion_solver.max_iterations = 5;
+  };
+  o.playlist = {small_engine_preset(fx, "cavity-gray-scott", 16, 0.5, cheaper),
+                small_engine_preset(fx, "cavity-fhn", 16, 0.5, cheaper)};
+  LiveLoop loop(o, make_engine_simulation, fx.display);
+  ASSERT_TRUE(loop.start(o.playlist[0]).is_ok());
+  AttractMode attract(2.0, 0.5);
+  attract.add_recording(wave_stroke(90, 1.5), "wave");
   loop.set_attract_mode(&attract);
-  for (int i = 0; i < 1000; ++i) loop.run_frame();
-  const int64_t before = g_allocations.load();
-  const int64_t painted_before = fx.sim->painted;
-  bool finite = true;
-  for (int i = 0; i < 100'000; ++i) {
+
+  int64_t frames = 0, bad_frames = 0, coarse_frames = 0, low_sweep_frames = 0;
+  int64_t rd_switches = 0;
+  double last_scale = 1;
+  auto frame = [&] {
     loop.run_frame();
-    if (i % 997 == 0) {
-      const FieldF& d = loop.simulation().state().dye;
-      for (int y = 0; y < d.ny(); ++y)
-        for (int x = 0; x < d.nx(); ++x) finite = finite && std::isfinite(d(x, y));
+    ++frames;
+    const auto& sim = dynamic_cast<const EngineSimulation&>(loop.simulation());
+    const SimState& s = sim.state();
+    if (!all_finite(s) || !in_invariant_box(s, sim.engine().config().rd.reaction)) ++bad_frames;
+    if (sim.rd_scale() < 1) ++coarse_frames;
+    if (sim.rd_scale() != last_scale) ++rd_switches;
+    last_scale = sim.rd_scale();
+    if (loop.quality().level().sweeps < loop.preset().quality.max_sweeps) ++low_sweep_frames;
+  };
+  constexpr int kSegments = 5, kSegmentFrames = 20'000;
+  int64_t allocations = 0, rss_growth = 0;
+  const int64_t rss_begin = resident_bytes();
+  const int64_t painted_begin = loop.painted_samples();
+  for (int segment = 0; segment < kSegments; ++segment) {
+    if (segment > 0) {  // a preset switch: builds an engine (allocates), outside the segment
+      loop.commands().push(LiveCommand::make(LiveCommandKind::kNextPreset));
+      loop.run_frame();
+      loop.wait_for_switch();
+    }
+    for (int i = 0; i < 300; ++i) frame();  // crossfade and first frames of the preset
+    const int64_t rss0 = resident_bytes();
+    const int64_t allocs0 = g_allocations.load();
+    for (int i = 0; i < kSegmentFrames; ++i) {
+      // Load swings: 1 200 frames at 3x the period (lowers sweeps, then resolution), then
+      // 2 800 light frames (raises them back).
+      time.cost_ns = i % 4000 < 1200 ? 6'000'000 : 0;
+      if (i % 5000 == 4999) loop.commands().push(LiveCommand::make(LiveCommandKind::kReset));
+      frame();
+    }
+    allocations += g_allocations.load() - allocs0;
+    rss_growth = std::max(rss_growth, resident_bytes() - rss0);
+  }
+  const int64_t rss_end = resident_bytes();
+  std::printf(
+      "soak: %lld frames, %lld allocations in steady state, RSS %.2f MiB -> %.2f MiB "
+      "(max growth in a segment %lld KiB), %lld coarse-RD frames, %lld RD resolution "
+      "switches, %lld low-sweep frames, %lld samples painted, %lld attract starts\n",
+      (long long)frames, (long long)allocations, rss_begin / 1048576.0, rss_end / 1048576.0,
+      (long long)(rss_growth / 1024), (long long)coarse_frames, (long long)rd_switches,
+      (long long)low_sweep_frames, (long long)(loop.painted_samples() - painted_begin),
+      (long long)attract.activations());
+  EXPECT_GE(frames, 100'000);
+  EXPECT_EQ(bad_frames, 0);
+  EXPECT_EQ(allocations, 0);
+  // No allocation inside a segment, so the only pages it may add are first touches of memory
+  // already allocated (stack, lazily committed heap pages): a few dozen at most.
+  EXPECT_LE(rss_growth, 256 * 1024);
+  // Across the whole soak: four preset switches, each building and dropping a 16 x 16 engine
+  // (well under 1 MiB, kept a while in the sanitizer's quarantine).
+  EXPECT_LE(rss_end - rss_begin, 16 * 1024 * 1024);
+  EXPECT_GT(attract.activations(), 0);
+  EXPECT_GT(loop.painted_samples() - painted_begin, 10'000);  // the replay kept painting
+  EXPECT_GT(coarse_frames, 1000);
+  EXPECT_GT(rd_switches, 10);
+  EXPECT_GT(low_sweep_frames, 1000);
+}
+
+// Hands the test's samples for this frame to a StrokePlayback, as a file replay would.
+class ChunkSource final : public StrokeSource {
+ public:
+  std::size_t poll(double, std::span<StrokeSample> out) override {
+    const size_t n = std::min(out.size(), chunk.size() - taken);
+    std::copy_n(chunk.begin() + std::ptrdiff_t(taken), n, out.begin());
+    taken += n;
+    return n;
+  }
+  std::string describe() const override { return "chunks"; }
+  std::vector<StrokeSample> chunk;
+  size_t taken = 0;
+};
+
+template <class T>
+bool same_field(const Field<T>& a, const Field<T>& b) {
+  if (a.empty() != b.empty() || a.size() != b.size()) return false;
+  for (int y = 0; y < a.ny(); ++y)
+    for (int x = 0; x < a.nx(); ++x)
+      if (std::memcmp(&a(x, y), &b(x, y), sizeof(T)) != 0) return false;
+  return true;
+}
+
+// The one painting path: the live engine paints exactly what `ardcell run --strokes` paints
+// (StrokePlayback: the same Painter, configured by live_paint_config), in every mode, with the
+// mode switched between strokes and pressure varying along them.
+TEST(LiveEngine, PaintsExactlyLikeTheStrokePlayback) {
+  Fixture fx;
+  Preset p;
+  ASSERT_TRUE(load_preset(small_engine_preset(fx, "cavity-gray-scott", 24, 1.0), p).is_ok());
+  p.input.brush_radius = 0.12;
+  p.input.strength = 0.8;
+  PaintConfig base;
+  base.deposit_a = 0.4f;
+  base.deposit_b = 0.3f;
+  EngineSimulation live(p, base);
+  Engine offline(p.scene);
+  auto source = std::make_unique<ChunkSource>();
+  ChunkSource& chunks = *source;
+  StrokePlayback playback(std::move(source), p.scene.size,
+                          live_paint_config(base, p.input, p.scene.size));
+  const std::vector<StrokeSample> stroke = wave_stroke(40, 0.4);
+  const SimState& a = live.state();
+  const SimState& b = offline.state();
+  float theta_before = 0;
+  for (std::string_view mode : {"deposit", "orient", "push", "obstacle", "erase"}) {
+    p.input.mode = std::string(mode);
+    playback.painter().set_config(live_paint_config(base, p.input, p.scene.size));
+    if (mode == "orient") theta_before = a.theta0(3, 12);
+    for (size_t i = 0; i < stroke.size(); i += 4) {  // 4 samples a frame
+      chunks.chunk.assign(stroke.begin() + std::ptrdiff_t(i),
+                          stroke.begin() + std::ptrdiff_t(std::min(stroke.size(), i + 4)));
+      chunks.taken = 0;
+      live.paint(chunks.chunk, p.input);
+      playback.before_step(offline.state(), b.time);
+      live.step();
+      offline.step();
+    }
+    EXPECT_TRUE(same_field(a.A, b.A) && same_field(a.B, b.B) && same_field(a.dye, b.dye) &&
+                same_field(a.u, b.u) && same_field(a.v, b.v) && same_field(a.theta0, b.theta0) &&
+                same_field(a.obstacle, b.obstacle))
+        << "after the " << mode << " stroke";
+    // (3, 12): under the stroke's first samples.
+    if (mode == "deposit") {
+      EXPECT_GT(a.B(3, 12), 0.1f);
+    }
+    if (mode == "orient") {
+      EXPECT_NE(a.theta0(3, 12), theta_before);
+    }
+    if (mode == "obstacle") {
+      ASSERT_FALSE(a.obstacle.empty());
+      EXPECT_EQ(a.obstacle(3, 12), 1);
+    }
+    if (mode == "erase") {
+      EXPECT_EQ(a.obstacle(3, 12), 0);
     }
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
-  EXPECT_TRUE(finite);
-  EXPECT_GT(attract.activations(), 0);
-  EXPECT_GT(fx.sim->painted - painted_before, 10'000);  // the replay kept painting
-  EXPECT_EQ(loop.clock().misses(), 0);
+}
+
+// pressure_gamma bends the pressure before the Painter sees it: gamma 2 at pressure 0.5 paints
+// as pressure 0.25 does.
+TEST(LiveEngine, PressureGammaShapesThePressure) {
+  Fixture fx;
+  Preset p;
+  ASSERT_TRUE(load_preset(small_engine_preset(fx, "cavity-gray-scott", 24, 1.0), p).is_ok());
+  std::vector<StrokeSample> stroke = wave_stroke(20, 0.2);
+  EngineSimulation curved(p, PaintConfig{});
+  for (StrokeSample& s : stroke) s.pressure = 0.5f;
+  p.input.pressure_gamma = 2.0;
+  curved.paint(stroke, p.input);
+  EngineSimulation linear(p, PaintConfig{});
+  for (StrokeSample& s : stroke) s.pressure = 0.25f;
+  p.input.pressure_gamma = 1.0;
+  linear.paint(stroke, p.input);
+  EXPECT_TRUE(same_field(curved.state().B, linear.state().B));
+  EXPECT_GT(curved.state().B(12, 12), 0.0f);
+}
+
+// Adaptive quality's sweeps reach the engine: under an artificial load the RD diffusion solve
+// really runs fewer iterations (tolerance 0, so it always runs its limit), and after the load
+// the full count again.
+TEST(LiveEngine, AdaptiveQualityRunsFewerSolverSweepsUnderLoad) {
+  Fixture fx;
+  LoadedTime time;
+  LiveOptions o = fx.options();
+  o.time = &time;
+  const std::string path = small_engine_preset(fx, "cavity-gray-scott", 16, 1.0, [](Preset& p) {
+    p.scene.rd.diffusion_solver.max_iterations = 20;
+    p.scene.rd.diffusion_solver.tolerance = 0;
+    p.quality.min_sweeps = 4;
+    p.quality.max_sweeps = 20;
+  });
+  LiveLoop loop(o, make_engine_simulation, fx.display);
+  ASSERT_TRUE(loop.start(path).is_ok());
+  const auto& sim = dynamic_cast<const EngineSimulation&>(loop.simulation());
+  ASSERT_NE(sim.engine().rd_stats(), nullptr);
+  const RdStepStats& stats = *sim.engine().rd_stats();
+  for (int i = 0; i < 5; ++i) loop.run_frame();
+  EXPECT_EQ(stats.diffusion_iterations_a, 20);
+  time.cost_ns = 6'000'000;  // every frame misses
+  for (int i = 0; i < 60; ++i) loop.run_frame();
+  EXPECT_EQ(loop.quality().level().sweeps, 4);
+  EXPECT_EQ(stats.diffusion_iterations_a, 4);
+  EXPECT_EQ(stats.diffusion_iterations_b, 4);
+  EXPECT_EQ(sim.rd_scale(), 1.0);  // min_rd_scale 1: the resolution stays
+  time.cost_ns = 0;
+  for (int i = 0; i < 600; ++i) loop.run_frame();
+  EXPECT_EQ(loop.quality().level().sweeps, 20);
+  EXPECT_EQ(stats.diffusion_iterations_a, 20);
+}
+
+double relative_l2(const FieldF& a, const FieldF& b) {
+  double num = 0, den = 0;
+  for (int y = 0; y < a.ny(); ++y)
+    for (int x = 0; x < a.nx(); ++x) {
+      num += (double(a(x, y)) - b(x, y)) * (double(a(x, y)) - b(x, y));
+      den += double(b(x, y)) * b(x, y);
+    }
+  return std::sqrt(num / std::max(den, 1e-30));
+}
+
+// The RD resolution knob is applied: at a lower rung the chemicals run on a coarser grid, and a
+// stretch at 18 x 18 (strokes painted meanwhile) then back at 32 x 32 leaves a pattern close to
+// the one a run at full resolution all along makes, finite and inside the invariant box.
+TEST(LiveEngine, LoweringThenRaisingRdResolutionKeepsThePattern) {
+  Fixture fx;
+  Preset p;
+  ASSERT_TRUE(load_preset(small_engine_preset(fx, "cavity-gray-scott", 32, 0.5), p).is_ok());
+  EngineSimulation coarse(p, PaintConfig{}), full(p, PaintConfig{});
+  EXPECT_DOUBLE_EQ(coarse.lowest_rd_scale(), 0.5625);  // rungs 1, 0.75, 0.5625 >= 0.5
+  const std::vector<StrokeSample> stroke = wave_stroke(30, 0.3);
+  coarse.paint(stroke, p.input);
+  full.paint(stroke, p.input);
+  for (int i = 0; i < 100; ++i) {
+    coarse.step();
+    full.step();
+  }
+  coarse.set_rd_scale(0.5625);
+  EXPECT_EQ(coarse.rd_grid(), (Int2{18, 18}));
+  EXPECT_DOUBLE_EQ(coarse.rd_scale(), 0.5625);
+  coarse.set_rd_scale(0.6);  // between rungs: the coarser grid at or above it
+  EXPECT_DOUBLE_EQ(coarse.rd_scale(), 0.75);
+  EXPECT_EQ(coarse.rd_grid(), (Int2{24, 24}));
+  coarse.set_rd_scale(0.5625);
+  const ReactionParams& r = p.scene.rd.reaction;
+  for (int i = 0; i < 40; ++i) {
+    if (i == 20) {
+      coarse.paint(stroke, p.input);
+      full.paint(stroke, p.input);
+    }
+    coarse.step();
+    full.step();
+    ASSERT_TRUE(all_finite(coarse.state()) && in_invariant_box(coarse.state(), r)) << i;
+  }
+  const double while_coarse = relative_l2(coarse.state().B, full.state().B);
+  coarse.set_rd_scale(1.0);
+  EXPECT_EQ(coarse.rd_grid(), (Int2{32, 32}));
+  for (int i = 0; i < 40; ++i) {
+    coarse.step();
+    full.step();
+    ASSERT_TRUE(all_finite(coarse.state()) && in_invariant_box(coarse.state(), r)) << i;
+  }
+  const double after = relative_l2(coarse.state().B, full.state().B);
+  double b_max = 0, b_sum = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      b_max = std::max(b_max, double(full.state().B(x, y)));
+      b_sum += full.state().B(x, y);
+    }
+  std::printf(
+      "RD at 18x18 for 40 frames: B differs from full resolution by %.3f (L2, relative); "
+      "40 frames after coming back: %.3f (B max %.3f mean %.4f)\n",
+      while_coarse, after, b_max, b_sum / 1024);
+  EXPECT_GT(while_coarse, 0.0);  // it really ran elsewhere
+  EXPECT_LT(while_coarse, 0.3);
+  EXPECT_LT(after, 0.3);
 }
 
 TEST(AttractMode, StartsAfterIdleAndStopsAtOnceOnInput) {
