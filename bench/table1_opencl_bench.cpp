@@ -12,12 +12,14 @@
 // two velocity fields' relative max-norm difference after the run).
 //
 // The device: ARDCELL_CL_DEVICE=N (as `--cl-device N`, see `ardcell devices`), else the first
-// GPU, else the first device. Without OpenCL the rows report an error and the program exits 0.
+// GPU, else the first device; ARDCELL_CL_TILING overrides its tiling. Without OpenCL the rows
+// report an error and the program exits 0.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <sstream>
@@ -42,6 +44,21 @@ Device& device() {
     const int index = env ? std::atoi(env) : -1;
     dev.ctx = OpenClContext::open(index, &dev.error);
     if (dev.ctx) dev.cl = OpenClKernels::create(*dev.ctx, &dev.error);
+    // Tuning: ARDCELL_CL_TILING="tile_w,tile_h,work_group,groups_per_unit" replaces the
+    // device's default_tiling (e.g. "64,16,64,4", the GPU choice, to compare on a CPU).
+    if (const char* t = std::getenv("ARDCELL_CL_TILING"); t && dev.cl) {
+      ClTiling& tiling = dev.cl->tiling();
+      if (std::sscanf(t, "%d,%d,%d,%d", &tiling.tile_w, &tiling.tile_h, &tiling.work_group,
+                      &tiling.groups_per_unit) != 4 ||
+          tiling.tile_w < 1 || tiling.tile_h < 1 || tiling.work_group < 1 ||
+          tiling.groups_per_unit < 1) {
+        std::fprintf(stderr,
+                     "ARDCELL_CL_TILING: expected four positive integers "
+                     "tile_w,tile_h,work_group,groups_per_unit, got '%s'\n",
+                     t);
+        std::exit(2);
+      }
+    }
     return dev;
   }();
   return d;
