@@ -5,8 +5,9 @@
 // flip instead of memcpy, and the wrap of "Putting back the wrapping"), single thread, as in
 // the article. The one change: the article's wrap writes rows SCREEN_HEIGHT-1 / SCREEN_HEIGHT-2
 // of a table that has SCREEN_HEIGHT+2 rows (it overwrites interior cells); here the ghosts
-// are rows 0 and H+1, which is what the text describes. Both are compiled with the project's
-// flags (-O3 -march=native in Release), so the compiler may vectorise the baseline too.
+// are rows 0 and H+1, which is what the text describes. It is built twice: with the
+// project's flags (-O3 -march=native in Release, so the compiler may vectorise it: the honest
+// baseline) and as the article built it (-O2, generic x86-64).
 //
 // Ours: ParallelGrayScott9 (host/rd_parallel_gray_scott.h): float, SIMD row kernel with
 // register-shifted separable sums, one band of rows per hardware thread updated in place,
