@@ -111,10 +111,8 @@ PaintConfig live_paint_config(const PaintConfig& base, const InputMapping& input
   PaintConfig c = base;
   PaintMode mode;
   if (parse_paint_mode(input.mode, mode)) c.mode = mode;
-  const double radius = std::max(0.5, input.brush_radius * grid.x);
-  const double min_ratio = base.radius > 0 ? double(base.min_radius) / base.radius : 0.25;
-  c.radius = float(radius);
-  c.min_radius = float(std::clamp(radius * min_ratio, 0.0, radius));
+  // As `ardcell run --paint-radius`: the radius at full pressure; min_radius stays the base's.
+  c.radius = float(std::max(0.5, input.brush_radius * grid.x));
   c.strength = float(input.strength);
   return c;
 }

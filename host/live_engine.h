@@ -23,7 +23,7 @@ namespace ardcell {
 
 // The Painter configuration for live input: `base` (the scene's defaults, e.g. drivers'
 // paint_config_for_scene) with the preset's input mapping applied: mode (when it names one),
-// radius = brush_radius * grid width in cells (min_radius in base's proportion), strength.
+// radius = brush_radius * grid width in cells (min_radius stays base's), strength.
 PaintConfig live_paint_config(const PaintConfig& base, const InputMapping& input, Int2 grid);
 
 class EngineSimulation final : public LiveSimulation {
