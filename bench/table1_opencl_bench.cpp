@@ -159,21 +159,21 @@ std::vector<int> sizes_from_env() {
 // Names exactly as bench/table1_bench.cpp's: Table1/<schedule>/<fluid|ard>/<N>, the schedule
 // being opencl-stream or opencl-blocked, so `ardcell bench table1` can merge the rows.
 void register_all() {
-  for (auto [name, schedule] :
+  for (const auto& entry :
        {std::pair{"stream", ClSchedule::kStream}, std::pair{"blocked", ClSchedule::kBlocked}})
     for (bool rd : {false, true})
       for (int n : sizes_from_env()) {
-        const std::string full =
-            std::string("Table1/opencl-") + name + (rd ? "/ard/" : "/fluid/") + std::to_string(n);
+        // A plain variable: lambdas may not capture structured bindings before clang 16.
+        const ClSchedule schedule = entry.second;
+        const std::string suffix =
+            std::string(entry.first) + (rd ? "/ard/" : "/fluid/") + std::to_string(n);
         benchmark::RegisterBenchmark(
-            full.c_str(),
+            ("Table1/opencl-" + suffix).c_str(),
             [schedule, rd, n](benchmark::State& s) { run_table1(s, schedule, rd, n); })
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
-        const std::string ratio = std::string("Table1Ratio/opencl-") + name +
-                                  (rd ? "/ard/" : "/fluid/") + std::to_string(n);
         benchmark::RegisterBenchmark(
-            ratio.c_str(),
+            ("Table1Ratio/opencl-" + suffix).c_str(),
             [schedule, rd, n](benchmark::State& s) { run_ratio(s, schedule, rd, n); })
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
