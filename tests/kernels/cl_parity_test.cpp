@@ -113,7 +113,7 @@ std::vector<ReactionCase> reaction_cases() {
 TEST(ClParity, ReactionImplicitEveryModelAtAwkwardSizes) {
   Fixture& d = device();
   ASSERT_TRUE(d.cl);
-  for (Int2 size : {Int2{37, 23}, Int2{129, 65}, Int2{1, 1}}) {
+  for (Int2 size : {Int2{37, 23}, Int2{127, 93}, Int2{129, 65}, Int2{1, 1}}) {
     for (const Box2& region : {box_of_size(size), Box2{{size.x / 3, size.y / 2}, size}}) {
       for (const ReactionCase& rc : reaction_cases()) {
         SCOPED_TRACE(std::string(reaction_model_name(rc.params.model)));
