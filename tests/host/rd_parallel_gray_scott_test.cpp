@@ -82,42 +82,72 @@ TEST(ParallelGrayScott9, PeriodicShiftCommutesWithStepping) {
   expect_same_bits(base, shifted, shift);
 }
 
-// Against a plain double-precision transcription of seed 001's update (with wrap).
-TEST(ParallelGrayScott9, MatchesSeed001Reference) {
-  const int n = 32, steps = 150;
-  ParallelGrayScott9 sim({n, n}, {}, 2);
-  sim.seed_square();
-  std::vector<double> A(n * n, 1.0), B(n * n, 0.0), A2(n * n), B2(n * n);
-  for (int y = 0; y < 10; ++y)
-    for (int x = 0; x < 10; ++x) B[(n / 2 + y - 5) * n + (n / 2 + x - 5)] = 1.0;
+// Seed 001's update in double precision, written plainly (3x3 weights, periodic indices).
+void reference_steps(int nx, int ny, std::vector<double>& A, std::vector<double>& B, int steps) {
   const double coef[3][3] = {{0.05, 0.2, 0.05}, {0.2, -1.0, 0.2}, {0.05, 0.2, 0.05}};
+  std::vector<double> A2(A.size()), B2(B.size());
   for (int s = 0; s < steps; ++s) {
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
         double la = 0, lb = 0;
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
-            const int i = ((y + dy + n) % n) * n + (x + dx + n) % n;
+            const int i = ((y + dy + ny) % ny) * nx + (x + dx + nx) % nx;
             la += coef[dy + 1][dx + 1] * A[i];
             lb += coef[dy + 1][dx + 1] * B[i];
           }
-        const double a = A[y * n + x], b = B[y * n + x];
-        A2[y * n + x] = a + 1.0 * la - a * b * b + 0.055 * (1.0 - a);
-        B2[y * n + x] = b + 0.5 * lb + a * b * b - (0.062 + 0.055) * b;
+        const double a = A[y * nx + x], b = B[y * nx + x];
+        A2[y * nx + x] = a + 1.0 * la - a * b * b + 0.055 * (1.0 - a);
+        B2[y * nx + x] = b + 0.5 * lb + a * b * b - (0.062 + 0.055) * b;
       }
     std::swap(A, A2);
     std::swap(B, B2);
   }
-  sim.run(steps);
-  double worst_a = 0, worst_b = 0;
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      worst_a = std::max(worst_a, std::abs(double(sim.a()(x, y)) - A[y * n + x]));
-      worst_b = std::max(worst_b, std::abs(double(sim.b()(x, y)) - B[y * n + x]));
+}
+
+// Max |ours - reference| over both chemicals.
+double max_difference(ParallelGrayScott9& sim, const std::vector<double>& A,
+                      const std::vector<double>& B) {
+  const int nx = sim.a().nx(), ny = sim.a().ny();
+  double worst = 0;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      worst = std::max(worst, std::abs(double(sim.a()(x, y)) - A[y * nx + x]));
+      worst = std::max(worst, std::abs(double(sim.b()(x, y)) - B[y * nx + x]));
     }
-  EXPECT_LT(worst_a, 1e-4);  // float32 vs double over 150 steps
-  EXPECT_LT(worst_b, 1e-4);
+  return worst;
+}
+
+// Against the double-precision reference from seed 001's start.
+TEST(ParallelGrayScott9, MatchesSeed001Reference) {
+  const int n = 32, steps = 150;
+  ParallelGrayScott9 sim({n, n}, {}, 2);
+  sim.seed_square();
+  std::vector<double> A(n * n, 1.0), B(n * n, 0.0);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) B[(n / 2 + y - 5) * n + (n / 2 + x - 5)] = 1.0;
+  reference_steps(n, n, A, B, steps);
+  sim.run(steps);
+  EXPECT_LT(max_difference(sim, A, B), 1e-4);   // float32 vs double over 150 steps
   EXPECT_GT(B[(n / 2) * n + n / 2 + 6], 1e-3);  // the pattern has spread (non-trivial)
+}
+
+// Degenerate grids (one row, one column, fewer rows than threads and than a block's halo):
+// the wrap then folds the stencil onto the same cells, and bands are a row high.
+TEST(ParallelGrayScott9, TinyGridsMatchTheReference) {
+  for (const Int2 size : {Int2{1, 1}, Int2{5, 1}, Int2{1, 4}, Int2{3, 2}, Int2{17, 3}}) {
+    ParallelGrayScott9 sim(size, {}, 4, 8);
+    fill_noise(sim, 5);
+    std::vector<double> A, B;
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x) {
+        A.push_back(sim.a()(x, y));
+        B.push_back(sim.b()(x, y));
+      }
+    reference_steps(size.x, size.y, A, B, 30);
+    sim.run(30);
+    EXPECT_LT(max_difference(sim, A, B), 1e-4) << size.x << "x" << size.y;
+  }
 }
 
 }  // namespace
