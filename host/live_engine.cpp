@@ -157,6 +157,7 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
     l->a_tmp = FieldF(n, 1);
     l->b_tmp = FieldF(n, 1);
     l->solid_tmp = FieldF(n, 1);
+    if (!engine_.state().obstacle.empty()) l->state.obstacle = Field<uint8_t>(n, 1);
     levels_.push_back(std::move(l));
     previous = n;
   }
@@ -186,7 +187,6 @@ void EngineSimulation::sync_coarse_from_fine(RdLevel& l, bool chemicals) {
   }
   transfer(l.near_x, l.near_y, f.theta0, l.down_tmp, c.theta0);
   if (!f.obstacle.empty()) {
-    if (c.obstacle.empty()) c.obstacle = Field<uint8_t>(c.size, 1);  // first obstacle only
     transfer(l.down_x, l.down_y, f.obstacle, l.down_tmp, l.solid_tmp);
     for (int y = 0; y < c.size.y; ++y)
       for (int x = 0; x < c.size.x; ++x) c.obstacle(x, y) = l.solid_tmp(x, y) >= 0.5f ? 1 : 0;
@@ -265,6 +265,12 @@ void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputM
     samples = samples.subspan(n);
   }
   painter_.update_theta0(f);
+  // The first obstacle stroke on a scene without one made its mask: the coarse grids get theirs
+  // in the same frame (the one allocation painting ever makes).
+  if (!f.obstacle.empty())
+    for (auto& level : levels_)
+      if (level->state.obstacle.empty())
+        level->state.obstacle = Field<uint8_t>(level->state.size, 1);
   if (!l) return;
   // Coarse cells under the stroke take the restriction of the painted cells; the others keep
   // their values exactly (the scene's grid held their prolongation).

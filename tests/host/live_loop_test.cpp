@@ -11,7 +11,27 @@
 #include <functional>
 #include <new>
 
+#include <malloc.h>
 #include <unistd.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define ARDCELL_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ARDCELL_TEST_ASAN 1
+#endif
+#endif
+#ifndef ARDCELL_TEST_ASAN
+#define ARDCELL_TEST_ASAN 0
+#endif
+#if ARDCELL_TEST_ASAN
+// From the sanitizer runtime (sanitizer/allocator_interface.h, which GCC does not install).
+extern "C" {
+size_t __sanitizer_get_current_allocated_bytes();
+int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*, size_t),
+                                              void (*free_hook)(const volatile void*));
+}
+#endif
 
 #include "host/attract_mode.h"
 #include "host/live_engine.h"
@@ -378,6 +398,33 @@ bool in_invariant_box(const SimState& s, const ReactionParams& r) {
   return true;
 }
 
+// Every heap block, not only operator new's (Field storage comes from aligned_alloc): under
+// AddressSanitizer its malloc hook counts every allocation and it reports the bytes in use;
+// elsewhere glibc's mallinfo2 reports the bytes in use.
+std::atomic<long> g_mallocs{0};
+#if ARDCELL_TEST_ASAN
+void count_malloc(const volatile void*, size_t) { g_mallocs.fetch_add(1); }
+void ignore_free(const volatile void*) {}
+#endif
+
+struct HeapProbe {
+  long mallocs = 0;  // under ASan only
+  int64_t bytes_in_use = 0;
+  static HeapProbe now() {
+    HeapProbe h;
+#if ARDCELL_TEST_ASAN
+    static const bool hooked = __sanitizer_install_malloc_and_free_hooks(count_malloc, ignore_free);
+    (void)hooked;
+    h.mallocs = g_mallocs.load();
+    h.bytes_in_use = int64_t(__sanitizer_get_current_allocated_bytes());
+#else
+    const struct mallinfo2 m = mallinfo2();
+    h.bytes_in_use = int64_t(m.uordblks + m.hblkhd);
+#endif
+    return h;
+  }
+};
+
 int64_t resident_bytes() {
   std::ifstream statm("/proc/self/statm");
   int64_t size = 0, resident = 0;
@@ -399,10 +446,11 @@ class LoadedTime final : public TimeSource {
 
 // Kiosk soak: 100 000 frames of the real engine (cavity + Gray-Scott at 16 x 16, the preset
 // `ardcell live cavity-gray-scott` runs, shrunk, with fewer solver iterations) with the attract
-// mode replaying a recorded stroke, resets, load swings that make adaptive quality lower and raise
-// the sweeps and the RD resolution, and preset switches between the five 20 000-frame segments.
-// Inside a segment no frame allocates and the resident set does not grow; every frame, every field
-// is finite and A, B stay in the model's invariant box.
+// mode replaying a recorded stroke in every painting mode in turn, resets, load swings that make
+// adaptive quality lower and raise the sweeps and the RD resolution, and preset switches
+// between the five 20 000-frame segments. Inside a segment no frame allocates (operator new and,
+// under ASan, every malloc), heap bytes in use and the resident set do not grow; every frame,
+// every field is finite and A, B stay in the model's invariant box.
 TEST(LiveEngine, SoakWithAttractModeIsFlatAndFinite) {
   Fixture fx;
   LoadedTime time;
@@ -441,9 +489,11 @@ TEST(LiveEngine, SoakWithAttractModeIsFlatAndFinite) {
     last_scale = sim.rd_scale();
     if (loop.quality().level().sweeps < loop.preset().quality.max_sweeps) ++low_sweep_frames;
   };
+  auto next_mode = [&] { loop.commands().push(LiveCommand::make(LiveCommandKind::kNextMode)); };
   constexpr int kSegments = 5, kSegmentFrames = 20'000;
-  int64_t allocations = 0, rss_growth = 0;
+  int64_t allocations = 0, mallocs = 0, heap_growth = 0, rss_growth = 0;
   const int64_t rss_begin = resident_bytes();
+  const HeapProbe heap_begin = HeapProbe::now();
   const int64_t painted_begin = loop.painted_samples();
   for (int segment = 0; segment < kSegments; ++segment) {
     if (segment > 0) {  // a preset switch: builds an engine (allocates), outside the segment
@@ -451,31 +501,50 @@ TEST(LiveEngine, SoakWithAttractModeIsFlatAndFinite) {
       loop.run_frame();
       loop.wait_for_switch();
     }
-    for (int i = 0; i < 300; ++i) frame();  // crossfade and first frames of the preset
+    // The crossfade, then one stroke in each painting mode: first uses (an obstacle mask on a
+    // scene that had none) happen here, before the segment.
+    for (int i = 0; i < 200; ++i) frame();
+    for (int m = 0; m < kPaintModeCount; ++m) {
+      next_mode();
+      for (int i = 0; i < 150; ++i) frame();
+    }
     const int64_t rss0 = resident_bytes();
     const int64_t allocs0 = g_allocations.load();
+    const HeapProbe heap0 = HeapProbe::now();
     for (int i = 0; i < kSegmentFrames; ++i) {
       // Load swings: 1 200 frames at 3x the period (lowers sweeps, then resolution), then
-      // 2 800 light frames (raises them back).
+      // 2 800 light frames (raises them back); a reset now and then; the next painting mode
+      // every 2 000 frames (two rounds of the five per segment).
       time.cost_ns = i % 4000 < 1200 ? 6'000'000 : 0;
       if (i % 5000 == 4999) loop.commands().push(LiveCommand::make(LiveCommandKind::kReset));
+      if (i % 2000 == 1999) next_mode();
       frame();
     }
+    const HeapProbe heap1 = HeapProbe::now();
     allocations += g_allocations.load() - allocs0;
+    mallocs += heap1.mallocs - heap0.mallocs;
+    heap_growth = std::max(heap_growth, heap1.bytes_in_use - heap0.bytes_in_use);
     rss_growth = std::max(rss_growth, resident_bytes() - rss0);
   }
   const int64_t rss_end = resident_bytes();
   std::printf(
-      "soak: %lld frames, %lld allocations in steady state, RSS %.2f MiB -> %.2f MiB "
-      "(max growth in a segment %lld KiB), %lld coarse-RD frames, %lld RD resolution "
-      "switches, %lld low-sweep frames, %lld samples painted, %lld attract starts\n",
-      (long long)frames, (long long)allocations, rss_begin / 1048576.0, rss_end / 1048576.0,
-      (long long)(rss_growth / 1024), (long long)coarse_frames, (long long)rd_switches,
-      (long long)low_sweep_frames, (long long)(loop.painted_samples() - painted_begin),
-      (long long)attract.activations());
+      "soak: %lld frames, steady state: %lld operator-new allocations, %lld mallocs (ASan "
+      "hook%s), heap in use grew by at most %lld bytes; RSS %.2f MiB -> %.2f MiB (max growth in "
+      "a segment %lld KiB); %lld coarse-RD frames, %lld RD resolution switches, %lld low-sweep "
+      "frames, %lld samples painted, %lld attract starts\n",
+      (long long)frames, (long long)allocations, (long long)mallocs,
+      ARDCELL_TEST_ASAN ? "" : " not available: 0", (long long)heap_growth, rss_begin / 1048576.0,
+      rss_end / 1048576.0, (long long)(rss_growth / 1024), (long long)coarse_frames,
+      (long long)rd_switches, (long long)low_sweep_frames,
+      (long long)(loop.painted_samples() - painted_begin), (long long)attract.activations());
   EXPECT_GE(frames, 100'000);
   EXPECT_EQ(bad_frames, 0);
   EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(mallocs, 0);
+  EXPECT_LE(heap_growth, 0);
+  if (ARDCELL_TEST_ASAN) {  // the probe sees Field storage: the preset switches made some
+    EXPECT_GT(HeapProbe::now().mallocs - heap_begin.mallocs, 0);
+  }
   // No allocation inside a segment, so the only pages it may add are first touches of memory
   // already allocated (stack, lazily committed heap pages): a few dozen at most.
   EXPECT_LE(rss_growth, 256 * 1024);
@@ -534,6 +603,7 @@ TEST(LiveEngine, PaintsExactlyLikeTheStrokePlayback) {
   const SimState& a = live.state();
   const SimState& b = offline.state();
   float theta_before = 0;
+  long live_allocations = 0;
   for (std::string_view mode : {"deposit", "orient", "push", "obstacle", "erase"}) {
     p.input.mode = std::string(mode);
     playback.painter().set_config(live_paint_config(base, p.input, p.scene.size));
@@ -542,11 +612,16 @@ TEST(LiveEngine, PaintsExactlyLikeTheStrokePlayback) {
       chunks.chunk.assign(stroke.begin() + std::ptrdiff_t(i),
                           stroke.begin() + std::ptrdiff_t(std::min(stroke.size(), i + 4)));
       chunks.taken = 0;
+      const long before = g_allocations.load();
       live.paint(chunks.chunk, p.input);
-      playback.before_step(offline.state(), b.time);
       live.step();
+      live_allocations += g_allocations.load() - before;
+      playback.before_step(offline.state(), b.time);
       offline.step();
     }
+    // Live painting allocates nothing, but for an obstacle mask on a scene that had none.
+    EXPECT_LE(live_allocations, mode == "obstacle" ? 1 : 0) << mode;
+    live_allocations = 0;
     EXPECT_TRUE(same_field(a.A, b.A) && same_field(a.B, b.B) && same_field(a.dye, b.dye) &&
                 same_field(a.u, b.u) && same_field(a.v, b.v) && same_field(a.theta0, b.theta0) &&
                 same_field(a.obstacle, b.obstacle))
