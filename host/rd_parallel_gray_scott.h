@@ -71,6 +71,13 @@ class ParallelGrayScott9 {
     int y0 = 0, y1 = 0;
     RowStore ring, edges;
     std::vector<int> next;  // per level, the next row to compute
+    // Row pointers for y = first_row .. first_row + span - 1 (halo included), by parity and
+    // chemical: rows_of(parity, chem)[y].
+    std::vector<float*> row_table;
+    int first_row = 0, span = 0;
+    float* const* rows_of(int parity, int chem) const {
+      return row_table.data() + (parity * 2 + chem) * span - first_row;
+    }
   };
   // Rows per level in a band's wavefront ring: the next level reads 4 while 2 are written.
   static constexpr int kRingRows = 5;
