@@ -11,6 +11,8 @@ namespace ardcell {
 namespace {
 
 using Bufs = std::span<const View<float>>;
+// Stream: sweeps of A's (B's) diffusion per residency riding on a projection pass.
+constexpr int kRiderSweeps = 5;
 constexpr float kPi = 3.14159265358979f;
 
 // --- Kernel adapters: each names its buffers by index into the pass's buffer list. -------------
@@ -341,48 +343,40 @@ void Table1Workload::add_diffusion(const char* name, std::span<const DiffusionSp
       const DiffusionSpec& sv = solves[i];
       // The last pass writes `out`; earlier ones alternate so that this holds.
       FieldF* next = ((passes - j) % 2 == 0) ? sv.out : sv.tmp;
-      if (j == 1 && sweeps == total) {
-        // One residency: load x once, (add sources,) copy it as the first iterate, sweep.
-        const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps);
-        const int8_t a = add_buffer(d, nullptr, sweeps % 2 == 0 ? next : nullptr, sweeps);
-        const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
-        if (with_sources) {
-          const int comp = sv.b == 1 ? 0 : sv.b == 2 ? 1 : 2;
-          const auto* sp = p_->keep(SourceParams{comp, rhs, grid_, &frame_});
-          d.ops.push_back(
-              map_op(sources_kernel, sp, sweeps, {rhs}, {{rhs, BoundaryFill::stam(sv.b)}}));
-        }
-        d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
-        d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
-      } else {
-        const int8_t a = add_buffer(d, cur[i], sweeps % 2 == 0 ? next : nullptr, sweeps);
-        const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
-        const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps - 1);
-        d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
-      }
+      append_residency(d, sv, cur[i], next, sweeps, j == 1 && sweeps == total, with_sources);
       cur[i] = next;
     }
     plan_->add_pass(std::move(d));
   }
 }
 
-// The RD block riding on a fluid pass: A and B (already reacted, or reacted here first) loaded
-// with halo 20, 20 Jacobi sweeps each in store, written to A0 and B0. `which`: 1 = A, 2 = B,
-// 3 = both.
-static void append_rd_block(PassDesc& d, const FieldF& src, FieldF& dst, const StamSweepParams* p,
-                            std::deque<std::shared_ptr<void>>& keep) {
-  const int k = Table1Constants::kSweeps;
-  const int8_t rhs = add_buffer(d, &src, nullptr, k);
-  const int8_t a = add_buffer(d, nullptr, &dst, k);  // 20 sweeps: the result lands in a
-  const int8_t b = add_buffer(d, nullptr, nullptr, k);
-  auto cp = std::make_shared<CopyParams>(CopyParams{rhs, a});
-  keep.push_back(cp);
-  d.ops.push_back(map_op(copy_kernel, cp.get(), 0, {a}, {}));
-  d.ops.push_back(jacobi_op(p, a, b, rhs, k, 0, 0));
+// One residency of a solve in pass d: `sweeps` sweeps from the iterate `cur`, the result put in
+// `next`. `whole` (the solve's only residency): x is loaded once with halo `sweeps`, (the
+// sources added to it in store,) copied as the first iterate; otherwise the iterate is loaded
+// with halo `sweeps` and x with halo sweeps - 1.
+void Table1Workload::append_residency(PassDesc& d, const DiffusionSpec& sv, const FieldF* cur,
+                                      FieldF* next, int sweeps, bool whole, bool with_sources) {
+  if (whole) {
+    const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps);
+    const int8_t a = add_buffer(d, nullptr, sweeps % 2 == 0 ? next : nullptr, sweeps);
+    const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
+    if (with_sources) {
+      const int comp = sv.b == 1 ? 0 : sv.b == 2 ? 1 : 2;
+      const auto* sp = p_->keep(SourceParams{comp, rhs, grid_, &frame_});
+      d.ops.push_back(map_op(sources_kernel, sp, sweeps, {rhs}, {{rhs, BoundaryFill::stam(sv.b)}}));
+    }
+    d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
+  } else {
+    const int8_t a = add_buffer(d, cur, sweeps % 2 == 0 ? next : nullptr, sweeps);
+    const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
+    const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps - 1);
+    d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
+  }
 }
 
 // Divergence, 20-sweep pressure solve, gradient subtraction: (u, v) -> (u_out, v_out).
-// rd_rider: 1 = A's diffusion block rides on the divergence pass, 2 = B's, 0 = none.
+// rd_rider: 1 = A's diffusion rides on the passes, 2 = B's, 0 = none.
 void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out,
                                     FieldF& v_out, int rd_rider) {
   Fields& f = *f_;
@@ -415,6 +409,11 @@ void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, Fiel
   // subtracts the gradient in store. Pressure iterates alternate p0 / p1.
   const int passes = (total + k - 1) / k;
   FieldF* cur = nullptr;
+  const DiffusionSpec rider = rd_rider == 1 ? DiffusionSpec{&f.A, &f.A0, &f.tA, &p_->rd_a, 0}
+                                            : DiffusionSpec{&f.B, &f.B0, &f.tB, &p_->rd_b, 0};
+  const int rider_every = std::max(1, passes / ((total + kRiderSweeps - 1) / kRiderSweeps));
+  const FieldF* rider_cur = rider.x;
+  int rider_done = 0;
   for (int j = 1; j <= passes; ++j) {
     const int sweeps = std::min(k, total - (j - 1) * k);
     const bool first = j == 1, last = j == passes;
@@ -444,13 +443,22 @@ void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, Fiel
       d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, pres, bu, bv}), 0,
                              {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
     }
-    if (first && rd_rider == 1)
-      append_rd_block(d, f.A, f.A0, &p_->rd_a, p_->keep_alive), d.name += "+rdA";
-    if (first && rd_rider == 2)
-      append_rd_block(d, f.B, f.B0, &p_->rd_b, p_->keep_alive), d.name += "+rdB";
+    // The RD rider: the chemical's 20 sweeps in residencies of kRiderSweeps on every
+    // (kRiderSweeps)-th pass (a small halo keeps the ghost zone of a 256 KiB store's tiles
+    // small), through tmp, ending in out.
+    if (rd_rider != 0 && (j - 1) % rider_every == 0 && rider_done < total) {
+      const int rs = std::min(kRiderSweeps, total - rider_done);
+      const int left = (total - rider_done - rs + kRiderSweeps - 1) / kRiderSweeps;
+      FieldF* rider_next = left % 2 == 0 ? rider.out : rider.tmp;
+      append_residency(d, rider, rider_cur, rider_next, rs, false, false);
+      rider_cur = rider_next;
+      rider_done += rs;
+      d.name += rd_rider == 1 ? "+rdA" : "+rdB";
+    }
     plan_->add_pass(std::move(d));
     cur = next;
   }
+  ARDCELL_CHECK(rd_rider == 0 || rider_done == total, "RD rider needs a pass per residency");
 }
 
 // Blocked schedule: both RD diffusions in one residency of A and B (reacted earlier, in the

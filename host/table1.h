@@ -100,6 +100,8 @@ class Table1Workload {
     int b;  // Stam's set_bnd kind
   };
   void add_diffusion(const char* name, std::span<const DiffusionSpec> solves, bool with_sources);
+  void append_residency(PassDesc& d, const DiffusionSpec& sv, const FieldF* cur, FieldF* next,
+                        int sweeps, bool whole, bool with_sources);
   void add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out, FieldF& v_out,
                       int pressure_pass_with_rider);
   void add_rd_diffusion_pass();
