@@ -6,6 +6,10 @@
 
 #include "runtime/check.h"
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 namespace ardcell {
 namespace {
 
@@ -45,16 +49,43 @@ inline void line_span(int x0, int x1, int field_halo, int& a0, int& a1) {
   a1 = floor_div(x1 + field_halo + kLine - 1, kLine) * kLine - field_halo;
 }
 
+// The copy of one transfer. A put into a field too large to stay in the caches is written with
+// non-temporal stores: the field's lines are not read in first (no read-for-ownership), so a
+// put costs its bytes of DRAM traffic once instead of twice. Transfers are whole 128-byte lines
+// at 128-byte aligned addresses, so the streaming copy needs no edge cases.
+inline void copy_transfer(void* dst, const void* src, std::size_t bytes, bool streaming) {
+#if defined(__AVX512F__)
+  if (streaming) {
+    auto* d = static_cast<float*>(dst);
+    const auto* s = static_cast<const float*>(src);
+    for (std::size_t i = 0; i < bytes / sizeof(float); i += 16)
+      _mm512_stream_ps(d + i, _mm512_loadu_ps(s + i));
+    return;
+  }
+#else
+  (void)streaming;
+#endif
+  std::memcpy(dst, src, bytes);
+}
+
+// Non-temporal stores are weakly ordered: fence them before the worker reports completion.
+inline void fence_streaming_stores() {
+#if defined(__AVX512F__)
+  _mm_sfence();
+#endif
+}
+
 }  // namespace
 
-void Dma::enqueue(void* dst, const void* src, std::size_t bytes, int tag, const char* what) {
+void Dma::enqueue(void* dst, const void* src, std::size_t bytes, int tag, const char* what,
+                  bool streaming) {
 #if defined(ARDCELL_CHECKS) && ARDCELL_CHECKS
   check_transfer(what[0] == 'g' ? dst : src, what[0] == 'g' ? src : dst, bytes, tag, what);
 #else
   (void)what;
 #endif
   if (count_ == kQueueCapacity) complete(0);  // the MFC queue is full: the oldest one lands
-  queue_[count_++] = Transfer{dst, src, std::uint32_t(bytes), tag};
+  queue_[count_++] = Transfer{dst, src, std::uint32_t(bytes), tag, streaming};
   // Software prefetch of the source lines: the copy at wait() then runs from cache.
   const char* s = static_cast<const char*>(src);
   for (std::size_t off = 0; off < bytes; off += 64) __builtin_prefetch(s + off, 0, 3);
@@ -63,7 +94,8 @@ void Dma::enqueue(void* dst, const void* src, std::size_t bytes, int tag, const 
 
 void Dma::complete(int index) {
   const Transfer& t = queue_[index];
-  std::memcpy(t.dst, t.src, t.bytes);
+  copy_transfer(t.dst, t.src, t.bytes, t.streaming);
+  if (t.streaming) fence_streaming_stores();
   queue_[index] = queue_[--count_];
 }
 
@@ -80,19 +112,28 @@ void Dma::put(const void* local, void* remote, std::size_t bytes, int tag) {
 void Dma::wait(int tag) {
   // Transfers of one tag land in issue order: scan forward, keeping the others' order intact.
   int kept = 0;
+  bool streamed = false;
   for (int i = 0; i < count_; ++i) {
     const Transfer& t = queue_[i];
-    if (t.tag == tag)
-      std::memcpy(t.dst, t.src, t.bytes);
-    else
+    if (t.tag == tag) {
+      copy_transfer(t.dst, t.src, t.bytes, t.streaming);
+      streamed = streamed || t.streaming;
+    } else {
       queue_[kept++] = t;
+    }
   }
   count_ = kept;
+  if (streamed) fence_streaming_stores();
 }
 
 void Dma::wait_all() {
-  for (int i = 0; i < count_; ++i) std::memcpy(queue_[i].dst, queue_[i].src, queue_[i].bytes);
+  bool streamed = false;
+  for (int i = 0; i < count_; ++i) {
+    copy_transfer(queue_[i].dst, queue_[i].src, queue_[i].bytes, queue_[i].streaming);
+    streamed = streamed || queue_[i].streaming;
+  }
   count_ = 0;
+  if (streamed) fence_streaming_stores();
 }
 
 View<float> Dma::local_box(int field_halo, const Box2& box, SlotArena& arena) const {
@@ -159,7 +200,11 @@ void Dma::put_box(View<const float> local, FieldF& field, const Box2& box, int t
   ARDCELL_CHECK(a0 == box.min.x && (a1 == box.max.x || box.max.x == field.nx() + field.halo()),
                 "Dma::put_box: box must start and end on 128-byte lines (TilePlan's x cuts)");
   const std::size_t bytes = std::size_t(a1 - a0) * sizeof(float);
-  for (int y = box.min.y; y < box.max.y; ++y) put(local.row(y) + a0, field.row(y) + a0, bytes, tag);
+  const bool streaming = field.raw_size() * sizeof(float) >= kStreamingPutFieldBytes;
+  for (int y = box.min.y; y < box.max.y; ++y) {
+    enqueue(field.row(y) + a0, local.row(y) + a0, bytes, tag, "put", streaming);
+    bytes_out_ += bytes;
+  }
 }
 
 }  // namespace ardcell

@@ -30,6 +30,10 @@ class Dma {
   static constexpr std::size_t kAlignBytes = 128;
   static constexpr int kTags = 32;
   static constexpr int kQueueCapacity = 1024;
+  // put_box into a field at least this large writes with non-temporal stores (a field of 1024^2
+  // floats and up: a frame's fields no longer fit the caches, and streaming stores skip the
+  // read-for-ownership of the destination lines).
+  static constexpr std::size_t kStreamingPutFieldBytes = std::size_t(4) << 20;
 
   // Raw transfers (the MFC's mfc_get / mfc_put).
   void get(void* local, const void* remote, std::size_t bytes, int tag);
@@ -66,8 +70,10 @@ class Dma {
     const void* src;
     std::uint32_t bytes;
     std::int32_t tag;
+    bool streaming;  // non-temporal stores (puts into large fields)
   };
-  void enqueue(void* dst, const void* src, std::size_t bytes, int tag, const char* what);
+  void enqueue(void* dst, const void* src, std::size_t bytes, int tag, const char* what,
+               bool streaming = false);
   void complete(int index);
 
   std::array<Transfer, kQueueCapacity> queue_{};

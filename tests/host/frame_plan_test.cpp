@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "runtime/dma.h"
+#include "runtime/local_store.h"
 #include "runtime/thread/thread_backend.h"
 
 namespace ardcell {
@@ -175,6 +177,36 @@ TEST(FramePlanDeathTest, JacobiBuffersWithTooSmallAHaloAreRefused) {
   d.ops.push_back(op);
   EXPECT_EXIT(plan.add_pass(d), testing::ExitedWithCode(2),
               "pass 'bad': Jacobi buffers need halo >= sweeps");
+}
+
+}  // namespace
+}  // namespace ardcell
+
+namespace ardcell {
+namespace {
+
+// A put into a field above Dma::kStreamingPutFieldBytes goes out with non-temporal stores: the
+// box lands exactly, its neighbours stay untouched, on the edge tile (a box ending at the row's
+// end) as on an inner one.
+TEST(DmaStreamingPut, LargeFieldPutsExactly) {
+  const Int2 n{1100, 1000};
+  FieldF field(n, 1);
+  ASSERT_GE(field.raw_size() * sizeof(float), Dma::kStreamingPutFieldBytes);
+  field.fill(-1.0f);
+  LocalStore store(256 * 1024);
+  Dma dma;
+  for (const Box2 box : {Box2{{31, 10}, {31 + 96, 40}}, Box2{{1055, 500}, {1101, 530}}}) {
+    SlotArena arena(store, 0);
+    View<float> local = dma.local_box(field, box, arena);
+    for (int y = box.min.y; y < box.max.y; ++y)
+      for (int x = box.min.x; x < box.max.x; ++x) local(x, y) = float(x * 3 + y * 7);
+    dma.put_box(local, field, box, 0);
+    dma.wait(0);
+    for (int y = box.min.y - 1; y <= box.max.y; ++y)
+      for (int x = box.min.x - 1; x <= box.max.x && x <= n.x; ++x)
+        ASSERT_EQ(field(x, y), box.contains(Int2{x, y}) ? float(x * 3 + y * 7) : -1.0f)
+            << x << "," << y;
+  }
 }
 
 }  // namespace
