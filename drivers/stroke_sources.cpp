@@ -60,20 +60,7 @@ std::unique_ptr<StrokeSource> open_tablet_source(std::string& error) {
 #endif
 }
 
-PaintConfig paint_config_for_scene(const SceneConfig& scene) {
-  PaintConfig c;
-  const AnisotropyParams& a = scene.rd.anisotropy;
-  c.mode = scene.rd.enabled && a.kind == AnisotropyKind::kCosineLobes && a.lobes == 1
-               ? PaintMode::kOrient
-               : PaintMode::kDeposit;
-  c.background_a = scene.rd.background_a;
-  c.background_b = scene.rd.background_b;
-  c.deposit_a = scene.rd.seed_a;
-  c.deposit_b = scene.rd.seed_b;
-  c.radius = std::max(1.5f, float(scene.size.x) / 128.f);
-  c.min_radius = std::max(1.0f, c.radius * 0.25f);
-  return c;
-}
+PaintConfig paint_config_for_scene(const SceneConfig& scene) { return paint_config_for(scene); }
 
 bool RunPaintOptions::make(const SceneConfig& scene, std::unique_ptr<StrokePlayback>& out,
                            std::string& error) const {

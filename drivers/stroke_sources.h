@@ -41,8 +41,7 @@ struct RunPaintOptions {
 // Adds --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes to a subcommand.
 void add_run_paint_options(CLI::App& command, RunPaintOptions& options);
 
-// The Painter defaults for a scene: orient mode with the lobe opposite to the stroke when the
-// scene's RD uses a single cosine lobe (Fig. 3 bottom), deposit otherwise.
+// The Painter defaults for a scene (host/paint.h paint_config_for).
 PaintConfig paint_config_for_scene(const SceneConfig& scene);
 
 }  // namespace ardcell

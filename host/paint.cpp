@@ -6,9 +6,12 @@
 namespace ardcell {
 
 namespace {
+// Soft edge for the blends: full inside half the radius, falling to 0 at the rim.
+double brush_falloff(double d, double r) { return std::min(1.0, 2.0 * (1.0 - d / r)); }
+
 constexpr std::string_view kModeNames[kPaintModeCount] = {"deposit", "orient", "push", "obstacle",
                                                           "erase"};
-}
+}  // namespace
 
 std::string_view paint_mode_name(PaintMode m) { return kModeNames[int(m) % kPaintModeCount]; }
 
@@ -19,6 +22,26 @@ bool parse_paint_mode(std::string_view name, PaintMode& out) {
       return true;
     }
   return false;
+}
+
+PaintConfig paint_config_for(const SceneConfig& scene) {
+  PaintConfig c;
+  const AnisotropyParams& a = scene.rd.anisotropy;
+  c.mode = scene.rd.enabled && a.kind == AnisotropyKind::kCosineLobes && a.lobes == 1
+               ? PaintMode::kOrient
+               : PaintMode::kDeposit;
+  c.background_a = scene.rd.background_a;
+  c.background_b = scene.rd.background_b;
+  c.deposit_a = scene.rd.seed_a;
+  c.deposit_b = scene.rd.seed_b;
+  c.radius = std::max(1.5f, float(scene.size.x) / 128.f);
+  c.min_radius = std::max(1.0f, c.radius * 0.25f);
+  // Orient strokes seed the pattern as separate dabs about two stripe wavelengths apart: each
+  // grows into a stripe across the stroke (a continuous line would grow stripes along it).
+  // The dabs are seeds: pressure sets their size, not their strength (weaker ones dissolve).
+  c.orient_dab_spacing = 3.2f;
+  if (c.mode == PaintMode::kOrient) c.pressure_sets_strength = false;
+  return c;
 }
 
 Painter::Painter(Int2 grid, const PaintConfig& config)
@@ -64,6 +87,7 @@ void Painter::apply(std::span<const StrokeSample> samples, SimState& s) {
     if (!down_) {
       // Pen-down: the stroke starts here. A dot, never a segment from the last pen-up.
       down_ = true;
+      arc_ = next_dab_ = 0;
       segment(x, y, x, y, pressure, sample.eraser, s);
     } else {
       segment(last_x_, last_y_, x, y, pressure, sample.eraser, s);
@@ -99,9 +123,7 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
       t = std::clamp(t, 0.0, 1.0);
       const double d = std::hypot(px - (x0 + t * dx), py - (y0 + t * dy));
       if (d > r) continue;
-      // Soft edge for the blends: full inside half the radius, falling to 0 at the rim.
-      const double falloff = std::min(1.0, 2.0 * (1.0 - d / r));
-      const float k = float(k_base * falloff);
+      const float k = float(k_base * brush_falloff(d, r));
       if (erasing) {
         if (erase_all || mode == PaintMode::kDeposit) {
           if (!s.A.empty()) s.A(x, y) = c.background_a;
@@ -122,15 +144,11 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
       }
       switch (mode) {
         case PaintMode::kDeposit:
-          if (!s.A.empty()) s.A(x, y) += k * (c.deposit_a - s.A(x, y));
-          if (!s.B.empty()) s.B(x, y) += k * (c.deposit_b - s.B(x, y));
+          deposit_chemicals(x, y, k, s);
           if (!s.dye.empty()) s.dye(x, y) += k * (c.deposit_dye - s.dye(x, y));
           break;
         case PaintMode::kOrient:
-          if (c.orient_deposits) {
-            if (!s.A.empty()) s.A(x, y) += k * (c.deposit_a - s.A(x, y));
-            if (!s.B.empty()) s.B(x, y) += k * (c.deposit_b - s.B(x, y));
-          }
+          if (c.orient_deposits && !(c.orient_dab_spacing > 0)) deposit_chemicals(x, y, k, s);
           if (len > 0) {  // a dot has no direction
             weight_(x, y) = 1;
             dir_cos_(x, y) = float(ux);
@@ -156,6 +174,29 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
       }
     }
   }
+  if (mode == PaintMode::kOrient && !erasing && c.orient_deposits && c.orient_dab_spacing > 0)
+    orient_dabs(x0, y0, ux, uy, len, r, k_base, s);
+}
+
+void Painter::deposit_chemicals(int x, int y, float k, SimState& s) const {
+  if (!s.A.empty()) s.A(x, y) += k * (config_.deposit_a - s.A(x, y));
+  if (!s.B.empty()) s.B(x, y) += k * (config_.deposit_b - s.B(x, y));
+}
+
+void Painter::orient_dabs(double x0, double y0, double ux, double uy, double len, double r,
+                          double k_base, SimState& s) {
+  const double spacing = std::max(0.5, double(config_.orient_dab_spacing) * r);
+  for (; next_dab_ <= arc_ + len; next_dab_ += spacing) {
+    const double cx = x0 + (next_dab_ - arc_) * ux, cy = y0 + (next_dab_ - arc_) * uy;
+    const int xa = std::max(0, int(std::floor(cx - r))), xb = std::min(grid_.x - 1, int(cx + r));
+    const int ya = std::max(0, int(std::floor(cy - r))), yb = std::min(grid_.y - 1, int(cy + r));
+    for (int y = ya; y <= yb; ++y)
+      for (int x = xa; x <= xb; ++x) {
+        const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+        if (d <= r) deposit_chemicals(x, y, float(k_base * brush_falloff(d, r)), s);
+      }
+  }
+  arc_ += len;
 }
 
 bool Painter::update_theta0(SimState& s) {

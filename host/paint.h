@@ -21,6 +21,7 @@
 #include <span>
 #include <string_view>
 
+#include "host/scene_config.h"
 #include "host/sim_state.h"
 #include "host/stroke.h"
 #include "kernels/fast_marching.h"
@@ -50,9 +51,21 @@ struct PaintConfig {
   float theta_offset = -3.14159265f;
   // orient strokes also deposit the chemicals (the stroke seeds the pattern it steers).
   bool orient_deposits = true;
+  // When > 0, orient strokes deposit separate dabs (discs of the brush) whose centres are
+  // this many brush radii apart along the stroke, instead of a continuous line.
+  // A continuous line seeds stripes parallel to the stroke, which a lobe along the stroke
+  // leaves standing; separate dabs each grow into a stripe across the stroke that the lobe
+  // carries along it (Fig. 3 bottom).
+  float orient_dab_spacing = 0.0f;
   // Coarsening of the orientation extension: 0 = automatic (about 128 coarse cells across).
   int orient_coarsening = 0;
 };
+
+// The Painter defaults for a scene: orient mode with the lobe opposite to the stroke when the
+// scene's RD uses a single cosine lobe (Fig. 3 bottom), deposit otherwise; deposit and
+// background values from the scene's RD; orient strokes deposit full-strength dabs 3.2 brush
+// radii apart. (`ardcell run --strokes` starts from these.)
+PaintConfig paint_config_for(const SceneConfig& scene);
 
 class Painter {
  public:
@@ -86,6 +99,11 @@ class Painter {
  private:
   void segment(double x0, double y0, double x1, double y1, float pressure, bool eraser,
                SimState& s);
+  // Blends A/B towards the deposit values with factor k at cell (x, y).
+  void deposit_chemicals(int x, int y, float k, SimState& s) const;
+  // Orient-mode dabs whose arc-length positions fall on this segment.
+  void orient_dabs(double x0, double y0, double ux, double uy, double len, double r, double k_base,
+                   SimState& s);
   int auto_coarsening() const;
 
   Int2 grid_;
@@ -95,6 +113,8 @@ class Painter {
   bool orientation_dirty_ = false;
   bool down_ = false;
   double last_x_ = 0, last_y_ = 0;  // grid coordinates of the previous sample of this stroke
+  double arc_ = 0;                  // length of this stroke so far (cells), for the dabs
+  double next_dab_ = 0;             // arc length of this stroke's next dab
 };
 
 }  // namespace ardcell

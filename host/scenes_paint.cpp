@@ -1,12 +1,15 @@
-// Kim & Lin Fig. 3: a spiral stroke painted into Gray-Scott. Play the recorded stroke with
-//   ardcell tablet play fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl
-//       --paint-radius 8 --png docs/fig3_deposit.png
-//   ardcell tablet play fig3-orient --strokes presets/strokes/fig3_spiral.jsonl
-//       --paint-radius 8 --png docs/fig3_orient.png
-// (or `ardcell run ... --strokes` where the run loop paints). Deposition only: the stroke
-// seeds B once, the pattern grows out and stops. Orientation: the stroke's tangent sets theta0
-// everywhere (fast marching extension) with a single cosine lobe (Eqn 16, j = 1) opposite to
-// the stroke, so stripes keep travelling.
+// Kim & Lin Fig. 3: a spiral stroke painted into Gray-Scott. Render with
+//   ardcell run fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl --paint-radius 8
+//       --steps 1500 --every 1500 --out out/fig3-deposit
+//   ardcell run fig3-orient --strokes presets/strokes/fig3_spiral.jsonl --paint-radius 12
+//       --steps 200 --every 200 --out out/fig3-orient
+// Deposition only: the stroke seeds B once, the pattern grows out and stops. Orientation: the
+// stroke's tangent sets theta0 everywhere (fast marching extension) with a single cosine lobe
+// (Eqn 16, j = 1) opposite to the stroke, and the stroke seeds separate dabs
+// (paint_config_for), which grow into stripes across the stroke that radiate from it and curl
+// into a pinwheel. The two scenes share every RD parameter except the lobe.
+#include <string>
+
 #include "host/scene_registry.h"
 
 namespace ardcell {
@@ -53,10 +56,12 @@ SceneConfig fig3(bool orient) {
     rd.anisotropy.kind = AnisotropyKind::kCosineLobes;
     rd.anisotropy.lobes = 1;
     // a(phi) = 2 (1 + cos phi): twice the isotropic rate at the peak, 0 at the back, so the
-    // pattern keeps travelling against the stroke direction instead of settling.
+    // pattern keeps travelling against the stroke direction instead of settling. (At speed 6
+    // and more the dabs dissolve before they can grow.)
     rd.anisotropy.lobe_speed[0] = 4.0f;
   }
-  s.output.show = "B";
+  // (Not `= "B"`: GCC 12 -O3 warns -Wrestrict on that one-character assignment, bug 105329.)
+  s.output.show = std::string("B");
   s.output.colormap = "magma";
   return s;
 }

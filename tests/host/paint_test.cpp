@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace ardcell {
 namespace {
@@ -182,12 +183,18 @@ TEST(Painter, OrientStrokeSetsThetaZeroEverywhere) {
   EXPECT_NEAR(std::sin(s.theta0(5, 100)), 0.0, 1e-3);
 }
 
+// Orient mode with a brush of one fixed radius.
+PaintConfig orient_config(float radius) {
+  PaintConfig c;
+  c.mode = PaintMode::kOrient;
+  c.radius = c.min_radius = radius;
+  return c;
+}
+
 TEST(Painter, OrientCircleIsTangential) {
   const int n = 128;
   SimState s = make_state(n);
-  PaintConfig c;
-  c.mode = PaintMode::kOrient;
-  c.radius = c.min_radius = 1.5f;
+  PaintConfig c = orient_config(1.5f);
   c.theta_scale = 1;
   c.theta_offset = 0;
   Painter p({n, n}, c);
@@ -209,6 +216,52 @@ TEST(Painter, OrientCircleIsTangential) {
       ++count;
     }
   EXPECT_LT(sum / count, 0.08);
+}
+
+TEST(Painter, OrientDabsAreSpacedAlongTheStroke) {
+  const int n = 96;
+  SimState s = make_state(n);
+  PaintConfig c = orient_config(3);
+  c.orient_dab_spacing = 4;  // 12 cells between dab centres
+  Painter p({n, n}, c);
+  // A straight stroke from x = 10 to x = 70 along y = 40, sampled every 2.5 cells (the dab
+  // positions fall between samples), then a second stroke that starts again at x = 10.
+  std::vector<StrokeSample> stroke;
+  for (double x = 10; x <= 70; x += 2.5) stroke.push_back(at(n, x, 40, true));
+  p.apply(stroke, s);
+  // Dab centres at 10, 22, ..., 70 (cell x + 0.5 == centre, so cells 9/10 straddle x = 10).
+  for (int k = 0; k <= 5; ++k) {
+    const int cx = 10 + 12 * k;
+    EXPECT_FLOAT_EQ(s.B(cx, 40), c.deposit_b) << cx;  // within half the radius: full blend
+    EXPECT_EQ(s.B(cx + 6, 40), 0.f) << cx;            // halfway between dabs: nothing
+    EXPECT_EQ(s.B(cx, 44), 0.f) << cx;                // beyond the radius across the stroke
+  }
+  EXPECT_EQ(s.B(77, 40), 0.f);  // no dab beyond the stroke's end
+  // The orientation is rasterised along the whole stroke, dabs or not.
+  for (int x = 12; x < 68; ++x) EXPECT_GT(p.orientation_weight()(x, 40), 0.f) << x;
+  // A new stroke counts its length from its own pen-down.
+  SimState s2 = make_state(n);
+  const StrokeSample second[] = {at(n, 30, 60, false), at(n, 30, 60, true), at(n, 45, 60, true)};
+  p.apply(second, s2);
+  EXPECT_FLOAT_EQ(s2.B(30, 60), c.deposit_b);
+  EXPECT_FLOAT_EQ(s2.B(42, 60), c.deposit_b);
+  EXPECT_EQ(s2.B(36, 60), 0.f);
+}
+
+TEST(Painter, SceneDefaultsOrientWithDabsForASingleLobe) {
+  SceneConfig scene;
+  scene.size = {256, 256};
+  scene.rd.enabled = true;
+  scene.rd.seed_b = 0.3f;
+  PaintConfig c = paint_config_for(scene);
+  EXPECT_EQ(c.mode, PaintMode::kDeposit);
+  EXPECT_EQ(c.deposit_b, 0.3f);
+  scene.rd.anisotropy.kind = AnisotropyKind::kCosineLobes;
+  scene.rd.anisotropy.lobes = 1;
+  c = paint_config_for(scene);
+  EXPECT_EQ(c.mode, PaintMode::kOrient);
+  EXPECT_GT(c.orient_dab_spacing, 2.f);  // dabs at least one brush width apart
+  EXPECT_FALSE(c.pressure_sets_strength);
 }
 
 TEST(Painter, ModeNames) {
