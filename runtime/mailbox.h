@@ -38,10 +38,12 @@ class Mailbox {
     read_.store(r + 1, std::memory_order_release);
     return value;
   }
-  // Consumer side: blocks until a message arrives, spinning `spin_limit` times first (a short
-  // spin catches the next message of a busy pipeline without a futex round trip; a long one
-  // steals the core from the thread that would send it when cores are shared).
-  T pop(int spin_limit = 256) {
+  // Consumer side: blocks until a message arrives, spinning `spin_limit` times first, then
+  // yielding the core `yield_limit` times, then sleeping on the futex. A short spin catches the
+  // next message of a busy pipeline without a futex round trip; a long one steals the core from
+  // the thread that would send it when cores are shared, where yielding hands it over (and on
+  // an idle core returns at once, a spin of a microsecond a round).
+  T pop(int spin_limit = 256, int yield_limit = 0) {
     for (int spin = 0;; ++spin) {
       const std::uint32_t r = read_.load(std::memory_order_relaxed);
       const std::uint32_t w = write_.load(std::memory_order_acquire);
@@ -54,6 +56,8 @@ class Mailbox {
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
+      } else if (spin < spin_limit + yield_limit) {
+        std::this_thread::yield();
       } else {
         write_.wait(w, std::memory_order_acquire);
       }

@@ -9,10 +9,12 @@
 
 namespace ardcell {
 namespace {
-// Pauses (about 50 ns each on the EPYC) a waiting side spins before it sleeps on the futex.
-// Passes of a small grid last tens of microseconds: a waiter that spins through that gap picks
-// the next message up at once, where a futex sleep and wake-up costs more than the pass.
-constexpr int kSpinBeforeSleep = 2048;
+// A waiting side spins kSpin pauses (about 50 ns each on the EPYC), then yields kYields times,
+// then sleeps on the futex. Passes of a small grid last tens of microseconds: on idle cores the
+// yields return at once and the waiter picks the next message up without a sleep and wake-up
+// (which costs more than the pass); on shared cores they hand the core to the thread being
+// waited for instead of spinning it away.
+constexpr int kSpin = 256, kYields = 64;
 }  // namespace
 
 struct ThreadBackend::Worker {
@@ -78,7 +80,7 @@ void ThreadBackend::sync() {
     for (int i = 0; i < outstanding_; ++i) run_share(*workers_[0], host_queue_[std::size_t(i)]);
   for (; outstanding_ > 0; --outstanding_)
     for (auto& w : workers_)
-      if (w->thread.joinable()) (void)w->outbox.pop(kSpinBeforeSleep);
+      if (w->thread.joinable()) (void)w->outbox.pop(kSpin, kYields);
 }
 
 std::uint64_t ThreadBackend::dma_bytes() const {
@@ -89,7 +91,7 @@ std::uint64_t ThreadBackend::dma_bytes() const {
 
 void ThreadBackend::run_worker(Worker& w) {
   for (;;) {
-    const Command cmd = w.inbox.pop(kSpinBeforeSleep);
+    const Command cmd = w.inbox.pop(kSpin, kYields);
     if (cmd.pass == nullptr) return;
     run_share(w, cmd);
     w.outbox.push(w.index);
