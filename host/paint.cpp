@@ -38,9 +38,7 @@ PaintConfig paint_config_for(const SceneConfig& scene) {
   c.min_radius = std::max(1.0f, c.radius * 0.25f);
   // Orient strokes seed the pattern as separate dabs about two stripe wavelengths apart: each
   // grows into a stripe across the stroke (a continuous line would grow stripes along it).
-  // The dabs are seeds: pressure sets their size, not their strength (weaker ones dissolve).
   c.orient_dab_spacing = 3.2f;
-  if (c.mode == PaintMode::kOrient) c.pressure_sets_strength = false;
   return c;
 }
 
@@ -175,7 +173,8 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
     }
   }
   if (mode == PaintMode::kOrient && !erasing && c.orient_deposits && c.orient_dab_spacing > 0)
-    orient_dabs(x0, y0, ux, uy, len, r, k_base, s);
+    // Dabs are seeds: pressure sets their size, not their strength (weaker ones dissolve).
+    orient_dabs(x0, y0, ux, uy, len, r, std::min(1.0, double(c.strength)), s);
 }
 
 void Painter::deposit_chemicals(int x, int y, float k, SimState& s) const {

@@ -51,8 +51,9 @@ struct PaintConfig {
   float theta_offset = -3.14159265f;
   // orient strokes also deposit the chemicals (the stroke seeds the pattern it steers).
   bool orient_deposits = true;
-  // When > 0, orient strokes deposit separate dabs (discs of the brush) whose centres are
-  // this many brush radii apart along the stroke, instead of a continuous line.
+  // When > 0, orient strokes deposit separate dabs (discs of the brush, blended at `strength`
+  // whatever the pressure) whose centres are this many brush radii apart along the stroke,
+  // instead of a continuous line.
   // A continuous line seeds stripes parallel to the stroke, which a lobe along the stroke
   // leaves standing; separate dabs each grow into a stripe across the stroke that the lobe
   // carries along it (Fig. 3 bottom).
