@@ -42,12 +42,12 @@ TilePlan TilePlan::make(const TilePlanRequest& r) {
   // Widest row a single DMA transfer may carry.
   const int max_row_cells = int(Dma::kMaxTransferBytes / sizeof(float));
   const int grid_w = round_up(r.grid.x + r.field_halo, kLine);
-  // Shape: a pass with halo H recomputes, over its sweeps, about H extra cells along each axis
-  // (the ghost zone shrinks from H to 0 on each side) and copies 2H more: of two shapes that
-  // fit, the one with the larger share of useful cells, w h / ((w + H) (h + H)), wins. Wide
-  // flat tiles that only maximise the area do up to 1.8x the core's work at halo 20.
+  // Shape: the largest core that fits. With the store full, that is also the smallest share of
+  // halo in the bytes copied (a side's halo costs whole 128-byte lines in x, rows in y); scoring
+  // by the ghost zone's recomputation instead (w h / ((w + H)(h + H))) made halo-1 tiles square
+  // and slowed the stream schedule at 512^2 by about a quarter.
   int best_w = 0, best_h = 0;
-  double best_score = -1.0;
+  long best_area = -1;
   for (int w = kLine; w <= grid_w; w += kLine) {
     if (r.max_width > 0 && w > std::max(r.max_width, kLine)) break;
     if (w + 2 * round_up(reach, kLine) > max_row_cells) break;
@@ -64,9 +64,9 @@ TilePlan TilePlan::make(const TilePlanRequest& r) {
     if (r.max_height > 0) h = std::min(h, r.max_height);
     if (h <= 0) continue;
     const int cw = std::min(w, r.grid.x + r.field_halo);
-    const double score = double(cw) * h / (double(cw + reach) * double(h + reach));
-    if (score > best_score) {
-      best_score = score;
+    const long area = long(cw) * h;
+    if (area > best_area) {
+      best_area = area;
       best_w = w;
       best_h = h;
     }
