@@ -14,7 +14,6 @@
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/gpio_buttons.h"
 #include "drivers/png_writer.h"
-#include "drivers/stroke_sources.h"
 #include "host/attract_mode.h"
 #include "host/live_engine.h"
 #include "host/preset.h"
@@ -155,8 +154,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     return std::make_unique<PngWriter>(path);
   };
 
-  // The same painter defaults per scene as `ardcell run --strokes`.
-  LiveLoop loop(o, engine_simulation_factory(paint_config_for_scene), *display);
+  LiveLoop loop(o, make_engine_simulation, *display);
   if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
   install_report_signal();
 

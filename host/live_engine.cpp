@@ -291,13 +291,7 @@ void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputM
 }
 
 std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset) {
-  return std::make_unique<EngineSimulation>(preset, PaintConfig{});
-}
-
-SimulationFactory engine_simulation_factory(PaintConfig (*paint_defaults)(const SceneConfig&)) {
-  return [paint_defaults](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
-    return std::make_unique<EngineSimulation>(preset, paint_defaults(preset.scene));
-  };
+  return std::make_unique<EngineSimulation>(preset, paint_config_for(preset.scene));
 }
 
 }  // namespace ardcell

@@ -2,8 +2,9 @@
 // The Engine (host/engine.h) as a LiveSimulation: what `ardcell live` runs.
 //  - Live parameter changes reach the engine through Engine::update_parameters.
 //  - Stroke samples are painted by a Painter (host/paint.h), the one painting path that
-//    `ardcell run --strokes` uses too: its PaintConfig is the caller's per-scene defaults with the
-//    preset's [input] table on top (live_paint_config); pressure^pressure_gamma is the pressure.
+//    `ardcell run --strokes` uses too: its PaintConfig is the scene's defaults (paint_config_for)
+//    with the preset's [input] table on top (live_paint_config); pressure^pressure_gamma is the
+//    pressure.
 //  - Adaptive RD resolution: one RD grid per rung of rd_scale_ladder(quality.min_rd_scale) is
 //    preallocated. Below full resolution the fluid still runs on the scene's grid
 //    (Engine::step_without_rd) while A and B are reacted, diffused and advected on the coarse
@@ -21,8 +22,8 @@
 
 namespace ardcell {
 
-// The Painter configuration for live input: `base` (the scene's defaults, e.g. drivers'
-// paint_config_for_scene) with the preset's input mapping applied: mode (when it names one),
+// The Painter configuration for live input: `base` (the scene's defaults, paint_config_for)
+// with the preset's input mapping applied: mode (when it names one),
 // radius = brush_radius * grid width in cells (min_radius stays base's), strength.
 PaintConfig live_paint_config(const PaintConfig& base, const InputMapping& input, Int2 grid);
 
@@ -62,9 +63,8 @@ class EngineSimulation final : public LiveSimulation {
   std::array<StrokeSample, 512> pressured_{};     // samples with pressure^gamma
 };
 
-// An EngineSimulation with the Painter's default configuration as the base.
+// What `ardcell live` runs: an EngineSimulation whose painter starts from the scene's defaults
+// (paint_config_for, as `ardcell run --strokes` does).
 std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset);
-// The factory `ardcell live` uses: per-scene painter defaults from `paint_defaults`.
-SimulationFactory engine_simulation_factory(PaintConfig (*paint_defaults)(const SceneConfig&));
 
 }  // namespace ardcell

@@ -583,17 +583,16 @@ bool same_field(const Field<T>& a, const Field<T>& b) {
 }
 
 // The one painting path: the live engine paints exactly what `ardcell run --strokes` paints
-// (StrokePlayback: the same Painter, configured by live_paint_config), in every mode, with the
-// mode switched between strokes and pressure varying along them.
+// (StrokePlayback: the same Painter from the scene's paint_config_for, with the preset's input
+// mapping by live_paint_config), in every mode, with the mode switched between strokes and
+// pressure varying along them.
 TEST(LiveEngine, PaintsExactlyLikeTheStrokePlayback) {
   Fixture fx;
   Preset p;
   ASSERT_TRUE(load_preset(small_engine_preset(fx, "cavity-gray-scott", 24, 1.0), p).is_ok());
   p.input.brush_radius = 0.12;
   p.input.strength = 0.8;
-  PaintConfig base;
-  base.deposit_a = 0.4f;
-  base.deposit_b = 0.3f;
+  const PaintConfig base = paint_config_for(p.scene);  // what `ardcell run --strokes` starts from
   EngineSimulation live(p, base);
   Engine offline(p.scene);
   auto source = std::make_unique<ChunkSource>();
