@@ -5,8 +5,8 @@
 //   - --backend opencl (PoCL) agrees with serial within 1e-5 relative in the max norm
 //     (max |cl - serial| / max |serial| over the interior, per field);
 //   - --cl-device 99 prints the fallback line and still runs (on threads);
-//   - bad --schedule / --backend exit 2 with one line; general scenes refuse --schedule and
-//     --backend opencl with one line.
+//   - bad --schedule / --backend exit 2 with one line; general scenes refuse --schedule with
+//     one line (their --backend opencl: tests/drivers/run_opencl_cli_test.cpp).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -154,7 +154,7 @@ TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
       std::string(kSmall) + "--show pressure",
       std::string("run table1 --size 48 --show A"),
       std::string("run cavity --size 16 --steps 1 --schedule blocked"),
-      std::string("run cavity --size 16 --steps 1 --backend opencl"),
+      std::string("run cavity --size 16 --steps 1 --backend opencl --schedule stream"),
       std::string("run cavity --size 16 --steps 1 --schedule bogus")};
   for (const std::string& args : cases) {
     const Result r = run(args);
