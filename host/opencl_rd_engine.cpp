@@ -165,11 +165,15 @@ Status OpenClRdEngine::update_parameters(const SceneConfig& next) {
 }
 
 const SimState& OpenClRdEngine::download_state() {
-  SimState& s = shadow_->state();
-  OpenClContext& ctx = cl_.context();
-  ctx.download(a_, s.A);
-  ctx.download(b_, s.B);
-  return s;
+  download_chemical(false);
+  download_chemical(true);
+  return shadow_->state();
+}
+
+const FieldF& OpenClRdEngine::download_chemical(bool b) {
+  FieldF& host = b ? shadow_->state().B : shadow_->state().A;
+  cl_.context().download(b ? b_ : a_, host);
+  return host;
 }
 
 void OpenClRdEngine::upload_theta0() { cl_.context().upload(shadow_->state().theta0, theta0_); }

@@ -55,6 +55,8 @@ class OpenClRdEngine {
   SimState& host_state() { return shadow_->state(); }
   // Downloads A and B (blocking) into the host mirror and returns it.
   const SimState& download_state();
+  // Downloads only the chemical a display shows (false: A, true: B) into the mirror.
+  const FieldF& download_chemical(bool b);
   // Uploads the host mirror's theta0 (after painting it) / A, B and theta0 (after loading a
   // saved state or painting chemicals). Blocking.
   void upload_theta0();

@@ -218,7 +218,7 @@ TEST(OpenClRdEngine, PaintedTheta0IsUploaded) {
   run_parity(gpu, cpu, 2, 1, "space-cookie-5 painted theta0");
   unpainted.step();
   unpainted.step();
-  const FieldF plain_b = unpainted.download_state().B;
+  const FieldF plain_b = unpainted.download_chemical(true);
   EXPECT_GT(relative_error(gpu.download_state().B, plain_b), 100 * kTolerance);
 }
 
