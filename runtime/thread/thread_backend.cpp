@@ -43,6 +43,16 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
     w->ctx.dma = &w->dma;
     workers_.push_back(std::move(w));
   }
+  // The host thread is worker 0: pin it to core 0 too (restored in the destructor). Left
+  // unpinned, the scheduler's wake-affine placement pulls it onto the core of the pinned worker
+  // whose completion wakes it, and the two then share one core while the other idles.
+  if (options.pin && host_is_worker_ && n > 1) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(0, &set);
+    host_pinned_ = pthread_getaffinity_np(pthread_self(), sizeof(host_mask_), &host_mask_) == 0 &&
+                   pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0;
+  }
   for (auto& w : workers_) {
     if (host_is_worker_ && w->index == 0) continue;
     w->thread = std::thread(run_worker, std::ref(*w));
@@ -62,6 +72,7 @@ ThreadBackend::~ThreadBackend() {
     if (w->thread.joinable()) w->inbox.push(Command{});
   for (auto& w : workers_)
     if (w->thread.joinable()) w->thread.join();
+  if (host_pinned_) (void)pthread_setaffinity_np(pthread_self(), sizeof(host_mask_), &host_mask_);
 }
 
 void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {

@@ -6,6 +6,8 @@
 // same tiles for the same count, and a tile's result does not depend on who computes it) and
 // runs the double-buffered tile program over them. sync() collects one completion per worker
 // per dispatch from the outbound mailboxes. Nothing on this path allocates or locks.
+#include <sched.h>
+
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -23,7 +25,9 @@ namespace ardcell {
 struct ThreadBackendOptions {
   int workers = 0;  // 0: one per hardware thread
   std::size_t local_store_bytes = kDefaultLocalStoreBytes;
-  bool pin = true;  // pin worker w to core w % cores (silently unpinned where not permitted)
+  // Pin worker w to core w % cores, and a host thread that is worker 0 to core 0 for the back
+  // end's lifetime (silently unpinned where not permitted).
+  bool pin = true;
   // The calling (host) thread runs worker 0's share inside sync(), so `workers` threads of
   // work need only workers - 1 helper threads: on a 2-core machine the host does not sit idle
   // on a core of its own while two workers share the other.
@@ -60,6 +64,8 @@ class ThreadBackend final : public Backend {
 
   std::vector<std::unique_ptr<Worker>> workers_;
   bool host_is_worker_ = true;
+  bool host_pinned_ = false;  // the host thread was pinned to core 0; host_mask_ is its old mask
+  cpu_set_t host_mask_{};
   static constexpr int kMaxOutstanding = 64;
   std::array<Command, kMaxOutstanding> host_queue_{};  // worker 0's share when the host runs it
   int outstanding_ = 0;                                // dispatches not yet collected by sync()
