@@ -57,8 +57,9 @@ std::string number_text(double v) {
 std::string OpenClRdEngine::device_problem(const SceneConfig& scene) {
   const RdConfig& rd = scene.rd;
   if (scene.fluid.kind != FluidSceneKind::kNone)
-    return "fluid.scene: the scene has a fluid; the OpenCL engine runs reaction-diffusion-only "
-           "scenes (and the table1 scenes), expected a scene without fluid";
+    return "fluid.scene: the scene has a fluid (or an obstacle's solid cells); the OpenCL engine "
+           "runs reaction-diffusion-only scenes (and the table1 scenes), expected a scene "
+           "without fluid";
   if (!rd.enabled)
     return "rd.enabled: the scene has no reaction-diffusion; the OpenCL engine runs "
            "reaction-diffusion-only scenes";
