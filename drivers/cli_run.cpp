@@ -22,6 +22,7 @@
 #include "runtime/opencl/backend_choice.h"
 #if defined(ARDCELL_WITH_OPENCL)
 #include "host/opencl_rd_engine.h"
+#include "host/rd_step.h"
 #include "host/table1_opencl.h"
 #endif
 
@@ -443,6 +444,8 @@ class OpenClRdStepper final : public OfflineStepper {
                                                int cl_device, std::string& message,
                                                std::string& detail) {
     const std::string fallback = "; falling back to the threads back end";
+    // An invalid RD parameter is the CPU engine's error to report, as without OpenCL.
+    if (scene.rd.enabled && !rd_config_problem(scene).empty()) return nullptr;
     if (std::string why = OpenClRdEngine::device_problem(scene); !why.empty()) {
       message = "ardcell: scene '" + scene.name + "' cannot run on OpenCL: " + why + fallback;
       return nullptr;
