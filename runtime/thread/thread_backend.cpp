@@ -35,6 +35,8 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
   if (n <= 0) n = std::max(1u, std::thread::hardware_concurrency());
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   workers_.reserve(std::size_t(n));
+  claims_ =
+      std::make_unique<std::atomic<std::size_t>[]>(std::size_t(kMaxOutstanding) * std::size_t(n));
   for (int i = 0; i < n; ++i) {
     auto w = std::make_unique<Worker>(i, store_bytes_);
     w->index = i;
@@ -79,7 +81,10 @@ void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {
   ARDCELL_CHECK(pass.fetch != nullptr && pass.compute != nullptr,
                 "threads back end needs a tile program (fetch and compute)");
   ARDCELL_CHECK(outstanding_ < kMaxOutstanding, "threads back end: too many passes before sync");
-  const Command cmd{&pass, tiles.data(), tiles.size()};
+  std::atomic<std::size_t>* next = &claims_[std::size_t(outstanding_) * workers_.size()];
+  for (std::size_t s = 0; s < workers_.size(); ++s)
+    next[s].store(0, std::memory_order_relaxed);  // published to the workers by the push
+  const Command cmd{&pass, tiles.data(), tiles.size(), next};
   for (auto& w : workers_)
     if (w->thread.joinable()) w->inbox.push(cmd);
   if (host_is_worker_) host_queue_[std::size_t(outstanding_)] = cmd;
@@ -109,18 +114,32 @@ void ThreadBackend::run_worker(Worker& w) {
   }
 }
 
-// Runs the w-th contiguous share of the tiles, double-buffered: tile i+1 is fetched into the
-// other slot before tile i computes.
+// Worker w runs the contiguous w-th share of the tiles first (the cells it wrote in the last pass
+// are in its own caches), then helps with the other shares: every share has a claim counter, so
+// a descheduled worker's tiles go to the others. Double-buffered: the next tile is claimed and
+// fetched into the other slot before the current one computes.
 void ThreadBackend::run_share(Worker& w, const Command& cmd) {
   const Pass& pass = *cmd.pass;
-  const std::size_t begin = cmd.count * std::size_t(w.index) / std::size_t(w.count);
-  const std::size_t end = cmd.count * std::size_t(w.index + 1) / std::size_t(w.count);
-  if (begin >= end) return;
-  pass.fetch(pass.program, cmd.tiles[begin], 0, w.ctx);
-  for (std::size_t i = begin; i < end; ++i) {
-    const int slot = int((i - begin) & 1);
-    if (i + 1 < end) pass.fetch(pass.program, cmd.tiles[i + 1], slot ^ 1, w.ctx);
+  const std::size_t n = std::size_t(w.count);
+  std::size_t share = 0;  // shares visited so far, starting with the worker's own
+  const auto claim = [&]() -> std::size_t {
+    for (; share < n; ++share) {
+      const std::size_t s = (std::size_t(w.index) + share) % n;
+      const std::size_t begin = cmd.count * s / n, end = cmd.count * (s + 1) / n;
+      const std::size_t i = begin + cmd.next[s].fetch_add(1, std::memory_order_relaxed);
+      if (i < end) return i;
+    }
+    return cmd.count;
+  };
+  std::size_t i = claim();
+  if (i >= cmd.count) return;
+  pass.fetch(pass.program, cmd.tiles[i], 0, w.ctx);
+  for (int slot = 0;; slot ^= 1) {
+    const std::size_t j = claim();
+    if (j < cmd.count) pass.fetch(pass.program, cmd.tiles[j], slot ^ 1, w.ctx);
     pass.compute(pass.program, cmd.tiles[i], slot, w.ctx);
+    if (j >= cmd.count) break;
+    i = j;
   }
   w.dma.wait_all();
 }

@@ -2,13 +2,16 @@
 // The threads back end: one worker per accelerator queue (an SPE each), pinned to a core, each
 // with its own LocalStore and Dma, fed through a Mailbox (worker 0 may be the host thread
 // itself, see host_is_worker). dispatch() posts the pass to
-// every worker's inbound mailbox; worker w takes the contiguous w-th share of the tiles (the
-// same tiles for the same count, and a tile's result does not depend on who computes it) and
-// runs the double-buffered tile program over them. sync() collects one completion per worker
+// every worker's inbound mailbox; worker w runs the contiguous w-th share of the tiles, then
+// helps with the others' (each share has an atomic claim counter, so a descheduled worker's
+// tiles go to the others; a tile's result does not depend on who computes it), with the
+// double-buffered tile program: the next tile is claimed and fetched before the current one
+// computes. sync() collects one completion per worker
 // per dispatch from the outbound mailboxes. Nothing on this path allocates or locks.
 #include <sched.h>
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -55,6 +58,7 @@ class ThreadBackend final : public Backend {
     const Pass* pass = nullptr;  // null: stop
     const Tile* tiles = nullptr;
     std::size_t count = 0;
+    std::atomic<std::size_t>* next = nullptr;  // per share: tiles of it claimed so far
   };
   struct Worker;
   static void run_worker(Worker& w);
@@ -68,7 +72,9 @@ class ThreadBackend final : public Backend {
   cpu_set_t host_mask_{};
   static constexpr int kMaxOutstanding = 64;
   std::array<Command, kMaxOutstanding> host_queue_{};  // worker 0's share when the host runs it
-  int outstanding_ = 0;                                // dispatches not yet collected by sync()
+  // Claim counters, one per share (worker) per dispatch between two syncs.
+  std::unique_ptr<std::atomic<std::size_t>[]> claims_;
+  int outstanding_ = 0;  // dispatches not yet collected by sync()
 };
 
 }  // namespace ardcell
