@@ -16,7 +16,9 @@
 #include "drivers/png_writer.h"
 #include "host/attract_mode.h"
 #include "host/live_engine.h"
+#include "host/live_opencl.h"
 #include "host/preset.h"
+#include "runtime/opencl/backend_choice.h"
 #ifdef ARDCELL_WITH_SDL2
 #include "drivers/display_sdl.h"
 #endif
@@ -62,7 +64,47 @@ struct LiveArgs {
   int crossfade = 30;
   bool keys = false;
   bool list = false;
+  std::string backend = "auto";
+  int cl_device = -1;
+  CLI::Option* cl_device_opt = nullptr;
 };
+
+// --backend / --cl-device: what to run the presets on. "" when valid, else the usage line.
+std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& opencl_asked) {
+  if (!parse_backend_kind(a.backend, kind) || kind == BackendKind::kSerial)
+    return "--backend '" + a.backend + "': expected auto, threads or opencl";
+  const bool device_given = a.cl_device_opt && a.cl_device_opt->count() > 0;
+  if (device_given && a.cl_device < 0)
+    return "--cl-device " + std::to_string(a.cl_device) +
+           ": expected a device index (0 or more, see ardcell devices)";
+  // As `ardcell run`: OpenCL when asked for by --backend opencl or by --cl-device N (auto).
+  opencl_asked = kind == BackendKind::kOpenCl || (kind == BackendKind::kAuto && device_given);
+  if (device_given && !opencl_asked)
+    return "--cl-device " + std::to_string(a.cl_device) +
+           " needs --backend opencl or auto (expected no --cl-device with --backend " + a.backend +
+           ")";
+  return "";
+}
+
+#if defined(ARDCELL_WITH_OPENCL)
+// The OpenCL device's simulations, or null (after printing the one line saying why) when the
+// device or its program cannot be had: the presets then run on the CPU.
+std::unique_ptr<OpenClLiveSimulations> open_opencl(BackendKind kind, int cl_device,
+                                                   std::FILE* err) {
+  BackendChoice choice = choose_backend(kind, cl_device, &OpenClKernels::prepare);
+  if (!choice.message.empty()) std::fprintf(err, "%s\n", choice.message.c_str());
+  if (!choice.detail.empty()) std::fprintf(err, "%s\n", choice.detail.c_str());
+  if (choice.kind != BackendKind::kOpenCl) return nullptr;
+  std::string error;
+  std::unique_ptr<OpenClKernels> kernels = OpenClKernels::create(*choice.opencl, &error);
+  if (!kernels) {
+    std::fprintf(err, "ardcell: %s; falling back to the threads back end\n",
+                 error.substr(0, error.find('\n')).c_str());
+    return nullptr;
+  }
+  return std::make_unique<OpenClLiveSimulations>(std::move(choice.opencl), std::move(kernels), err);
+}
+#endif
 
 // FrameSink (drivers/) as the live loop's FrameWriter.
 class SinkWriter final : public FrameWriter {
@@ -108,6 +150,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     for (const std::string& n : preset_names()) std::fprintf(ctx.out, "%s\n", n.c_str());
     return kExitOk;
   }
+  BackendKind backend = BackendKind::kAuto;
+  bool opencl_asked = false;
+  if (std::string why = check_backend_args(a, backend, opencl_asked); !why.empty())
+    return cli_usage_error(ctx, "live", why);
 #ifndef ARDCELL_WITH_SDL2
   return cli_usage_error(ctx, "live", "this build has no SDL2 display (ARDCELL_WITH_SDL2=OFF)");
 #else
@@ -154,8 +200,21 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     return std::make_unique<PngWriter>(path);
   };
 
-  LiveLoop loop(o, make_engine_simulation, *display);
+  // Declared before the loop: the simulations it makes must outlive it.
+  SimulationFactory factory = make_engine_simulation;
+#if defined(ARDCELL_WITH_OPENCL)
+  std::unique_ptr<OpenClLiveSimulations> device;
+  if (opencl_asked) device = open_opencl(backend, a.cl_device, ctx.err);
+  if (device) factory = device->factory();
+#else
+  if (opencl_asked)
+    std::fprintf(ctx.err, "%s\n", choose_backend(backend, a.cl_device).message.c_str());
+#endif
+  LiveLoop loop(o, factory, *display);
   if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
+  if (opencl_asked)
+    std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
+                 loop.simulation().backend().data());
   install_report_signal();
 
   std::unique_ptr<AttractMode> attract;
@@ -265,6 +324,11 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
       ->check(CLI::Range(0, 10000));
   live->add_flag("--keys", args->keys, "List every preset key and exit");
   live->add_flag("--list", args->list, "List preset names and exit");
+  live->add_option("--backend", args->backend,
+                   "auto | threads | opencl: opencl runs reaction-diffusion-only presets on an "
+                   "OpenCL device (the others on the CPU); auto keeps the CPU");
+  args->cl_device_opt =
+      live->add_option("--cl-device", args->cl_device, "OpenCL device index (see ardcell devices)");
   live->callback([args, &ctx] { ctx.exit_code = run_live(*args, ctx); });
 }
 

@@ -117,6 +117,26 @@ PaintConfig live_paint_config(const PaintConfig& base, const InputMapping& input
   return c;
 }
 
+void paint_live_samples(Painter& painter, const PaintConfig& base,
+                        std::span<const StrokeSample> samples, const InputMapping& input,
+                        std::array<StrokeSample, 512>& scratch, SimState& state) {
+  const PaintConfig config = live_paint_config(base, input, state.size);
+  const PaintConfig& now = painter.config();
+  if (config.mode != now.mode || config.radius != now.radius ||
+      config.min_radius != now.min_radius || config.strength != now.strength)
+    painter.set_config(config);
+  while (!samples.empty()) {
+    const size_t n = std::min(samples.size(), scratch.size());
+    for (size_t i = 0; i < n; ++i) {
+      scratch[i] = samples[i];
+      if (input.pressure_gamma != 1.0 && samples[i].pressure > 0)
+        scratch[i].pressure = float(std::pow(double(samples[i].pressure), input.pressure_gamma));
+    }
+    painter.apply(std::span<const StrokeSample>(scratch.data(), n), state);
+    samples = samples.subspan(n);
+  }
+}
+
 EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& paint_base)
     : engine_(preset.scene),
       paint_base_(paint_base),
@@ -244,26 +264,12 @@ void EngineSimulation::apply(const SceneConfig& config) {
 
 void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputMapping& input) {
   SimState& f = engine_.state();
-  const PaintConfig config = live_paint_config(paint_base_, input, f.size);
-  const PaintConfig& now = painter_.config();
-  if (config.mode != now.mode || config.radius != now.radius ||
-      config.min_radius != now.min_radius || config.strength != now.strength)
-    painter_.set_config(config);
   RdLevel* l = level_ >= 0 ? levels_[size_t(level_)].get() : nullptr;
   if (l) {
     snap_a_ = f.A;  // same size: copies into the existing storage
     snap_b_ = f.B;
   }
-  while (!samples.empty()) {
-    const size_t n = std::min(samples.size(), pressured_.size());
-    for (size_t i = 0; i < n; ++i) {
-      pressured_[i] = samples[i];
-      if (input.pressure_gamma != 1.0 && samples[i].pressure > 0)
-        pressured_[i].pressure = float(std::pow(double(samples[i].pressure), input.pressure_gamma));
-    }
-    painter_.apply(std::span<const StrokeSample>(pressured_.data(), n), f);
-    samples = samples.subspan(n);
-  }
+  paint_live_samples(painter_, paint_base_, samples, input, pressured_, f);
   painter_.update_theta0(f);
   // The first obstacle stroke on a scene without one made its mask: the coarse grids get theirs
   // in the same frame (the one allocation painting ever makes).

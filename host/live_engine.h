@@ -27,6 +27,14 @@ namespace ardcell {
 // radius = brush_radius * grid width in cells (min_radius stays base's), strength.
 PaintConfig live_paint_config(const PaintConfig& base, const InputMapping& input, Int2 grid);
 
+// Paints `samples` on `state` through `painter` (set to live_paint_config(base, input, grid)
+// when it differs), pressure^input.pressure_gamma being the pressure; `scratch` holds the
+// adjusted samples, a chunk at a time. Allocates nothing. The one live painting path of the CPU
+// and OpenCL simulations.
+void paint_live_samples(Painter& painter, const PaintConfig& base,
+                        std::span<const StrokeSample> samples, const InputMapping& input,
+                        std::array<StrokeSample, 512>& scratch, SimState& state);
+
 class EngineSimulation final : public LiveSimulation {
  public:
   EngineSimulation(const Preset& preset, const PaintConfig& paint_base);
