@@ -243,7 +243,7 @@ bool SdlDisplay::read_back(ImageRgb8& out) {
 }
 
 void SdlDisplay::draw_hud(const HudInfo& hud) {
-  char lines[4][128];
+  char lines[4][192];  // room for a 63-character preset and back-end name on one line
   int n = 0;
   std::snprintf(lines[n++], sizeof lines[0], "FPS %.1f  P50 %.2fMS  P99 %.2fMS  MISSED %lld",
                 hud.fps, hud.p50_ms, hud.p99_ms, static_cast<long long>(hud.misses));
