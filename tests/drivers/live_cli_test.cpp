@@ -46,6 +46,61 @@ TEST(LiveCli, BadPresetIsOneLineAndExitCodeTwo) {
   EXPECT_EQ(r.output.find('\n'), r.output.size() - 1);
 }
 
+TEST(LiveCli, BadBackendArgumentsAreOneLineAndExitCodeTwo) {
+  for (const char* args :
+       {"--backend gpu", "--backend serial", "--cl-device -1", "--backend threads --cl-device 0"}) {
+    const Result r = run(std::string("live cavity --frames 1 ") + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_EQ(r.output.rfind("ardcell live: --", 0), 0u) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << args << ": " << r.output;
+  }
+}
+
+#if defined(ARDCELL_WITH_OPENCL)
+// An RD-only preset set to fixed sweeps runs on the device; the playlist's next preset, one
+// the device refuses (a fluid), then runs on the CPU with one line saying why.
+TEST(LiveCli, OpenClBackendRunsTheDevicePresetAndFallsBackPerPreset) {
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+    GTEST_SKIP() << "no X or Wayland display";
+  const Result devices = run("devices");
+  if (devices.output.find("device 0:") == std::string::npos)
+    GTEST_SKIP() << "no OpenCL device: " << devices.output;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ardcell_live_cli_cl_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto write = [&](const char* name, const char* text) {
+    std::FILE* f = std::fopen((dir / name).string().c_str(), "w");
+    if (f) std::fputs(text, f);
+    if (f) std::fclose(f);
+    return (dir / name).string();
+  };
+  const std::string rd =
+      write("rd-jacobi.toml",
+            "name = \"rd-jacobi\"\n[grid]\nsize = [24, 20]\n[fluid]\nscene = \"none\"\n[rd]\n"
+            "enabled = true\n[rd.diffusion_solver]\nkind = \"jacobi\"\niterations = 6\n"
+            "tolerance = 0.0\n");
+  const std::string fluid =
+      write("small-fluid.toml", "name = \"small-fluid\"\n[grid]\nsize = [16, 16]\n");
+  const Result r = run("live " + rd + " --backend opencl --frames 3 --fps 0 --scale 1");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ardcell live: backend opencl ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frames 3, deadline misses "), std::string::npos) << r.output;
+  // The device refuses a fluid: the kiosk keeps running it on the CPU.
+  const Result cpu = run("live " + fluid + " --backend opencl --frames 2 --fps 0 --scale 1");
+  EXPECT_EQ(cpu.code, 0) << cpu.output;
+  EXPECT_NE(cpu.output.find("ardcell live: preset 'small-fluid' cannot run on OpenCL: fluid.scene"),
+            std::string::npos)
+      << cpu.output;
+  EXPECT_NE(cpu.output.find("ardcell live: backend cpu\n"), std::string::npos) << cpu.output;
+  EXPECT_NE(cpu.output.find("frames 2, deadline misses "), std::string::npos) << cpu.output;
+  // auto keeps the CPU (no OpenCL line at all).
+  const Result automatic = run("live " + rd + " --backend auto --frames 1 --fps 0 --scale 1");
+  EXPECT_EQ(automatic.code, 0) << automatic.output;
+  EXPECT_EQ(automatic.output.find("opencl"), std::string::npos) << automatic.output;
+  std::filesystem::remove_all(dir);
+}
+#endif
+
 TEST(LiveCli, ListsPresetKeys) {
   const Result r = run("live --keys");
   EXPECT_EQ(r.code, 0);
