@@ -104,7 +104,9 @@ std::unique_ptr<LiveSimulation> OpenClLiveSimulations::make(const Preset& preset
     }
     return make_engine_simulation(preset);
   }
-  std::lock_guard lock(device_mutex_);
+  // No lock: building an engine (on the loop's worker) creates buffers and makes blocking
+  // writes, OpenCL calls that are thread-safe; only kernel launches (clSetKernelArg on the
+  // shared kernels) and reads need the device mutex. The running preset keeps stepping.
   return std::make_unique<Simulation>(*this, preset);
 }
 

@@ -12,8 +12,10 @@
 //    device does not simulate (push, obstacle) change nothing.
 //  - A preset switch builds a new OpenClRdEngine on the same OpenClKernels: the context and its
 //    programs are built once (OpenClContext::build_count() stays the same). The loop builds the
-//    next simulation on its worker thread while the current one runs, so every device call of
-//    the simulations of one OpenClLiveSimulations is serialised by its mutex.
+//    next simulation on its worker thread while the current one runs: building only creates
+//    buffers and writes them (thread-safe OpenCL calls); stepping, painting and parameter
+//    changes of the simulations of one OpenClLiveSimulations (kernel arguments on the shared
+//    kernels) are serialised by its mutex.
 //  - A preset the device cannot run (OpenClRdEngine::device_problem: a fluid, ICCG / multigrid,
 //    stopping on a residual, ...) runs on the CPU EngineSimulation instead, with ONE line naming
 //    why in the log: the kiosk keeps running.
