@@ -89,7 +89,7 @@ double wall_s() {
 // descheduled).
 void BM_Seed001_Ours_2000Steps(benchmark::State& state) {
   const int threads = int(state.range(0));
-  ardcell::ParallelGrayScott9 sim({400, 400}, {}, threads);
+  ardcell::ParallelGrayScott9 sim({400, 400}, {}, threads, int(state.range(1)));
   double cpu = 0;
   for (auto _ : state) {
     state.PauseTiming();
@@ -108,8 +108,12 @@ void BM_Seed001_Ours_2000Steps(benchmark::State& state) {
       400.0 * 400.0 * 2000.0 * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Seed001_Ours_2000Steps)
-    ->Arg(1)
-    ->Arg(0)  // 0 = every hardware thread
+    ->ArgNames({"threads", "block_steps"})  // threads 0 = every hardware thread
+    ->Args({1, 4})
+    ->Args({0, 2})
+    ->Args({0, 4})
+    ->Args({0, 8})
+    ->Args({0, 16})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0)
     ->UseRealTime();
