@@ -326,10 +326,13 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
         const double overhead = (f.present && a.present && a.fps > 0) ? f.fps / a.fps - 1 : NAN;
         const double multiple = (c && a.present) ? a.fps / c->ard : NAN;
         const double share = (a.present && triad > 0) ? a.bytes_per_s / triad : NAN;
+        char multiple_text[32] = "-";  // no Cell figure for this size (2048)
+        if (std::isfinite(multiple))
+          std::snprintf(multiple_text, sizeof multiple_text, "%.2f", multiple);
         std::snprintf(
             line, sizeof line,
-            "| %d | %s | %.1f | %.1f | %+.1f%% | %.2f | %.2f | %.0f%% | %s | %s |\n", n, s.c_str(),
-            f.fps, a.fps, 100 * overhead, multiple, a.bytes_per_s / 1e9, 100 * share,
+            "| %d | %s | %.1f | %.1f | %+.1f%% | %s | %.2f | %.0f%% | %s | %s |\n", n, s.c_str(),
+            f.fps, a.fps, 100 * overhead, multiple_text, a.bytes_per_s / 1e9, 100 * share,
             c ? (std::to_string(c->fluid).substr(0, 5) + " / " +
                  std::to_string(c->ard).substr(0, 5))
                     .c_str()
