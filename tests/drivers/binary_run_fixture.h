@@ -1,7 +1,6 @@
 #pragma once
 // A test fixture that runs the real `ardcell` binary (ARDCELL_BINARY) in a fresh working folder
-// per test, capturing its exit code, stdout and stderr. For new CLI tests; older ones
-// (cli_test.cpp, run_table1_cli_test.cpp) carry their own copy.
+// per test, capturing its exit code, stdout and stderr. Every CLI test uses it.
 #include <sys/wait.h>
 #include <unistd.h>
 

@@ -18,6 +18,7 @@
 
 #include "host/npy.h"
 #include "host/state_io.h"
+#include "tests/drivers/binary_run_fixture.h"
 
 namespace ardcell {
 namespace {
@@ -32,46 +33,16 @@ std::string line_starting(const std::string& text, const std::string& prefix) {
   return text.substr(at, text.find('\n', at) - at);
 }
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = BinaryRunResult;
 
-class CliTest : public ::testing::Test {
+class CliTest : public BinaryRunTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("ardcell_cli_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_ / "work");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  static std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-  }
-  // Runs `ardcell ARGS` in dir_/work (arguments must not need quoting).
-  Result run(const std::string& args) {
-    const std::string cmd = "cd '" + (dir_ / "work").string() + "' && exec '" ARDCELL_BINARY "' " +
-                            args + " >'" + (dir_ / "stdout").string() + "' 2>'" +
-                            (dir_ / "stderr").string() + "' </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(dir_ / "stdout");
-    r.err = slurp(dir_ / "stderr");
-    return r;
-  }
   std::set<std::string> tree() const {
     std::set<std::string> out;
-    for (const auto& e : fs::recursive_directory_iterator(dir_ / "work"))
-      out.insert(fs::relative(e.path(), dir_ / "work").string());
+    for (const auto& e : fs::recursive_directory_iterator(work()))
+      out.insert(fs::relative(e.path(), work()).string());
     return out;
   }
-  fs::path work() const { return dir_ / "work"; }
-  fs::path dir_;
 };
 
 TEST_F(CliTest, EveryBadInputExitsTwoWithOneLineAndLeavesNothing) {

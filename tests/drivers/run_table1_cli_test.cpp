@@ -22,48 +22,15 @@
 #include <vector>
 
 #include "host/npy.h"
+#include "tests/drivers/binary_run_fixture.h"
 
 namespace ardcell {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
-
-class RunTable1Test : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("ardcell_run_table1_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_ / "work");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  static std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-  }
-  Result run(const std::string& args) {
-    const std::string cmd = "cd '" + (dir_ / "work").string() + "' && exec '" ARDCELL_BINARY "' " +
-                            args + " >'" + (dir_ / "stdout").string() + "' 2>'" +
-                            (dir_ / "stderr").string() + "' </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(dir_ / "stdout");
-    r.err = slurp(dir_ / "stderr");
-    return r;
-  }
-  fs::path work() const { return dir_ / "work"; }
-  fs::path dir_;
-};
+using Result = BinaryRunResult;
+using RunTable1Test = BinaryRunTest;
 
 constexpr const char* kSmall = "run table1-ard --size 48 --steps 5 --quiet ";
 
