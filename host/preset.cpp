@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "host/colormap.h"
+#include "host/paint.h"
 #include "host/scene_registry.h"
 
 namespace ardcell {
@@ -677,6 +678,8 @@ Preset preset_from_scene(const SceneConfig& scene) {
   Preset p;
   p.scene = scene;
   p.source = "builtin:" + scene.name;
+  // Live input paints as `ardcell run --strokes` does on this scene (fig3-orient: orient).
+  p.input.mode = std::string(paint_mode_name(paint_config_for(scene).mode));
   return p;
 }
 
