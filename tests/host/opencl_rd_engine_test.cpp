@@ -23,6 +23,7 @@
 
 #include "host/rd_step.h"
 #include "host/scene_registry.h"
+#include "tests/support/opencl_test_device.h"
 
 namespace ardcell {
 namespace {
@@ -30,24 +31,8 @@ namespace {
 constexpr double kTolerance = 1e-5;
 const Int2 kGrid{53, 37};
 
-struct Device {
-  std::unique_ptr<OpenClContext> ctx;
-  std::unique_ptr<OpenClKernels> cl;
-};
-
-// Null when the machine has no OpenCL device (the test then skips).
-Device* device() {
-  static Device* d = [] {
-    std::string error;
-    if (list_opencl_devices(&error).empty()) return static_cast<Device*>(nullptr);
-    auto* dev = new Device;
-    dev->ctx = OpenClContext::open(0, &error);
-    if (dev->ctx) dev->cl = OpenClKernels::create(*dev->ctx, &error);
-    EXPECT_TRUE(dev->cl) << error;
-    return dev;
-  }();
-  return d && d->cl ? d : nullptr;
-}
+using Device = TestOpenClDevice;
+Device* device() { return test_opencl_device(); }
 
 #define REQUIRE_DEVICE()                                                \
   Device* dev = device();                                               \
