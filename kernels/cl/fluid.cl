@@ -255,6 +255,27 @@ __kernel void advect_scalar(__global const float* q0, __global const float* u,
   q[g] = bilinear(q0, stride, origin, i0, j0, s1, t1);
 }
 
+// Three scalars along one back-trace (the dye and the chemicals A, B of the Table 1 frame):
+// each output is what advect_scalar gives for it, the departure point computed once. view: the
+// sources' box (the three share one layout).
+__kernel void advect_scalar3(__global const float* q0a, __global const float* q0b,
+                             __global const float* q0c, __global const float* u,
+                             __global const float* v, __global float* qa, __global float* qb,
+                             __global float* qc, int stride, int origin, int4 reg, int4 view,
+                             int2 domain, int periodic, float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
+  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
+  const int g = global_index(stride, origin, x, y);
+  int i0, j0;
+  float s1, t1;
+  back_trace(u, v, stride, origin, ax, ay, k, x, y, u[g], v[g], &i0, &j0, &s1, &t1);
+  qa[g] = bilinear(q0a, stride, origin, i0, j0, s1, t1);
+  qb[g] = bilinear(q0b, stride, origin, i0, j0, s1, t1);
+  qc[g] = bilinear(q0c, stride, origin, i0, j0, s1, t1);
+}
+
 // Self-advection: (u, v) = (u0, v0) at x - k (u0, v0)(x). view: u0's box (= v0's).
 __kernel void advect_velocity(__global const float* u0, __global const float* v0,
                               __global float* u, __global float* v, int stride, int origin,

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
 #include <vector>
 
@@ -395,6 +396,28 @@ void OpenClKernels::advect_scalar(const DeviceField& q0, const DeviceField& u, c
   const cl_int2 domain = {{p.domain.x, p.domain.y}};
   set_kernel_args(k, q0.buffer, u.buffer, v.buffer, q.buffer, q0.stride, q0.origin, box4(region),
                   box4(view), domain, int(p.periodic), p.dt_over_h);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::advect_scalar3(const DeviceField& q0a, const DeviceField& q0b,
+                                   const DeviceField& q0c, const DeviceField& u,
+                                   const DeviceField& v, DeviceField& qa, DeviceField& qb,
+                                   DeviceField& qc, Box2 region, const AdvectParams& p) {
+  for (const DeviceField* f :
+       std::initializer_list<const DeviceField*>{&q0b, &q0c, &u, &v, &qa, &qb, &qc})
+    check_same_layout(q0a, *f);
+  for (const DeviceField* out : std::initializer_list<const DeviceField*>{&qa, &qb, &qc})
+    for (const DeviceField* in :
+         std::initializer_list<const DeviceField*>{&q0a, &q0b, &q0c, &u, &v})
+      ARDCELL_CHECK(out->buffer.get() != in->buffer.get(), "advect: an output aliases an input");
+  if (region.empty()) return;
+  const Box2 view = q0a.with_halo();
+  ARDCELL_CHECK(view.width() >= 2 && view.height() >= 2, "advect: source view too small");
+  cl_kernel k = kernel("advect_scalar3");
+  const cl_int2 domain = {{p.domain.x, p.domain.y}};
+  set_kernel_args(k, q0a.buffer, q0b.buffer, q0c.buffer, u.buffer, v.buffer, qa.buffer, qb.buffer,
+                  qc.buffer, q0a.stride, q0a.origin, box4(region), box4(view), domain,
+                  int(p.periodic), p.dt_over_h);
   enqueue_cells(k, region);
 }
 

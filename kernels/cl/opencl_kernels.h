@@ -147,6 +147,11 @@ class OpenClKernels {
                      DeviceField& q, Box2 region, const AdvectParams& p);
   void advect_velocity(const DeviceField& u0, const DeviceField& v0, DeviceField& u, DeviceField& v,
                        Box2 region, const AdvectParams& p);
+  // Three scalars along one shared back-trace: bit for bit three advect_scalar calls, with the
+  // velocity read and the departure point computed once (outputs must not alias the sources).
+  void advect_scalar3(const DeviceField& q0a, const DeviceField& q0b, const DeviceField& q0c,
+                      const DeviceField& u, const DeviceField& v, DeviceField& qa, DeviceField& qb,
+                      DeviceField& qc, Box2 region, const AdvectParams& p);
   // Twins of kernels/sources.h.
   void add_scaled(const DeviceField& s, DeviceField& x, Box2 region, float scale);
   void add_splat(DeviceField& f, Box2 region, const SplatParams& splat);

@@ -132,13 +132,14 @@ void OpenClStamFrame::step() {
   if (p_.rd) solve(b_, b_, b0_, tb_, p_.rd_b, 0);
   // dens_step, and the chemicals carried by the same velocity.
   solve(dye_, dye_, dye0_, tdye_, p_.dye_diffusion, 0);
-  cl_.advect_scalar(dye0_, u_, v_, dye_, in, p_.advect);
-  fill(dye_, 0);
-  if (p_.rd) {
-    cl_.advect_scalar(a0_, u_, v_, a_, in, p_.advect);
+  if (p_.rd) {  // one back-trace for the three (as the CPU's advect_fields)
+    cl_.advect_scalar3(dye0_, a0_, b0_, u_, v_, dye_, a_, b_, in, p_.advect);
+    fill(dye_, 0);
     fill(a_, 0);
-    cl_.advect_scalar(b0_, u_, v_, b_, in, p_.advect);
     fill(b_, 0);
+  } else {
+    cl_.advect_scalar(dye0_, u_, v_, dye_, in, p_.advect);
+    fill(dye_, 0);
   }
   ++frame_;
 }

@@ -336,6 +336,26 @@ TEST(ClParity, AdvectionWallsAndPeriodic) {
         d.cl->advect_scalar(dq0, du, dv, dq, region, p);
         EXPECT_LE(relative_error(dev.down(dq), q_ref, q, region), kTolerance) << periodic;
 
+        // Three scalars on one back-trace: bit for bit three single advections on the device.
+        FieldF q0b(size, 1), q0c(size, 1);
+        fill_smooth(q0b, 0.2f, 0.1f, 1.5f);
+        fill_smooth(q0c, 0.7f, 0.3f, 2.5f);
+        DeviceField dq0b = dev.up(q0b), dq0c = dev.up(q0c);
+        DeviceField ea = dev.up(q), eb = dev.up(q), ec = dev.up(q);
+        d.cl->advect_scalar(dq0b, du, dv, eb, region, p);
+        d.cl->advect_scalar(dq0c, du, dv, ec, region, p);
+        DeviceField ta = dev.up(q), tb = dev.up(q), tc = dev.up(q);
+        d.cl->advect_scalar3(dq0, dq0b, dq0c, du, dv, ta, tb, tc, region, p);
+        const FieldF single_a = dev.down(dq), fused_a = dev.down(ta);
+        const FieldF single_b = dev.down(eb), fused_b = dev.down(tb);
+        const FieldF single_c = dev.down(ec), fused_c = dev.down(tc);
+        for (int y = region.min.y; y < region.max.y; ++y)
+          for (int x = region.min.x; x < region.max.x; ++x) {
+            ASSERT_EQ(fused_a(x, y), single_a(x, y)) << x << "," << y;
+            ASSERT_EQ(fused_b(x, y), single_b(x, y)) << x << "," << y;
+            ASSERT_EQ(fused_c(x, y), single_c(x, y)) << x << "," << y;
+          }
+
         FieldF uo(size, 1), vo(size, 1);
         FieldF uo_ref = uo, vo_ref = vo;
         advect_velocity(u.view(), v.view(), uo_ref.view(), vo_ref.view(), region, p);
