@@ -10,10 +10,11 @@ namespace ardcell {
 namespace {
 
 // One row of the sweep, 16 cells at a time. The row's own values are loaded once and the x - 1
-// and x + 1 neighbours shifted in from the adjacent vectors (a zero-masked valignd: the unmasked intrinsic trips -Wmaybe-uninitialized in GCC 12), one load fewer per vector
-// and none split across cache lines; the tail is masked. The arithmetic is the scalar loop's in
-// its order: ((x(-1) + x(+1)) + x(y-1)) + x(y+1), fused multiply-add with b (as the compiler
-// contracts b + a s), times 1/c, so the result is bit for bit the same.
+// and x + 1 neighbours shifted in from the adjacent vectors (a zero-masked valignd: the unmasked
+// intrinsic trips -Wmaybe-uninitialized in GCC 12), one load fewer per vector and none split across
+// cache lines; the tail is masked. The arithmetic is the scalar loop's in its order: ((x(-1) +
+// x(+1)) + x(y-1)) + x(y+1), fused multiply-add with b (as the compiler contracts b + a s), times
+// 1/c, so the result is bit for bit the same.
 inline __mmask16 lanes(int n) {
   return n >= 16 ? __mmask16(0xFFFF) : n > 0 ? __mmask16((1u << n) - 1) : __mmask16(0);
 }
