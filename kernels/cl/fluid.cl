@@ -240,18 +240,26 @@ inline void back_trace(__global const float* u, __global const float* v, int str
   locate(ay, (float)y - k * vm, j0, t1);
 }
 
+// The departure point of cell (x, y) (flat index g) under (u, v), traced back inside `view`:
+// the cell (i0, j0) and weights (s1, t1) every advection kernel interpolates with.
+inline void departure(__global const float* u, __global const float* v, int stride, int origin,
+                      int4 view, int2 domain, int periodic, float k, int x, int y, int g,
+                      int* i0, int* j0, float* s1, float* t1) {
+  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
+  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
+  back_trace(u, v, stride, origin, ax, ay, k, x, y, u[g], v[g], i0, j0, s1, t1);
+}
+
 // q = q0 carried by (u, v) over reg (2D range: work-item (i, j) -> cell reg.min + (i, j)).
 __kernel void advect_scalar(__global const float* q0, __global const float* u,
                             __global const float* v, __global float* q, int stride, int origin,
                             int4 reg, int4 view, int2 domain, int periodic, float k) {
   const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
   if (x >= reg.s2 || y >= reg.s3) return;
-  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
-  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
   const int g = global_index(stride, origin, x, y);
   int i0, j0;
   float s1, t1;
-  back_trace(u, v, stride, origin, ax, ay, k, x, y, u[g], v[g], &i0, &j0, &s1, &t1);
+  departure(u, v, stride, origin, view, domain, periodic, k, x, y, g, &i0, &j0, &s1, &t1);
   q[g] = bilinear(q0, stride, origin, i0, j0, s1, t1);
 }
 
@@ -265,12 +273,10 @@ __kernel void advect_scalar3(__global const float* q0a, __global const float* q0
                              int2 domain, int periodic, float k) {
   const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
   if (x >= reg.s2 || y >= reg.s3) return;
-  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
-  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
   const int g = global_index(stride, origin, x, y);
   int i0, j0;
   float s1, t1;
-  back_trace(u, v, stride, origin, ax, ay, k, x, y, u[g], v[g], &i0, &j0, &s1, &t1);
+  departure(u, v, stride, origin, view, domain, periodic, k, x, y, g, &i0, &j0, &s1, &t1);
   qa[g] = bilinear(q0a, stride, origin, i0, j0, s1, t1);
   qb[g] = bilinear(q0b, stride, origin, i0, j0, s1, t1);
   qc[g] = bilinear(q0c, stride, origin, i0, j0, s1, t1);
@@ -282,12 +288,10 @@ __kernel void advect_velocity(__global const float* u0, __global const float* v0
                               int4 reg, int4 view, int2 domain, int periodic, float k) {
   const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
   if (x >= reg.s2 || y >= reg.s3) return;
-  const axis_t ax = axis_limits(view.s0, view.s2, domain.s0, periodic);
-  const axis_t ay = axis_limits(view.s1, view.s3, domain.s1, periodic);
   const int g = global_index(stride, origin, x, y);
   int i0, j0;
   float s1, t1;
-  back_trace(u0, v0, stride, origin, ax, ay, k, x, y, u0[g], v0[g], &i0, &j0, &s1, &t1);
+  departure(u0, v0, stride, origin, view, domain, periodic, k, x, y, g, &i0, &j0, &s1, &t1);
   u[g] = bilinear(u0, stride, origin, i0, j0, s1, t1);
   v[g] = bilinear(v0, stride, origin, i0, j0, s1, t1);
 }
