@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_env.h"
 #include "host/table1.h"
 #include "runtime/field.h"
 
@@ -31,18 +32,6 @@ double process_cpu_seconds() {
   getrusage(RUSAGE_SELF, &r);
   return double(r.ru_utime.tv_sec + r.ru_stime.tv_sec) +
          1e-6 * double(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
-}
-
-std::vector<int> sizes_from_env() {
-  std::vector<int> sizes{128, 256, 512, 1024, 2048};
-  if (const char* s = std::getenv("ARDCELL_BENCH_SIZES")) {
-    sizes.clear();
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ','))
-      if (!item.empty()) sizes.push_back(std::atoi(item.c_str()));
-  }
-  return sizes;
 }
 
 int env_int(const char* name, int fallback) {
@@ -115,7 +104,7 @@ void register_all() {
   for (Table1Schedule s :
        {Table1Schedule::kSerial, Table1Schedule::kStream, Table1Schedule::kBlocked})
     for (bool rd : {false, true})
-      for (int n : sizes_from_env()) {
+      for (int n : bench_sizes_from_env({128, 256, 512, 1024, 2048})) {
         if (s == Table1Schedule::kSerial && n > serial_max) continue;
         const std::string name = "Table1/" + std::string(table1_schedule_name(s)) + "/" +
                                  (rd ? "ard" : "fluid") + "/" + std::to_string(n);

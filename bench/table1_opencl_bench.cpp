@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_env.h"
 #include "host/table1_opencl.h"
 
 namespace ardcell {
@@ -142,27 +143,13 @@ void run_ratio(benchmark::State& state, ClSchedule schedule, bool rd, int n) {
   state.SetLabel(d.ctx->device().device_name);
 }
 
-// Sizes as bench/table1_bench.cpp takes them: ARDCELL_BENCH_SIZES="512,1024" (default 256, 512,
-// 1024; add 4096 on a GPU).
-std::vector<int> sizes_from_env() {
-  std::vector<int> sizes{256, 512, 1024};
-  if (const char* s = std::getenv("ARDCELL_BENCH_SIZES")) {
-    sizes.clear();
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ','))
-      if (!item.empty()) sizes.push_back(std::atoi(item.c_str()));
-  }
-  return sizes;
-}
-
 // Names exactly as bench/table1_bench.cpp's: Table1/<schedule>/<fluid|ard>/<N>, the schedule
 // being opencl-stream or opencl-blocked, so `ardcell bench table1` can merge the rows.
 void register_all() {
   for (const auto& entry :
        {std::pair{"stream", ClSchedule::kStream}, std::pair{"blocked", ClSchedule::kBlocked}})
     for (bool rd : {false, true})
-      for (int n : sizes_from_env()) {
+      for (int n : bench_sizes_from_env({256, 512, 1024})) {
         // A plain variable: lambdas may not capture structured bindings before clang 16.
         const ClSchedule schedule = entry.second;
         const std::string suffix =

@@ -106,6 +106,19 @@ std::string scene_list() {
   return names;
 }
 
+// --colormap when given, else the scene's colormap for the fields it colours (dye, A, B);
+// returns the usage error ("" when fine).
+std::string choose_colormap(const RunArgs& a, FrameField field, const SceneConfig& scene,
+                            RenderSettings& render) {
+  std::string colormap = a.colormap_opt->count() ? a.colormap : "";
+  if (colormap.empty() &&
+      (field == FrameField::kDye || field == FrameField::kA || field == FrameField::kB))
+    colormap = scene.output.colormap;
+  if (!colormap.empty() && !parse_colormap(colormap, render.colormap))
+    return "--colormap '" + colormap + "': expected one of " + std::string(colormap_names());
+  return "";
+}
+
 int list_scenes(CliContext& ctx) {
   for (const std::string& name : preset_names()) {
     Preset p;
@@ -377,12 +390,8 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
     return usage("--show " + show + ": scene '" + scene_name + "' has no " + show +
                  " field (expected dye, speed, vorticity" + (options.rd ? ", A or B)" : ")"));
   RenderSettings render = default_render_settings(field);
-  std::string colormap = a.colormap_opt->count() ? a.colormap : "";
-  if (colormap.empty() &&
-      (field == FrameField::kDye || field == FrameField::kA || field == FrameField::kB))
-    colormap = scene.output.colormap;
-  if (!colormap.empty() && !parse_colormap(colormap, render.colormap))
-    return usage("--colormap '" + colormap + "': expected one of " + std::string(colormap_names()));
+  if (std::string error = choose_colormap(a, field, scene, render); !error.empty())
+    return usage(error);
   if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
 
   // The back end: OpenCL when asked for (or auto with a GPU) and it can be had, else the CPU.
@@ -597,12 +606,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
   if (!parse_frame_field(show, field))
     return usage("--show '" + show + "': expected one of " + std::string(frame_field_names()));
   RenderSettings render = default_render_settings(field);
-  std::string colormap = a.colormap_opt->count() ? a.colormap : "";
-  if (colormap.empty() &&
-      (field == FrameField::kDye || field == FrameField::kA || field == FrameField::kB))
-    colormap = scene.output.colormap;
-  if (!colormap.empty() && !parse_colormap(colormap, render.colormap))
-    return usage("--colormap '" + colormap + "': expected one of " + std::string(colormap_names()));
+  if (std::string error = choose_colormap(a, field, scene, render); !error.empty())
+    return usage(error);
 
   if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
 

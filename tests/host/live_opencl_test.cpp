@@ -18,6 +18,7 @@
 
 #include "host/live_engine.h"
 #include "host/preset.h"
+#include "tests/support/field_compare.h"
 #include "tests/support/opencl_test_device.h"
 
 namespace ardcell {
@@ -69,16 +70,6 @@ LiveOptions options() {
 const FieldF& shown(const LiveLoop& loop) {
   const SimState& s = loop.simulation().state();
   return loop.preset().scene.output.show == "B" ? s.B : s.A;
-}
-
-double relative_error(const FieldF& got, const FieldF& ref) {
-  double diff = 0, mag = 0;
-  for (int y = 0; y < ref.ny(); ++y)
-    for (int x = 0; x < ref.nx(); ++x) {
-      diff = std::max(diff, std::abs(double(got(x, y)) - double(ref(x, y))));
-      mag = std::max(mag, std::abs(double(ref(x, y))));
-    }
-  return diff / std::max(mag, 1e-30);
 }
 
 bool finite(const FieldF& f) {
@@ -133,7 +124,7 @@ TEST(LiveOpenCl, SwitchesParametersAndPresetsUnderTheLoopLikeTheCpu) {
       on_device.run_frame();
       on_cpu.run_frame();
       ASSERT_TRUE(finite(shown(on_device))) << what << " frame " << i;
-      const double e = relative_error(shown(on_device), shown(on_cpu));
+      const double e = max_relative_error(shown(on_device), shown(on_cpu));
       EXPECT_LE(e, kTolerance) << what << " frame " << i;
       worst = std::max(worst, e);
       ++compared;
@@ -223,21 +214,21 @@ TEST(LiveOpenCl, OrientStrokeReachesTheDevice) {
   on_cpu.run_frame();
   const SimState& cl = on_device.simulation().state();
   const SimState& cpu = on_cpu.simulation().state();
-  EXPECT_EQ(relative_error(cl.theta0, cpu.theta0), 0.0);
+  EXPECT_EQ(max_relative_error(cl.theta0, cpu.theta0), 0.0);
   double spread = 0;
   for (int y = 0; y < cpu.size.y; ++y)
     for (int x = 0; x < cpu.size.x; ++x)
       spread = std::max(spread, std::abs(double(cpu.theta0(x, y))));
   EXPECT_GT(spread, 0.1);  // the stroke did orient the grid
-  EXPECT_LE(relative_error(shown(on_device), shown(on_cpu)), kTolerance);
+  EXPECT_LE(max_relative_error(shown(on_device), shown(on_cpu)), kTolerance);
   // The same preset unpainted: the stroke changed the device's frame clearly.
   LiveLoop plain(options(), make_engine_simulation, d2);
   ASSERT_TRUE(plain.start(cookie).is_ok());
   plain.run_frame();
-  EXPECT_GT(relative_error(shown(on_device), shown(plain)), 0.1);
+  EXPECT_GT(max_relative_error(shown(on_device), shown(plain)), 0.1);
   on_device.run_frame();
   on_cpu.run_frame();
-  EXPECT_LE(relative_error(shown(on_device), shown(on_cpu)), kTolerance);
+  EXPECT_LE(max_relative_error(shown(on_device), shown(on_cpu)), kTolerance);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 
 #include "host/rd_step.h"
 #include "host/scene_registry.h"
+#include "tests/support/field_compare.h"
 #include "tests/support/opencl_test_device.h"
 
 namespace ardcell {
@@ -49,16 +50,6 @@ SceneConfig scene(const char* name, SolverKind solver, int sweeps) {
   return s;
 }
 
-double relative_error(const FieldF& got, const FieldF& ref) {
-  double diff = 0, mag = 0;
-  for (int y = 0; y < ref.ny(); ++y)
-    for (int x = 0; x < ref.nx(); ++x) {
-      diff = std::max(diff, std::abs(double(got(x, y)) - double(ref(x, y))));
-      mag = std::max(mag, std::abs(double(ref(x, y))));
-    }
-  return diff / std::max(mag, 1e-30);
-}
-
 // Worst relative error of A and B after each of `frames` frames (checked every `check` frames).
 double run_parity(OpenClRdEngine& gpu, Engine& cpu, int frames, int check, const char* what) {
   double worst = 0;
@@ -67,8 +58,8 @@ double run_parity(OpenClRdEngine& gpu, Engine& cpu, int frames, int check, const
     gpu.step();
     if (f % check != 0 && f != frames) continue;
     const SimState& got = gpu.download_state();
-    const double ea = relative_error(got.A, cpu.state().A);
-    const double eb = relative_error(got.B, cpu.state().B);
+    const double ea = max_relative_error(got.A, cpu.state().A);
+    const double eb = max_relative_error(got.B, cpu.state().B);
     worst = std::max({worst, ea, eb});
     EXPECT_LE(ea, kTolerance) << what << " A, frame " << f;
     EXPECT_LE(eb, kTolerance) << what << " B, frame " << f;
@@ -86,8 +77,8 @@ void expect_parity(const SceneConfig& s, int frames, const char* what) {
   OpenClRdEngine gpu(cl, s);
   // The initial state is the CPU's, bit for bit.
   const SimState& start = gpu.download_state();
-  EXPECT_EQ(relative_error(start.A, cpu.state().A), 0.0);
-  EXPECT_EQ(relative_error(start.B, cpu.state().B), 0.0);
+  EXPECT_EQ(max_relative_error(start.A, cpu.state().A), 0.0);
+  EXPECT_EQ(max_relative_error(start.B, cpu.state().B), 0.0);
   run_parity(gpu, cpu, frames, 10, what);
 }
 
@@ -136,9 +127,10 @@ TEST(OpenClRdEngine, AnisotropicSpaceCookiesWithinTheCpusOwnUlpSensitivity) {
       gpu.step();
       const SimState& got = gpu.download_state();
       const SimState& ref = cpu.state();
-      self = std::max(
-          {self, relative_error(nudged.state().A, ref.A), relative_error(nudged.state().B, ref.B)});
-      device = std::max({device, relative_error(got.A, ref.A), relative_error(got.B, ref.B)});
+      self = std::max({self, max_relative_error(nudged.state().A, ref.A),
+                       max_relative_error(nudged.state().B, ref.B)});
+      device =
+          std::max({device, max_relative_error(got.A, ref.A), max_relative_error(got.B, ref.B)});
       if (f <= 2) {
         EXPECT_LE(device, kTolerance) << name << " frame " << f;
       }
@@ -204,7 +196,7 @@ TEST(OpenClRdEngine, PaintedTheta0IsUploaded) {
   unpainted.step();
   unpainted.step();
   const FieldF plain_b = unpainted.download_chemical(true);
-  EXPECT_GT(relative_error(gpu.download_state().B, plain_b), 100 * kTolerance);
+  EXPECT_GT(max_relative_error(gpu.download_state().B, plain_b), 100 * kTolerance);
 }
 
 TEST(OpenClRdEngine, RefusesWhatTheDeviceCannotRun) {

@@ -1,0 +1,21 @@
+#pragma once
+// Normwise relative error in the max norm over a field's interior, max |got - ref| / max |ref|:
+// the norm the OpenCL parity tests state their 1e-5 bound in.
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/field.h"
+
+namespace ardcell {
+
+inline double max_relative_error(const FieldF& got, const FieldF& ref) {
+  double diff = 0, mag = 0;
+  for (int y = 0; y < ref.ny(); ++y)
+    for (int x = 0; x < ref.nx(); ++x) {
+      diff = std::max(diff, std::abs(double(got(x, y)) - double(ref(x, y))));
+      mag = std::max(mag, std::abs(double(ref(x, y))));
+    }
+  return diff / std::max(mag, 1e-30);
+}
+
+}  // namespace ardcell
