@@ -32,11 +32,6 @@
 #include <systemd/sd-daemon.h>
 #endif
 
-// Sanitizer builds: SDL keeps D-Bus/X11 helper allocations for the life of the process.
-extern "C" const char* __lsan_default_options() {
-  return "suppressions=" ARDCELL_SOURCE_DIR "/scripts/lsan_sdl.supp";
-}
-
 namespace ardcell {
 
 namespace {
