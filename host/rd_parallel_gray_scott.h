@@ -14,6 +14,12 @@
 // shifts it in registers for the horizontal pass. Every schedule (threads, block_steps) gives
 // the same bits as stepping one step at a time; the result differs from the article's
 // double-precision loop by float rounding only.
+// Quiescent cells are skipped, bit for bit: a uniform state that the float update maps to
+// itself exactly (seed 001's background settles on A = 1.00000036, B = 0 within ~100 steps)
+// stays so wherever its whole 3x3 neighbourhood has it. Each block starts from the bounding
+// box of the rows and SIMD vectors that differ from it (recorded as rows are written), grows
+// it by one cell per level, and computes only that; everything outside is known to be the
+// fixed point. Seed 001's pattern covers 35% of the grid on average over 2000 steps.
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
@@ -47,6 +53,13 @@ class ParallelGrayScott9 {
   // Advances `steps` explicit steps.
   void run(int64_t steps);
 
+  // Skipping of quiescent cells (on by default; the result is the same bits either way).
+  // Never applies with block_steps 1.
+  void set_skip_quiescent(bool on) { skip_quiescent_ = on; }
+  // Cell updates the last run() computed, band halos included: nx * ny * steps (plus the
+  // redundant halo rows) without skipping, less with it.
+  int64_t last_run_cell_updates() const { return last_run_cell_updates_; }
+
  private:
   // Rows of floats with x = 0 64-byte aligned: kPad floats before it (the periodic ghost
   // x = -1 is the last), then the row, its ghost x = nx and SIMD padding.
@@ -55,6 +68,7 @@ class ParallelGrayScott9 {
     static constexpr int kPad = 16;
     void resize(int rows, std::ptrdiff_t stride);
     float* row(int y) { return data_.get() + y * stride_ + kPad; }
+    const float* row(int y) const { return data_.get() + y * stride_ + kPad; }
 
    private:
     struct Free {
@@ -70,14 +84,8 @@ class ParallelGrayScott9 {
   struct Band {
     int y0 = 0, y1 = 0;
     RowStore ring, edges;
-    std::vector<int> next;  // per level, the next row to compute
-    // Row pointers for y = first_row .. first_row + span - 1 (halo included), by parity and
-    // chemical: rows_of(parity, chem)[y].
-    std::vector<float*> row_table;
-    int first_row = 0, span = 0;
-    float* const* rows_of(int parity, int chem) const {
-      return row_table.data() + (parity * 2 + chem) * span - first_row;
-    }
+    std::vector<int> next;    // per level, the next row to compute
+    std::vector<int> lo, hi;  // per level, the rows it computes in this block
   };
   // Rows per level in a band's wavefront ring: the next level reads 4 while 2 are written.
   static constexpr int kRingRows = 5;
@@ -95,6 +103,14 @@ class ParallelGrayScott9 {
   std::ptrdiff_t stride_ = 0;
   RowStore grid_a_, grid_b_;
   std::vector<Band> bands_;
+  bool skip_quiescent_ = true;
+  int64_t last_run_cell_updates_ = 0;
+  // The fixed point (valid while a run skips) as whole rows, read wherever a level's rows
+  // are known to hold it, and each row's differing vectors by block parity:
+  // row_activity_[parity * ny + y].
+  float fixed_a_ = 0, fixed_b_ = 0;
+  RowStore fixed_rows_;
+  std::vector<Int2> row_activity_;
 };
 
 // Copies the periodic ghosts (x = -1, nx; y = -1, ny, corners included) of a halo-1 field.
