@@ -363,6 +363,27 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
+  workers_.reserve(std::size_t(threads_ - 1));
+  for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker_loop(t); });
+}
+
+ParallelGrayScott9::~ParallelGrayScott9() {
+  stopping_.store(true, std::memory_order_release);
+  job_generation_.fetch_add(1, std::memory_order_release);
+  job_generation_.notify_all();
+  workers_.clear();  // joins
+}
+
+void ParallelGrayScott9::worker_loop(int t) {
+  uint32_t seen = 0;
+  for (;;) {
+    job_generation_.wait(seen, std::memory_order_acquire);
+    seen = job_generation_.load(std::memory_order_acquire);
+    if (stopping_.load(std::memory_order_acquire)) return;
+    job_(job_context_, t);
+    jobs_done_.fetch_add(1, std::memory_order_acq_rel);
+    jobs_done_.notify_all();
+  }
 }
 
 void ParallelGrayScott9::seed_square() {
@@ -561,14 +582,17 @@ void ParallelGrayScott9::run(int64_t steps) {
     }
     cell_updates.fetch_add(updates, std::memory_order_relaxed);
   };
-  if (n == 1) {
-    work(0);
-  } else {
-    std::vector<std::jthread> pool;
-    pool.reserve(std::size_t(n - 1));
-    for (int t = 1; t < n; ++t) pool.emplace_back(work, t);
-    work(0);
+  if (n > 1) {
+    job_ = [](void* context, int t) { (*static_cast<decltype(work)*>(context))(t); };
+    job_context_ = &work;
+    jobs_done_.store(0, std::memory_order_relaxed);
+    job_generation_.fetch_add(1, std::memory_order_release);
+    job_generation_.notify_all();
   }
+  work(0);
+  for (int done = jobs_done_.load(std::memory_order_acquire); done < n - 1;
+       done = jobs_done_.load(std::memory_order_acquire))
+    jobs_done_.wait(done, std::memory_order_acquire);
   last_run_cell_updates_ = cell_updates.load();
   const int final_parity = int(((steps + kmax - 1) / kmax) % 2);
   for (Band& band : bands_)

@@ -20,9 +20,11 @@
 // box of the rows and SIMD vectors that differ from it (recorded as rows are written), grows
 // it by one cell per level, and computes only that; everything outside is known to be the
 // fixed point. Seed 001's pattern covers 35% of the grid on average over 2000 steps.
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "kernels/explicit_rd.h"
@@ -41,6 +43,11 @@ class ParallelGrayScott9 {
   // step-by-step sweeps; any value gives the same bits), capped at the smallest band height.
   ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads = 0,
                      int block_steps = kBlockSteps);
+  // The threads - 1 workers are started here and kept: run() allocates nothing and starts
+  // no thread, so that a frame loop may call it.
+  ~ParallelGrayScott9();
+  ParallelGrayScott9(const ParallelGrayScott9&) = delete;
+  ParallelGrayScott9& operator=(const ParallelGrayScott9&) = delete;
 
   // The current state (halo 1). Write initial conditions into the interior, then run().
   FieldF& a() { return a_; }
@@ -111,6 +118,17 @@ class ParallelGrayScott9 {
   float fixed_a_ = 0, fixed_b_ = 0;
   RowStore fixed_rows_;
   std::vector<Int2> row_activity_;
+
+  // Persistent workers 1 .. threads - 1 (the caller of run() is worker 0). run() posts a job
+  // (a function and its context) by bumping job_generation_; each worker runs job(context, t)
+  // and counts itself into jobs_done_.
+  void worker_loop(int t);
+  void (*job_)(void* context, int t) = nullptr;
+  void* job_context_ = nullptr;
+  std::atomic<uint32_t> job_generation_{0};
+  std::atomic<int> jobs_done_{0};
+  std::atomic<bool> stopping_{false};
+  std::vector<std::jthread> workers_;  // last member: started after everything they read
 };
 
 // Copies the periodic ghosts (x = -1, nx; y = -1, ny, corners included) of a halo-1 field.

@@ -1,5 +1,7 @@
 #include "host/rd_parallel_gray_scott.h"
 
+#include "tests/support/alloc_counter.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -147,6 +149,17 @@ TEST(ParallelGrayScott9, SkippingFollowsTheFixedPoint) {
       ASSERT_EQ(uniform.a()(x, y), fixed_a);
       ASSERT_EQ(uniform.b()(x, y), 0.0f);
     }
+}
+
+// The workers are started once; a run, as a frame loop calls it, allocates nothing.
+TEST(ParallelGrayScott9, RunAllocatesNothing) {
+  ParallelGrayScott9 sim({64, 48}, {}, 3, 4);
+  sim.seed_square();
+  sim.run(5);
+  const long before = g_allocations.load();
+  for (int frame = 0; frame < 20; ++frame) sim.run(7);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(sim.threads(), 3);
 }
 
 // Seed 001's update in double precision, written plainly (3x3 weights, periodic indices).
