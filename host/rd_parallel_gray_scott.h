@@ -60,6 +60,10 @@ class ParallelGrayScott9 {
   // Advances `steps` explicit steps.
   void run(int64_t steps);
 
+  // New rates for the next run() (a live parameter change).
+  void set_params(const GrayScott9Params& params) { params_ = params; }
+  const GrayScott9Params& params() const { return params_; }
+
   // Skipping of quiescent cells (on by default; the result is the same bits either way).
   // Never applies with block_steps 1.
   void set_skip_quiescent(bool on) { skip_quiescent_ = on; }

@@ -6,10 +6,14 @@
 //      a fluid (u, v allocated) and rd.advect is on.
 // The explicit schemes (RdScheme::kExplicit5/9) replace the first two stages by forward Euler.
 // rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
+// Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps on every core
+// with ParallelGrayScott9 (host/rd_parallel_gray_scott.h), temporally blocked; the other
+// explicit cases step whole fields one step at a time.
 // Nothing is allocated in step() once constructed.
 #include <memory>
 #include <string>
 
+#include "host/rd_parallel_gray_scott.h"
 #include "host/scene_config.h"
 #include "host/sim_state.h"
 #include "kernels/aniso_diffusion.h"
@@ -55,6 +59,9 @@ class RdStepper {
   void react(SimState& s);
   void diffuse(SimState& s);
   void explicit_step(SimState& s);
+  GrayScott9Params gray_scott9_params() const;
+  // A frame's steps of seed 001's scheme with parallel_gs9_: A and B are copied in and out.
+  void parallel_gray_scott9_frame(SimState& s);
   void advect(SimState& s);
 
   SceneConfig scene_;
@@ -64,6 +71,7 @@ class RdStepper {
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
   std::vector<float> row_scratch_;
+  std::unique_ptr<ParallelGrayScott9> parallel_gs9_;
   RdStepStats stats_;
 };
 
