@@ -137,7 +137,8 @@ void OpenClRdEngine::step() {
       k_cells = &conductivity_;
     }
     diffuse_a_->step(a_, k_cells, {rd.diffusion_a * base, rd.boundary_a, rd.crank_nicolson});
-    diffuse_b_->step(b_, k_cells, {rd.diffusion_b * base, rd.boundary_b, rd.crank_nicolson});
+    diffuse_b_->step(b_, rd.anisotropy_on_b ? k_cells : nullptr,
+                     {rd.diffusion_b * base, rd.boundary_b, rd.crank_nicolson});
   }
   SimState& s = shadow_->state();
   s.time += s.dt;

@@ -243,6 +243,8 @@ const ParamSpec kParams[] = {
                "a at 2 pi i / samples, up to 64 (missing: 0)"),
     ARD_NUMBER("rd.anisotropy.theta0", scene.rd.anisotropy.theta0, -1e3, 1e3, false,
                "orientation theta0 in radians (where no per-cell theta0 is painted)"),
+    ARD_BOOL("rd.anisotropy.on_b", scene.rd.anisotropy_on_b, false,
+             "true: B diffuses with a(theta) too; false: A only (Eqn 14), B at D_B"),
     ARD_NUMBER("rd.anisotropy.gradient_epsilon", scene.rd.anisotropy.gradient_epsilon, 0, 1, false,
                "gradient below which theta is 0"),
     ARD_ENUM("rd.initial.pattern", scene.rd.initial, kPatterns, false,

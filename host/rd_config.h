@@ -44,6 +44,10 @@ struct RdConfig {
   double diffusion_a = 1.0;     // D_A in cell_size^2 per unit of rd.dt
   double diffusion_b = 0.5;     // D_B
   AnisotropyParams anisotropy;  // k = a(theta); A's rate D_A k, B's rate D_B k
+  // false: Eqn 14 as printed, a(theta) replaces A's diffusion constant only and B keeps its
+  // isotropic rate D_B (Eqn 3). With the same k on both chemicals a Turing pattern can settle
+  // into a stretched copy of its isotropic steady state and stop moving (Fig. 3 bottom).
+  bool anisotropy_on_b = true;
   SolverSettings diffusion_solver{SolverKind::kIccg, 40, 1e-6};
   BoundaryKind boundary = BoundaryKind::kDirichlet;  // the paper's choice
   float boundary_a = 1.0f;                           // Dirichlet ghost values of A and B

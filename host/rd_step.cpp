@@ -220,7 +220,8 @@ void RdStepper::diffuse(SimState& s) {
   const SolveReport ra =
       diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
   const SolveReport rb =
-      diff_b_->step(s.B, k, {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
+      diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
+                    {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
   stats_.diffusion_iterations_a = ra.iterations;
   stats_.diffusion_iterations_b = rb.iterations;
   stats_.diffusion_residual_a = ra.relative_residual;

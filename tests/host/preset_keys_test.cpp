@@ -62,15 +62,15 @@ auto members(const AnisotropyParams& a) {
 }
 auto members(const RdConfig& r) {
   const auto& [enabled, reaction, react, use_table, table_resolution, table_range_auto, table_range,
-               diffuse, diffusion_a, diffusion_b, anisotropy, diffusion_solver, boundary,
-               boundary_a, boundary_b, crank_nicolson, advect, scheme, dt, cell_size,
+               diffuse, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b, diffusion_solver,
+               boundary, boundary_a, boundary_b, crank_nicolson, advect, scheme, dt, cell_size,
                steps_per_frame, initial, background_a, background_b, seed_a, seed_b, seed_size,
                seed_cells, spots, seed_radius, noise, seed] = r;
   return std::tie(enabled, reaction, react, use_table, table_resolution, table_range_auto,
-                  table_range, diffuse, diffusion_a, diffusion_b, anisotropy, diffusion_solver,
-                  boundary, boundary_a, boundary_b, crank_nicolson, advect, scheme, dt, cell_size,
-                  steps_per_frame, initial, background_a, background_b, seed_a, seed_b, seed_size,
-                  seed_cells, spots, seed_radius, noise, seed);
+                  table_range, diffuse, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b,
+                  diffusion_solver, boundary, boundary_a, boundary_b, crank_nicolson, advect,
+                  scheme, dt, cell_size, steps_per_frame, initial, background_a, background_b,
+                  seed_a, seed_b, seed_size, seed_cells, spots, seed_radius, noise, seed);
 }
 
 // Empty when a and b are equal member by member (exactly), else the path of the first difference.
@@ -165,6 +165,7 @@ SceneConfig everything_changed() {
   for (int i = 0; i < 7; ++i) r.anisotropy.sample[i] = 0.25f * float(i + 1);
   r.anisotropy.theta0 = 0.7853982f;
   r.anisotropy.gradient_epsilon = 1e-5f;
+  r.anisotropy_on_b = false;
   r.diffusion_solver = {SolverKind::kMultigrid, 9, 1e-4};
   r.boundary = BoundaryKind::kNeumann;
   r.boundary_a = 0.4f;

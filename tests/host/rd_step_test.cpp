@@ -258,6 +258,39 @@ TEST(RdStep, PatternOrientationFollowsTheta0) {
   EXPECT_NEAR(std::abs(d) * 180 / kPi, 45.0, 4.0);
 }
 
+TEST(RdStep, AnisotropyOffBLeavesBIsotropic) {
+  // Diffusion only, from the same spots: with rd.anisotropy.on_b = false the single lobe steers
+  // A's diffusion but B diffuses exactly as in the isotropic scene (Eqn 14 on A only); with the
+  // default (on both) B differs too.
+  auto run = [](AnisotropyKind kind, bool on_b) {
+    SceneConfig s = small_scene(ReactionModel::kGrayScott, 24);
+    s.rd.react = false;
+    s.rd.anisotropy.kind = kind;
+    s.rd.anisotropy.lobes = 1;
+    s.rd.anisotropy.lobe_speed[0] = 2.0f;
+    s.rd.anisotropy.theta0 = 0.5f;
+    s.rd.anisotropy_on_b = on_b;
+    RdStepper stepper(s);
+    SimState st = make_state(s);
+    stepper.init_state(st);
+    for (int i = 0; i < 5; ++i) stepper.step(st);
+    return st;
+  };
+  auto max_difference = [](const FieldF& a, const FieldF& b) {
+    double d = 0;
+    for (int y = 0; y < a.ny(); ++y)
+      for (int x = 0; x < a.nx(); ++x) d = std::max(d, std::abs(double(a(x, y)) - b(x, y)));
+    return d;
+  };
+  const SimState iso = run(AnisotropyKind::kIsotropic, true);
+  const SimState a_only = run(AnisotropyKind::kCosineLobes, false);
+  const SimState both = run(AnisotropyKind::kCosineLobes, true);
+  EXPECT_LT(max_difference(a_only.B, iso.B), 1e-6);
+  EXPECT_GT(max_difference(a_only.A, iso.A), 1e-2);
+  EXPECT_GT(max_difference(both.B, iso.B), 1e-2);
+  EXPECT_LT(max_difference(both.A, a_only.A), 1e-6);
+}
+
 TEST(RdStep, BadConfigurationsGetOneLine) {
   SceneConfig s = small_scene(ReactionModel::kFitzHughNagumo);
   s.rd.reaction.fhn_a1 = -1;
