@@ -1,13 +1,14 @@
 // Kim & Lin Fig. 3: a spiral stroke painted into Gray-Scott. Render with
 //   ardcell run fig3-deposit --strokes presets/strokes/fig3_spiral.jsonl --paint-radius 8
-//       --steps 1500 --every 1500 --out out/fig3-deposit
+//       --steps 3000 --every 200 --out out/fig3-deposit
 //   ardcell run fig3-orient --strokes presets/strokes/fig3_spiral.jsonl --paint-radius 12
-//       --steps 200 --every 200 --out out/fig3-orient
+//       --steps 3000 --every 200 --out out/fig3-orient
 // Deposition only: the stroke seeds B once, the pattern grows out and stops. Orientation: the
 // stroke's tangent sets theta0 everywhere (fast marching extension) with a single cosine lobe
-// (Eqn 16, j = 1) opposite to the stroke, and the stroke seeds separate dabs
-// (paint_config_for), which grow into stripes across the stroke that radiate from it and curl
-// into a pinwheel. The two scenes share every RD parameter except the lobe.
+// (Eqn 16, j = 1) opposite to the stroke on A's diffusion (Eqn 14), and the stroke seeds
+// separate dabs (paint_config_for), which grow into stripes across the stroke that radiate from
+// it and keep travelling against the stroke, inwards along the spiral. The two scenes share
+// every RD parameter except the lobe.
 #include <string>
 
 #include "host/scene_registry.h"
@@ -26,7 +27,7 @@ SceneConfig fig3(bool orient) {
   s.size = {256, 256};
   s.domain_width = 256.0;
   s.dt = 1.0;
-  s.default_steps = orient ? 1000 : 1500;
+  s.default_steps = 3000;
   s.fluid.kind = FluidSceneKind::kNone;
   RdConfig& rd = s.rd;
   rd.enabled = true;
@@ -55,10 +56,13 @@ SceneConfig fig3(bool orient) {
   if (orient) {
     rd.anisotropy.kind = AnisotropyKind::kCosineLobes;
     rd.anisotropy.lobes = 1;
-    // a(phi) = 2 (1 + cos phi): twice the isotropic rate at the peak, 0 at the back, so the
-    // pattern keeps travelling against the stroke direction instead of settling. (At speed 6
-    // and more the dabs dissolve before they can grow.)
-    rd.anisotropy.lobe_speed[0] = 4.0f;
+    // a(phi) = 1 + cos phi: A's rate averages D_A over all directions, 2 D_A along the lobe
+    // and 0 against it, so fronts only advance against the stroke.
+    rd.anisotropy.lobe_speed[0] = 2.0f;
+    // Eqn 14 as printed: a(theta) replaces A's diffusion constant only; B keeps D_B. (With the
+    // same a(theta) on both chemicals the stripes settle into a stretched copy of a steady
+    // pattern and stop once they fill the canvas.)
+    rd.anisotropy_on_b = false;
   }
   // (Not `= "B"`: GCC 12 -O3 warns -Wrestrict on that one-character assignment, bug 105329.)
   s.output.show = std::string("B");

@@ -4,11 +4,12 @@
 //   deposition only: the pattern grows out once and then stops;
 //   theta0 coupling (one lobe opposite the stroke): the stripes stand across the stroke
 //   (radiate from it) and travel against the stroke, i.e. inwards along the spiral drawn from
-//   the inside out.
+//   the inside out, and keep doing so after they fill the canvas.
 // The grid is 128^2 (the scenes' pattern scale is in cells, so the spiral's arms are about one
 // stripe apart here instead of two at 256^2); the brush radius is the README's 12 cells.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -74,6 +75,18 @@ double changed_fraction(const FieldF& a, const FieldF& b, float by) {
   for (int y = 0; y < a.ny(); ++y)
     for (int x = 0; x < a.nx(); ++x) n += std::abs(a(x, y) - b(x, y)) > by;
   return double(n) / (double(a.nx()) * a.ny());
+}
+
+// Fraction of cells whose B moved by more than a tenth of B's range (max - min of `now`): the
+// share of a render's pixels that visibly change between two frames.
+double visibly_changed_fraction(const FieldF& before, const FieldF& now) {
+  float lo = now(0, 0), hi = now(0, 0);
+  for (int y = 0; y < now.ny(); ++y)
+    for (int x = 0; x < now.nx(); ++x) {
+      lo = std::min(lo, now(x, y));
+      hi = std::max(hi, now(x, y));
+    }
+  return changed_fraction(before, now, 0.1f * (hi - lo));
 }
 
 // The stroke's tangent at every cell, from theta0 = -(tangent angle) - pi (paint.h defaults).
@@ -175,15 +188,15 @@ TEST(Fig3, DepositionOnlyGrowsOnceThenStops) {
 
 TEST(Fig3, OrientStripesRadiateAcrossTheStroke) {
   // Both halves on a 192^2 crop of the 256^2 render (the spiral at the render's cell scale),
-  // 60 frames: the dabs have grown into stripes but the outer growth front (which runs along
+  // 100 frames: the dabs have grown into stripes but the outer growth front (which runs along
   // the outermost arm in both halves) has not yet reached the measured ring.
   auto dep = start("fig3-deposit", 192, 8.f, true);
   auto ori = start("fig3-orient", 192, 12.f, true);
-  FieldF ori40, dep40;
-  for (int frame = 1; frame <= 60; ++frame) {
-    if (frame == 40) {
-      ori40 = ori->engine->state().B;
-      dep40 = dep->engine->state().B;
+  FieldF ori80, dep80;
+  for (int frame = 1; frame <= 100; ++frame) {
+    if (frame == 80) {
+      ori80 = ori->engine->state().B;
+      dep80 = dep->engine->state().B;
     }
     dep->engine->step();
     ori->engine->step();
@@ -199,25 +212,64 @@ TEST(Fig3, OrientStripesRadiateAcrossTheStroke) {
       o.angle_deg, o.coherence, o.along_fraction, d.angle_deg, d.coherence, d.along_fraction);
   // Stripes across the stroke: the B gradients point along the local stroke tangent (angle 0;
   // stripes along the stroke would give 90). An isotropic pattern gives along 0.5 and
-  // coherence 0; the tolerances leave the measured values (about 0.8, 3 deg, 0.65) a margin of
-  // a quarter. The deposit half has no such order (along about 0.5, coherence under 0.1).
+  // coherence 0; the tolerances leave the measured values (about 0.75, 1 deg, 0.5) a margin.
+  // The deposit half has no such order (along about 0.5, coherence under 0.1).
   EXPECT_GT(o.along_fraction, 0.65);
-  EXPECT_GT(o.coherence, 0.4);
+  EXPECT_GT(o.coherence, 0.35);
   EXPECT_LT(std::abs(o.angle_deg), 15.0);
   EXPECT_LT(d.along_fraction, 0.6);
   EXPECT_LT(d.coherence, 0.2);
-  // Motion from frame 40 to 60 (least squares over the whole canvas): the pattern spreads
+  // Motion from frame 80 to 100 (least squares over the whole canvas): the pattern spreads
   // outwards (the caption's "grow out radially") and drifts against the stroke, i.e. inwards
   // along the spiral drawn from the centre out; the deposit half does not drift along it.
-  const double ori_against = pattern_speed(ori40, so, 20, Direction::kAgainstStroke);
-  const double ori_inward = pattern_speed(ori40, so, 20, Direction::kInward);
-  const double dep_against = pattern_speed(dep40, sd, 20, Direction::kAgainstStroke);
+  const double ori_against = pattern_speed(ori80, so, 20, Direction::kAgainstStroke);
+  const double ori_inward = pattern_speed(ori80, so, 20, Direction::kInward);
+  const double dep_against = pattern_speed(dep80, sd, 20, Direction::kAgainstStroke);
   std::printf(
       "orient: speed against the stroke %.3f, inwards %.3f cells/frame; deposit: "
       "against the stroke %.3f\n",
       ori_against, ori_inward, dep_against);
   EXPECT_LT(ori_inward, 0.0);
   EXPECT_GT(ori_against, 4 * std::abs(dep_against));
+}
+
+TEST(Fig3, OrientKeepsMovingAfterDepositStops) {
+  // Both halves on a 96^2 crop of the render (the spiral's inner turns at the render's cell
+  // scale, brushes as in the README) for 700 frames: both fill the canvas by about frame 300
+  // and the deposit half has settled by frame 600.
+  // The paper: deposition only "propagates outwards once and remains static"; with the theta0
+  // coupling "the pattern is self-sustaining and continues indefinitely".
+  auto dep = start("fig3-deposit", 96, 8.f, true);
+  auto ori = start("fig3-orient", 96, 12.f, true);
+  FieldF dep600, ori600, ori690;
+  for (int frame = 1; frame <= 700; ++frame) {
+    dep->engine->step();
+    ori->engine->step();
+    if (frame == 600) {
+      dep600 = dep->engine->state().B;
+      ori600 = ori->engine->state().B;
+    }
+    if (frame == 690) ori690 = ori->engine->state().B;
+  }
+  const SimState& so = ori->engine->state();
+  const double ori_moving = visibly_changed_fraction(ori600, so.B);
+  const double dep_moving = visibly_changed_fraction(dep600, dep->engine->state().B);
+  const double ori_against = pattern_speed(ori690, so, 10, Direction::kAgainstStroke);
+  const double ori_inward = pattern_speed(ori690, so, 10, Direction::kInward);
+  std::printf(
+      "frames 600-700, cells changed by > 10%% of the B range: orient %.3f, deposit %.3f; "
+      "orient at frame 700: speed against the stroke %.4f, inwards %.4f cells/frame\n",
+      ori_moving, dep_moving, ori_against, ori_inward);
+  // Deposit: nearly nothing left moving (measured 0.011, its last slow adjustments). Orient:
+  // about a sixth of the cells change in 100 frames (measured 0.17; a locked pattern, as with
+  // a(theta) on B too, gives under 0.03).
+  EXPECT_LT(dep_moving, 0.03);
+  EXPECT_GT(ori_moving, 0.08);
+  EXPECT_GT(ori_moving, 5 * dep_moving);
+  // ... and the change is the stripes travelling against the stroke (inwards along the spiral),
+  // not churning in place: a clear drift along the stroke, larger than any radial one.
+  EXPECT_GT(ori_against, 0.005);
+  EXPECT_GT(ori_against, 2 * std::abs(ori_inward));
 }
 
 }  // namespace
