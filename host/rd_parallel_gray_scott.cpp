@@ -335,14 +335,17 @@ void ParallelGrayScott9::RowStore::resize(int rows, std::ptrdiff_t stride) {
 }
 
 ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads,
-                                       int block_steps)
+                                       int block_steps, int bands_per_thread)
     : size_(size), params_(params) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "grid must be non-empty");
   ARDCELL_CHECK(block_steps > 0, "block_steps must be positive");
   if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
   threads_ = std::clamp(threads, 1, size.y);
+  if (bands_per_thread <= 0) bands_per_thread = std::clamp(size.y / (threads_ * kBandRows), 1, 8);
+  bands_per_thread_ = std::clamp(bands_per_thread, 1, size.y / threads_);
+  const int band_count = threads_ * bands_per_thread_;
   // A block's halo must lie within the neighbouring band's published edge rows.
-  block_steps_ = std::min(block_steps, size.y / threads_);
+  block_steps_ = std::min(block_steps, size.y / band_count);
   a_ = FieldF(size, 1);
   b_ = FieldF(size, 1);
   vectors_ = (size.x + kLanes - 1) / kLanes;
@@ -350,11 +353,11 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
   stride_ = (RowStore::kPad + std::ptrdiff_t(kLanes) * (vectors_ + 1) + 15) / 16 * 16;
   grid_a_.resize(size.y, stride_);
   grid_b_.resize(size.y, stride_);
-  bands_.resize(std::size_t(threads_));
-  for (int t = 0; t < threads_; ++t) {
-    Band& band = bands_[std::size_t(t)];
-    band.y0 = int(int64_t(size.y) * t / threads_);
-    band.y1 = int(int64_t(size.y) * (t + 1) / threads_);
+  bands_.resize(std::size_t(band_count));
+  for (int j = 0; j < band_count; ++j) {
+    Band& band = bands_[std::size_t(j)];
+    band.y0 = int(int64_t(size.y) * j / band_count);
+    band.y1 = int(int64_t(size.y) * (j + 1) / band_count);
     band.ring.resize(std::max(1, block_steps_ - 1) * kRingRows * 2, stride_);
     band.next.assign(std::size_t(block_steps_ + 1), 0);
     band.lo.assign(std::size_t(block_steps_ + 1), 0);
@@ -363,6 +366,7 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
+  band_claims_ = std::make_unique<BandClaims[]>(std::size_t(threads_));
   workers_.reserve(std::size_t(threads_ - 1));
   for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker_loop(t); });
 }
@@ -449,12 +453,14 @@ void ParallelGrayScott9::run(int64_t steps) {
   }
   BlockBarrier barrier(n);
   std::atomic<int64_t> cell_updates{0};
-  auto work = [&](int t) {
-    Band& band = bands_[std::size_t(t)];
-    Band& above = bands_[std::size_t((t + n - 1) % n)];
-    Band& below = bands_[std::size_t((t + 1) % n)];
+  const int nb = int(bands_.size()), per_thread = bands_per_thread_;
+  const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
+  // Advances band j by one block of k steps from parity `parity`.
+  auto process_band = [&](int j, int parity, int k, int64_t& updates) {
+    Band& band = bands_[std::size_t(j)];
+    Band& above = bands_[std::size_t((j + nb - 1) % nb)];
+    Band& below = bands_[std::size_t((j + 1) % nb)];
     const int y0 = band.y0, y1 = band.y1;
-    const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
     auto ring_row = [&](int level, int y, int chem) {
       const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
       return band.ring.row(((level - 1) * kRingRows + slot) * 2 + chem);
@@ -462,120 +468,138 @@ void ParallelGrayScott9::run(int64_t steps) {
     int* next = band.next.data();  // next[l]: the next row level l computes
     int* lo = band.lo.data();      // level l computes rows [lo[l], hi[l])
     int* hi = band.hi.data();
-    int64_t updates = 0;
-    int parity = 0;
-    for (int64_t done = 0; done < steps;) {
-      const int k = int(std::min<int64_t>(kmax, steps - done));
-      const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
-      Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
-      // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
-      // [jlo, jhi) that differ from the fixed point, grown by one cell per level. Outside
-      // them every level holds the fixed point. Without skipping: everything.
-      const bool skipping = skip && k > 1;
-      int rlo = y0 - k, rhi = y1 + k, jlo = 0, jhi = nv;
-      if (skipping) {
-        rlo = y1 + k;
-        rhi = y0 - k;
-        int first = nv, end = 0;
-        for (int y = y0 - k; y < y1 + k; ++y) {
-          const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
-          if (v.y <= v.x) continue;
-          rlo = std::min(rlo, y);
-          rhi = y + 1;
-          first = std::min(first, v.x);
-          end = std::max(end, v.y);
-        }
-        // A change within k cells of a row's end reaches the other end through the wrap.
-        const int reach = (k + kLanes - 1) / kLanes;
-        if (first * kLanes - k >= 0 && end * kLanes - 1 + k < nx) {
-          jlo = first - reach;
-          jhi = std::min(nv, end + reach);
-        }
-        for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
+    const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
+    Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
+    // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
+    // [jlo, jhi) that differ from the fixed point, grown by one cell per level. Outside
+    // them every level holds the fixed point. Without skipping: everything.
+    const bool skipping = skip && k > 1;
+    int rlo = y0 - k, rhi = y1 + k, jlo = 0, jhi = nv;
+    if (skipping) {
+      rlo = y1 + k;
+      rhi = y0 - k;
+      int first = nv, end = 0;
+      for (int y = y0 - k; y < y1 + k; ++y) {
+        const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
+        if (v.y <= v.x) continue;
+        rlo = std::min(rlo, y);
+        rhi = y + 1;
+        first = std::min(first, v.x);
+        end = std::max(end, v.y);
       }
-      const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
+      // A change within k cells of a row's end reaches the other end through the wrap.
+      const int reach = (k + kLanes - 1) / kLanes;
+      if (first * kLanes - k >= 0 && end * kLanes - 1 + k < nx) {
+        jlo = first - reach;
+        jhi = std::min(nv, end + reach);
+      }
+      for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
+    }
+    const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
+    for (int l = 1; l <= k; ++l) {
+      lo[l] = std::max(y0 - (k - l), rlo - l);
+      hi[l] = std::min(y1 + (k - l), rhi + l);
+      next[l] = lo[l];
+    }
+    // The band's end rows alternate between two copies; the next copy must hold the fixed
+    // point wherever this block does not write it.
+    if (skipping)
+      for (int y = y0; y < y1; ++y) {
+        if (y - y0 >= kmax && y1 - y > kmax) continue;  // updated in place
+        if (!idle && y >= lo[k] && y < hi[k] && jlo == 0 && jhi == nv) continue;
+        copy_whole_row(fixed_row[0], band_row(band, 1 - parity, y, 0));
+        copy_whole_row(fixed_row[1], band_row(band, 1 - parity, y, 1));
+      }
+    // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
+    // (level k writes row y after level 1 has read it for the last time); the kmax rows at
+    // either end, which the neighbours read as halo, alternate between two copies by block
+    // parity.
+    auto level0 = [&](int y, int chem) -> const float* {
+      if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
+      if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
+      return band_row(band, parity, y, chem);
+    };
+    auto input = [&](int level, int y, int chem) -> const float* {
+      if (level == 0) return level0(y, chem);
+      if (y < lo[level] || y >= hi[level]) return fixed_row[chem];
+      return ring_row(level, y, chem);
+    };
+    // Level l (1 .. k) spans the band grown by k - l rows (and, when skipping, the changing
+    // rows grown by l). Wavefront: each sweep lets every level compute its next two rows
+    // (one at a span's end) once its inputs, rows y - 1 .. y + 2 of level l - 1, exist, and
+    // as long as it does not overwrite ring rows that level l + 1 still reads (rows >=
+    // next[l + 1] - 1). A level's rows outside its span hold the fixed point and need no
+    // wait.
+    // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through
+    // the ring and are written back once no longer read.
+    int written_back = y0;
+    while (!idle && next[k] < hi[k]) {
+      bool progressed = false;
       for (int l = 1; l <= k; ++l) {
-        lo[l] = std::max(y0 - (k - l), rlo - l);
-        hi[l] = std::min(y1 + (k - l), rhi + l);
-        next[l] = lo[l];
+        const int y = next[l];
+        const int rows = std::min(2, hi[l] - y);
+        if (rows <= 0) continue;
+        if (l > 1 && next[l - 1] < std::min(y + rows + 1, hi[l - 1])) continue;
+        if (l < k && next[l + 1] < hi[l + 1] && y + rows - kRingRows >= next[l + 1]) continue;
+        if (l == k && k > 1 && next[1] < std::min(y + rows + 1, hi[1])) continue;
+        const bool to_grid = l == k && k > 1;
+        const float* a_in[4];
+        const float* b_in[4];
+        float* a_out[2];
+        float* b_out[2];
+        for (int r = 0; r < rows + 2; ++r) {
+          a_in[r] = input(l - 1, y - 1 + r, 0);
+          b_in[r] = input(l - 1, y - 1 + r, 1);
+        }
+        for (int r = 0; r < rows; ++r) {
+          a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
+          b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
+        }
+        kernel[rows - 1](a_in, b_in, a_out, b_out, nv, jlo, jhi, coeffs);
+        for (int r = 0; r < rows; ++r) {
+          finish_row(a_out[r], nx, nv, jlo, jhi, coeffs.fixed_a);
+          finish_row(b_out[r], nx, nv, jlo, jhi, coeffs.fixed_b);
+          if (skipping && l == k)
+            next_activity[y + r] =
+                differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);
+        }
+        updates += int64_t(rows) * (std::min(jhi * kLanes, nx) - jlo * kLanes);
+        next[l] = y + rows;
+        progressed = true;
       }
-      // The band's end rows alternate between two copies; the next copy must hold the fixed
-      // point wherever this block does not write it.
-      if (skipping)
-        for (int y = y0; y < y1; ++y) {
-          if (y - y0 >= kmax && y1 - y > kmax) continue;  // updated in place
-          if (!idle && y >= lo[k] && y < hi[k] && jlo == 0 && jhi == nv) continue;
-          copy_whole_row(fixed_row[0], band_row(band, 1 - parity, y, 0));
-          copy_whole_row(fixed_row[1], band_row(band, 1 - parity, y, 1));
-        }
-      // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
-      // (level k writes row y after level 1 has read it for the last time); the kmax rows at
-      // either end, which the neighbours read as halo, alternate between two copies by block
-      // parity.
-      auto level0 = [&](int y, int chem) -> const float* {
-        if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
-        if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
-        return band_row(band, parity, y, chem);
-      };
-      auto input = [&](int level, int y, int chem) -> const float* {
-        if (level == 0) return level0(y, chem);
-        if (y < lo[level] || y >= hi[level]) return fixed_row[chem];
-        return ring_row(level, y, chem);
-      };
-      // Level l (1 .. k) spans the band grown by k - l rows (and, when skipping, the changing
-      // rows grown by l). Wavefront: each sweep lets every level compute its next two rows
-      // (one at a span's end) once its inputs, rows y - 1 .. y + 2 of level l - 1, exist, and
-      // as long as it does not overwrite ring rows that level l + 1 still reads (rows >=
-      // next[l + 1] - 1). A level's rows outside its span hold the fixed point and need no
-      // wait.
-      // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through
-      // the ring and are written back once no longer read.
-      int written_back = y0;
-      while (!idle && next[k] < hi[k]) {
-        bool progressed = false;
-        for (int l = 1; l <= k; ++l) {
-          const int y = next[l];
-          const int rows = std::min(2, hi[l] - y);
-          if (rows <= 0) continue;
-          if (l > 1 && next[l - 1] < std::min(y + rows + 1, hi[l - 1])) continue;
-          if (l < k && next[l + 1] < hi[l + 1] && y + rows - kRingRows >= next[l + 1]) continue;
-          if (l == k && k > 1 && next[1] < std::min(y + rows + 1, hi[1])) continue;
-          const bool to_grid = l == k && k > 1;
-          const float* a_in[4];
-          const float* b_in[4];
-          float* a_out[2];
-          float* b_out[2];
-          for (int r = 0; r < rows + 2; ++r) {
-            a_in[r] = input(l - 1, y - 1 + r, 0);
-            b_in[r] = input(l - 1, y - 1 + r, 1);
-          }
-          for (int r = 0; r < rows; ++r) {
-            a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
-            b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
-          }
-          kernel[rows - 1](a_in, b_in, a_out, b_out, nv, jlo, jhi, coeffs);
-          for (int r = 0; r < rows; ++r) {
-            finish_row(a_out[r], nx, nv, jlo, jhi, coeffs.fixed_a);
-            finish_row(b_out[r], nx, nv, jlo, jhi, coeffs.fixed_b);
-            if (skipping && l == k)
-              next_activity[y + r] =
-                  differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);
-          }
-          updates += int64_t(rows) * (std::min(jhi * kLanes, nx) - jlo * kLanes);
-          next[l] = y + rows;
-          progressed = true;
-        }
-        ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
-        for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
-             ++written_back) {
-          copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
-          copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
-        }
-      }
-      for (; k == 1 && written_back < y1; ++written_back) {
+      ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
+      for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
+           ++written_back) {
         copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
         copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
       }
+    }
+    for (; k == 1 && written_back < y1; ++written_back) {
+      copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
+      copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
+    }
+  };
+  // Thread t owns bands [t per_thread, (t + 1) per_thread) and takes them first, in order (they
+  // stay in its cache); then it takes the bands other threads have not started, so that a
+  // thread the machine holds up delays the block by at most the band it is on. Claims count
+  // up across blocks: those of block b are b per_thread .. (b + 1) per_thread - 1.
+  for (int t = 0; t < n; ++t) band_claims_[std::size_t(t)].next.store(0, std::memory_order_relaxed);
+  auto claim = [&](int owner, int64_t block) {
+    std::atomic<int64_t>& claims = band_claims_[std::size_t(owner)].next;
+    const int64_t end = (block + 1) * per_thread;
+    for (int64_t c = claims.load(std::memory_order_relaxed); c < end;)
+      if (claims.compare_exchange_weak(c, c + 1, std::memory_order_relaxed))
+        return owner * per_thread + int(c - block * per_thread);
+    return -1;
+  };
+  auto work = [&](int t) {
+    int64_t updates = 0;
+    int parity = 0;
+    for (int64_t done = 0, block = 0; done < steps; ++block) {
+      const int k = int(std::min<int64_t>(kmax, steps - done));
+      for (int u = 0; u < n; ++u)
+        for (int j = claim((t + u) % n, block); j >= 0; j = claim((t + u) % n, block))
+          process_band(j, parity, k, updates);
       parity = 1 - parity;
       barrier.wait();
       done += k;

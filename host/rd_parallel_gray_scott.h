@@ -2,18 +2,20 @@
 // Seed 001's explicit Gray-Scott (9-point Laplacian, periodic) on every core. Reads halo 1.
 //   A' = A + DA L9(A) + dt (F (1 - A) - A B^2),  B' = B + DB L9(B) + dt (A B^2 - (F + k) B)
 //   L9 = 0.05 S - 1.8 c with S the separable (1 4 1) x (1 4 1) sum (seed 001's rewrite).
-// Schedule: the grid is cut into bands of rows, one per thread, updated in place. Each thread
-// advances its band block_steps steps at a time by a wavefront (temporal blocking): level l
-// computes its next two rows as soon as rows y-1..y+2 of level l-1 exist, into a ring of 5
-// rows per level, so a band (about 690 KiB for 400^2 on 2 threads) stays in L2 and the rows
-// in flight in L1; the band's halo (block_steps rows each side) is recomputed redundantly.
-// The block_steps rows at either end of a band are double-buffered by block parity, so the
-// neighbours read them while their owner writes the next ones (no copies). All threads meet
-// at one barrier per block. The row kernel forms each vertical (1 4 1) sum once per SIMD
-// vector (AVX-512 when built for it, else SSE/AVX/NEON through GCC vector extensions) and
-// shifts it in registers for the horizontal pass. Every schedule (threads, block_steps) gives
-// the same bits as stepping one step at a time; the result differs from the article's
-// double-precision loop by float rounding only.
+// Schedule: the grid is cut into bands of rows, a few per thread (about 48 rows each), updated
+// in place. A thread takes its own bands first and then any band another thread has not
+// started, so that a thread the machine holds up delays a block by one band at most. Each band
+// advances block_steps steps at a time by a wavefront (temporal blocking): level l computes its
+// next two rows as soon as rows y-1..y+2 of level l-1 exist, into a ring of 5 rows per level,
+// so a thread's bands (about 690 KiB for 400^2 on 2 threads) stay in L2 and the rows in flight
+// in L1; a band's halo (block_steps rows each side) is recomputed redundantly. The block_steps
+// rows at either end of a band are double-buffered by block parity, so the neighbours read
+// them while their owner writes the next ones (no copies). All threads meet at one barrier per
+// block. The row kernel forms each vertical (1 4 1) sum once per SIMD vector (AVX-512 when
+// built for it, else SSE/AVX/NEON through GCC vector extensions) and shifts it in registers
+// for the horizontal pass. Every schedule (threads, block_steps, bands) gives the same bits as
+// stepping one step at a time; the result differs from the article's double-precision loop by
+// float rounding only.
 // Quiescent cells are skipped, bit for bit: a uniform state that the float update maps to
 // itself exactly (seed 001's background settles on A = 1.00000036, B = 0 within ~100 steps)
 // stays so wherever its whole 3x3 neighbourhood has it. Each block starts from the bounding
@@ -41,8 +43,10 @@ class ParallelGrayScott9 {
 
   // threads <= 0: one per hardware thread. block_steps: steps per residency (1 = plain
   // step-by-step sweeps; any value gives the same bits), capped at the smallest band height.
+  // bands_per_thread <= 0: bands of about kBandRows rows, at most 8 per thread.
   ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads = 0,
-                     int block_steps = kBlockSteps);
+                     int block_steps = kBlockSteps, int bands_per_thread = 0);
+  static constexpr int kBandRows = 48;
   // The threads - 1 workers are started here and kept: run() allocates nothing and starts
   // no thread, so that a frame loop may call it.
   ~ParallelGrayScott9();
@@ -53,6 +57,7 @@ class ParallelGrayScott9 {
   FieldF& a() { return a_; }
   FieldF& b() { return b_; }
   int threads() const { return threads_; }
+  int bands() const { return int(bands_.size()); }
   int block_steps() const { return block_steps_; }
 
   // Seed 001's start: A = 1, B = 0, a 10x10 square of B = 1 at the centre.
@@ -108,6 +113,7 @@ class ParallelGrayScott9 {
   Int2 size_;
   GrayScott9Params params_;
   int threads_ = 1;
+  int bands_per_thread_ = 1;
   int block_steps_ = kBlockSteps;
   FieldF a_, b_;
   int vectors_ = 0;
@@ -132,6 +138,11 @@ class ParallelGrayScott9 {
   std::atomic<uint32_t> job_generation_{0};
   std::atomic<int> jobs_done_{0};
   std::atomic<bool> stopping_{false};
+  // Per thread, the claims on its bands so far (run() hands bands out through them).
+  struct alignas(64) BandClaims {
+    std::atomic<int64_t> next{0};
+  };
+  std::unique_ptr<BandClaims[]> band_claims_;
   std::vector<std::jthread> workers_;  // last member: started after everything they read
 };
 

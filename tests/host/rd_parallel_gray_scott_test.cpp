@@ -44,15 +44,17 @@ TEST(ParallelGrayScott9, EveryScheduleGivesTheBitsOfStepByStepSweeps) {
     fill_noise(ref, 7);
     ref.run(steps);
     struct Schedule {
-      int threads, block_steps;
+      int threads, block_steps, bands_per_thread;
     };
-    for (const Schedule sc : {Schedule{1, 2}, Schedule{2, 2}, Schedule{2, 5}, Schedule{3, 8},
-                              Schedule{2, 1}, Schedule{4, 3}}) {
-      ParallelGrayScott9 s(size, {}, sc.threads, sc.block_steps);
+    for (const Schedule sc : {Schedule{1, 2, 1}, Schedule{2, 2, 1}, Schedule{2, 5, 1},
+                              Schedule{3, 8, 1}, Schedule{2, 1, 1}, Schedule{4, 3, 1},
+                              Schedule{1, 3, 4}, Schedule{2, 2, 3}, Schedule{3, 4, 2}}) {
+      ParallelGrayScott9 s(size, {}, sc.threads, sc.block_steps, sc.bands_per_thread);
       fill_noise(s, 7);
       s.run(steps);  // 23 = whole blocks plus a remainder for every block_steps above
-      SCOPED_TRACE(testing::Message() << size.x << "x" << size.y << " threads " << sc.threads
-                                      << " block_steps " << sc.block_steps);
+      SCOPED_TRACE(testing::Message()
+                   << size.x << "x" << size.y << " threads " << sc.threads << " block_steps "
+                   << sc.block_steps << " bands " << s.bands());
       expect_same_bits(ref, s);
     }
   }
