@@ -341,7 +341,9 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
   ARDCELL_CHECK(block_steps > 0, "block_steps must be positive");
   if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
   threads_ = std::clamp(threads, 1, size.y);
-  if (bands_per_thread <= 0) bands_per_thread = std::clamp(size.y / (threads_ * kBandRows), 1, 8);
+  // One thread gains nothing from more bands (nothing to balance) and pays their halos.
+  if (bands_per_thread <= 0)
+    bands_per_thread = threads_ == 1 ? 1 : std::clamp(size.y / (threads_ * kBandRows), 1, 8);
   bands_per_thread_ = std::clamp(bands_per_thread, 1, size.y / threads_);
   const int band_count = threads_ * bands_per_thread_;
   // A block's halo must lie within the neighbouring band's published edge rows.

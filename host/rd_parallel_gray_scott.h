@@ -43,7 +43,8 @@ class ParallelGrayScott9 {
 
   // threads <= 0: one per hardware thread. block_steps: steps per residency (1 = plain
   // step-by-step sweeps; any value gives the same bits), capped at the smallest band height.
-  // bands_per_thread <= 0: bands of about kBandRows rows, at most 8 per thread.
+  // bands_per_thread <= 0: with several threads, bands of about kBandRows rows, at most 8 per
+  // thread; one band on one thread.
   ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads = 0,
                      int block_steps = kBlockSteps, int bands_per_thread = 0);
   static constexpr int kBandRows = 48;
