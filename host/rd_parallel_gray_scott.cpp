@@ -110,32 +110,37 @@ struct RowConsts {
 }
 
 // kLanes output cells of both chemicals from the vertical sums left of, at and right of them.
+// Returns the A vector; the B vector goes to *b_new.
 template <bool kUnitDt>
-[[gnu::always_inline]] inline void update_cells(Vec va_prev, Vec va, Vec va_next, Vec vb_prev,
-                                                Vec vb, Vec vb_next, Vec A, Vec B, float* ao,
-                                                float* bo, const RowConsts& k) {
+[[gnu::always_inline]] inline Vec update_cells(Vec va_prev, Vec va, Vec va_next, Vec vb_prev,
+                                               Vec vb, Vec vb_next, Vec A, Vec B, float* ao,
+                                               float* bo, const RowConsts& k, Vec* b_new) {
   const Vec sa = fma(k.four, va, lefts(va_prev, va, kLaneSeq) + rights(va, va_next, kLaneSeq));
   const Vec sb = fma(k.four, vb, lefts(vb_prev, vb, kLaneSeq) + rights(vb, vb_next, kLaneSeq));
   // A B^2 (times dt) enters both updates fused: A' = ca S_A + (pa A + q) - A B^2.
   const Vec bb = kUnitDt ? B * B : k.dt * (B * B);
-  store(ao, fnma(A, bb, fma(k.ca, sa, fma(k.pa, A, k.q))));
-  store(bo, fma(A, bb, fma(k.cb, sb, k.pb * B)));
+  const Vec a_new = fnma(A, bb, fma(k.ca, sa, fma(k.pa, A, k.q)));
+  *b_new = fma(A, bb, fma(k.cb, sb, k.pb * B));
+  store(ao, a_new);
+  store(bo, *b_new);
+  return a_new;
 }
 
 // kRows (1 or 2) consecutive output rows from the kRows + 2 input rows around them, vectors
-// [jlo, jhi) of the nv in a row. Rows point at x = 0 (64-byte aligned) and hold x = -kLanes ..
-// kLanes * (nv + 1) - 1, with the periodic ghosts at x = -1 and x = n filled in. Every output
-// lane depends only on input lanes x - 1 .. x + 1, so lanes x < n are exact and lanes past n
-// (padding) are harmless. The vertical sums are formed once per vector and shifted in
-// registers for the horizontal pass; two rows per call share the loads of their two middle
-// input rows. Where the range stops short of a row's end, the neighbouring vector is taken to
-// hold the fixed point (c.fixed_a, c.fixed_b) and is not read: outside the range, rows may hold
-// stale values. All variants evaluate every cell with the same expressions (column_sum,
-// update_cells), hence the same bits.
+// [jlo, jhi) of the nv in a row of n cells. Rows point at x = 0 (64-byte aligned) and hold
+// x = -kLanes .. kLanes * (nv + 1) - 1, with the periodic ghosts at x = -1 and x = n filled
+// in; the output rows get theirs here too, from registers (reading them back from the stores
+// just made stalled store-to-load forwarding). Every output lane depends only on input lanes
+// x - 1 .. x + 1, so lanes x < n are exact and lanes past n (padding) are harmless. The vertical
+// sums are formed once per vector and shifted in registers for the horizontal pass; two rows per
+// call share the loads of their two middle input rows. Where the range stops short of a row's end,
+// the neighbouring vector is taken to hold the fixed point (c.fixed_a, c.fixed_b) and is not read:
+// outside the range, rows may hold stale values. All variants evaluate every cell with the same
+// expressions (column_sum, update_cells), hence the same bits.
 template <int kRows, bool kUnitDt>
 void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_rows,
-                           float* const* a_out, float* const* b_out, int nv, int jlo, int jhi,
-                           const RowCoeffs& c) {
+                           float* const* a_out, float* const* b_out, int n, int nv, int jlo,
+                           int jhi, const RowCoeffs& c) {
   // Local copies, so that the stores below cannot be taken to modify the row pointers.
   const float* a[kRows + 2];
   const float* b[kRows + 2];
@@ -166,6 +171,14 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     va[r] = column_sum(load(a[r] + x0), load(a[r + 1] + x0), load(a[r + 2] + x0), k);
     vb[r] = column_sum(load(b[r] + x0), load(b[r + 1] + x0), load(b[r + 2] + x0), k);
   }
+  // The output rows' ghosts: x = n takes x = 0, x = -1 takes x = n - 1 (the fixed point when
+  // outside the range).
+  float a_ghost_n[kRows], b_ghost_n[kRows], a_ghost_left[kRows], b_ghost_left[kRows];
+  for (int r = 0; r < kRows; ++r) {
+    a_ghost_n[r] = a_ghost_left[r] = c.fixed_a;
+    b_ghost_n[r] = b_ghost_left[r] = c.fixed_b;
+  }
+  const int last_x = (n - 1) / kLanes * kLanes, last_lane = (n - 1) % kLanes;
   // One vector of every output row; next_fixed: the vector after it lies outside the range.
   auto advance = [&](int x, bool next_fixed) __attribute__((always_inline)) {
     const int xn = x + kLanes;
@@ -178,8 +191,18 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     for (int r = 0; r < kRows; ++r) {
       const Vec va_next = next_fixed ? fixed_va : column_sum(an[r], an[r + 1], an[r + 2], k);
       const Vec vb_next = next_fixed ? fixed_vb : column_sum(bn[r], bn[r + 1], bn[r + 2], k);
-      update_cells<kUnitDt>(va_prev[r], va[r], va_next, vb_prev[r], vb[r], vb_next,
-                            load(a[r + 1] + x), load(b[r + 1] + x), ao[r] + x, bo[r] + x, k);
+      Vec b_new;
+      const Vec a_new = update_cells<kUnitDt>(va_prev[r], va[r], va_next, vb_prev[r], vb[r],
+                                              vb_next, load(a[r + 1] + x), load(b[r + 1] + x),
+                                              ao[r] + x, bo[r] + x, k, &b_new);
+      if (x == 0) {
+        a_ghost_n[r] = a_new[0];
+        b_ghost_n[r] = b_new[0];
+      }
+      if (x == last_x) {
+        a_ghost_left[r] = a_new[last_lane];
+        b_ghost_left[r] = b_new[last_lane];
+      }
       va_prev[r] = va[r];
       va[r] = va_next;
       vb_prev[r] = vb[r];
@@ -191,16 +214,19 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     advance((jhi - 1) * kLanes, true);
   else
     advance((jhi - 1) * kLanes, false);
+  for (int r = 0; r < kRows; ++r) {  // after the stores: x = n may lie in the last vector
+    ao[r][-1] = a_ghost_left[r];
+    bo[r][-1] = b_ghost_left[r];
+    ao[r][n] = a_ghost_n[r];
+    bo[r][n] = b_ghost_n[r];
+  }
 }
 
 using RowsKernel = void (*)(const float* const*, const float* const*, float* const*, float* const*,
-                            int, int, int, const RowCoeffs&);
+                            int, int, int, int, const RowCoeffs&);
 
-// Periodic ghosts of a row freshly written over vectors [jlo, jhi) (the rest holds `fixed`);
-// the padding past x = n is zeroed so that it stays finite.
-void finish_row(float* r, int n, int nv, int jlo, int jhi, float fixed) {
-  r[-1] = jhi == nv ? r[n - 1] : fixed;
-  r[n] = jlo == 0 ? r[0] : fixed;
+// Zeroes the padding past x = n (inside the last vector) so that it stays finite.
+void zero_padding(float* r, int n, int nv) {
   for (int x = n + 1; x < nv * kLanes; ++x) r[x] = 0.0f;
 }
 
@@ -218,7 +244,7 @@ bool find_fixed_point(RowsKernel kernel, const RowCoeffs& c, float& a, float& b)
     const float* b_rows[3] = {in[1] + kLanes, in[1] + kLanes, in[1] + kLanes};
     float* a_out[1] = {out[0] + kLanes};
     float* b_out[1] = {out[1] + kLanes};
-    kernel(a_rows, b_rows, a_out, b_out, 1, 0, 1, c);
+    kernel(a_rows, b_rows, a_out, b_out, kLanes, 1, 0, 1, c);
     const float next_a = out[0][kLanes], next_b = out[1][kLanes];
     for (int x = kLanes; x < 2 * kLanes; ++x)
       if (std::memcmp(&out[0][x], &next_a, sizeof(float)) != 0 ||
@@ -240,6 +266,9 @@ struct VecBits {
   VecBits operator^(VecBits o) const { return {v ^ o.v}; }
   VecBits operator|(VecBits o) const { return {v | o.v}; }
   explicit operator bool() const {
+#if defined(__AVX512F__)
+    return _mm512_test_epi32_mask(__m512i(v), __m512i(v)) != 0;
+#endif
     uint64_t words[kLanes / 2];
     std::memcpy(words, &v, sizeof v);
     uint64_t any = 0;
@@ -365,6 +394,7 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
     band.lo.assign(std::size_t(block_steps_ + 1), 0);
     band.hi.assign(std::size_t(block_steps_ + 1), 0);
     band.edges.resize(2 * 2 * 2 * block_steps_, stride_);
+    band.edge_dirty.assign(2 * 2 * std::size_t(block_steps_), Int2{0, 0});
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
@@ -402,16 +432,17 @@ void ParallelGrayScott9::seed_square() {
     }
 }
 
-float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
+int ParallelGrayScott9::edge_index(const Band& band, int y) const {
   const int kmax = block_steps_;
-  int edge = -1;
-  if (y - band.y0 < kmax) {
-    edge = y - band.y0;
-  } else if (band.y1 - y <= kmax) {
-    edge = 2 * kmax - (band.y1 - y);
-  }
+  if (y - band.y0 < kmax) return y - band.y0;
+  if (band.y1 - y <= kmax) return 2 * kmax - (band.y1 - y);
+  return -1;
+}
+
+float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
+  const int edge = edge_index(band, y);
   if (edge < 0) return chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
-  return band.edges.row(((parity * 2 + chem) * 2) * kmax + edge);
+  return band.edges.row(((parity * 2 + chem) * 2) * block_steps_ + edge);
 }
 
 void ParallelGrayScott9::copy_whole_row(const float* from, float* to) const {
@@ -429,9 +460,14 @@ void ParallelGrayScott9::run(int64_t steps) {
       float* rb = band_row(band, 0, y, 1);
       std::memcpy(ra, a_.row(y), row_bytes);
       std::memcpy(rb, b_.row(y), row_bytes);
-      finish_row(ra, nx, nv, 0, nv, 0.0f);
-      finish_row(rb, nx, nv, 0, nv, 0.0f);
+      for (float* r : {ra, rb}) {
+        r[-1] = r[nx - 1];
+        r[nx] = r[0];
+        zero_padding(r, nx, nv);
+      }
     }
+  for (Band& band : bands_)  // end-row copies may hold anything from an earlier run
+    std::fill(band.edge_dirty.begin(), band.edge_dirty.end(), Int2{0, nv});
   RowCoeffs coeffs = row_coeffs(params_);
   const bool unit_dt = params_.dt == 1.0f;  // drops a multiply: dt * abb == abb then
   const RowsKernel kernel[2] = {
@@ -482,7 +518,7 @@ void ParallelGrayScott9::run(int64_t steps) {
       rhi = y0 - k;
       int first = nv, end = 0;
       for (int y = y0 - k; y < y1 + k; ++y) {
-        const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
+        const Int2 v = activity[std::size_t(y < 0 ? y + ny : y >= ny ? y - ny : y)];
         if (v.y <= v.x) continue;
         rlo = std::min(rlo, y);
         rhi = y + 1;
@@ -505,13 +541,24 @@ void ParallelGrayScott9::run(int64_t steps) {
     }
     // The band's end rows alternate between two copies; the next copy must hold the fixed
     // point wherever this block does not write it.
-    if (skipping)
-      for (int y = y0; y < y1; ++y) {
-        if (y - y0 >= kmax && y1 - y > kmax) continue;  // updated in place
-        if (!idle && y >= lo[k] && y < hi[k] && jlo == 0 && jhi == nv) continue;
-        copy_whole_row(fixed_row[0], band_row(band, 1 - parity, y, 0));
-        copy_whole_row(fixed_row[1], band_row(band, 1 - parity, y, 1));
+    for (int y = y0; y < y1; ++y) {
+      const int edge = edge_index(band, y);
+      if (edge < 0) continue;  // updated in place
+      Int2& dirty = band.edge_dirty[std::size_t((1 - parity) * 2 * kmax + edge)];
+      const Int2 written = !idle && y >= lo[k] && y < hi[k] ? Int2{jlo, jhi} : Int2{0, 0};
+      if (dirty.y > dirty.x &&
+          (written.y <= written.x || dirty.x < written.x || dirty.y > written.y)) {
+        const std::size_t x0 = std::size_t(dirty.x * kLanes) + RowStore::kPad;
+        const std::size_t count = std::size_t((dirty.y - dirty.x) * kLanes);
+        for (int chem = 0; chem < 2; ++chem) {
+          float* row = band_row(band, 1 - parity, y, chem) - RowStore::kPad;
+          const float* fixed = fixed_row[chem] - RowStore::kPad;
+          std::memcpy(row + x0, fixed + x0, sizeof(float) * count);
+          row[RowStore::kPad - 1] = row[RowStore::kPad + nx] = fixed[RowStore::kPad];  // ghosts
+        }
       }
+      dirty = written;
+    }
     // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
     // (level k writes row y after level 1 has read it for the last time); the kmax rows at
     // either end, which the neighbours read as halo, alternate between two copies by block
@@ -557,10 +604,12 @@ void ParallelGrayScott9::run(int64_t steps) {
           a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
           b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
         }
-        kernel[rows - 1](a_in, b_in, a_out, b_out, nv, jlo, jhi, coeffs);
+        kernel[rows - 1](a_in, b_in, a_out, b_out, nx, nv, jlo, jhi, coeffs);
         for (int r = 0; r < rows; ++r) {
-          finish_row(a_out[r], nx, nv, jlo, jhi, coeffs.fixed_a);
-          finish_row(b_out[r], nx, nv, jlo, jhi, coeffs.fixed_b);
+          if (nx % kLanes != 0 && jhi == nv) {
+            zero_padding(a_out[r], nx, nv);
+            zero_padding(b_out[r], nx, nv);
+          }
           if (skipping && l == k)
             next_activity[y + r] =
                 differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);

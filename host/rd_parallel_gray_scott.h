@@ -103,12 +103,17 @@ class ParallelGrayScott9 {
     RowStore ring, edges;
     std::vector<int> next;    // per level, the next row to compute
     std::vector<int> lo, hi;  // per level, the rows it computes in this block
+    // Per copy of an end row (parity * 2 block_steps + edge): the vectors that may hold other
+    // values than the fixed point, so that a block refills only what it does not overwrite.
+    std::vector<Int2> edge_dirty;
   };
   // Rows per level in a band's wavefront ring: the next level reads 4 while 2 are written.
   static constexpr int kRingRows = 5;
   // Row y of a band as of block parity `parity` (rows within block_steps_ of the band's ends
   // alternate between two copies, the others are updated in place).
   float* band_row(Band& band, int parity, int y, int chem);
+  // Which end row y is (0 .. 2 block_steps - 1), or -1 for a row updated in place.
+  int edge_index(const Band& band, int y) const;
   void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
 
   Int2 size_;
