@@ -395,6 +395,8 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
     band.hi.assign(std::size_t(block_steps_ + 1), 0);
     band.edges.resize(2 * 2 * 2 * block_steps_, stride_);
     band.edge_dirty.assign(2 * 2 * std::size_t(block_steps_), Int2{0, 0});
+    band.ring_dirty.assign(std::size_t(std::max(1, block_steps_ - 1) * kRingRows), Int2{0, 0});
+    band.window.assign(std::size_t(band.y1 - band.y0 + 2 * block_steps_), Int2{0, 0});
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
@@ -466,8 +468,10 @@ void ParallelGrayScott9::run(int64_t steps) {
         zero_padding(r, nx, nv);
       }
     }
-  for (Band& band : bands_)  // end-row copies may hold anything from an earlier run
+  for (Band& band : bands_) {  // end-row copies and rings may hold anything from before
     std::fill(band.edge_dirty.begin(), band.edge_dirty.end(), Int2{0, nv});
+    std::fill(band.ring_dirty.begin(), band.ring_dirty.end(), Int2{0, nv});
+  }
   RowCoeffs coeffs = row_coeffs(params_);
   const bool unit_dt = params_.dt == 1.0f;  // drops a multiply: dt * abb == abb then
   const RowsKernel kernel[2] = {
@@ -499,40 +503,67 @@ void ParallelGrayScott9::run(int64_t steps) {
     Band& above = bands_[std::size_t((j + nb - 1) % nb)];
     Band& below = bands_[std::size_t((j + 1) % nb)];
     const int y0 = band.y0, y1 = band.y1;
+    auto ring_index = [&](int level, int y) {
+      return (level - 1) * kRingRows + int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
+    };
     auto ring_row = [&](int level, int y, int chem) {
-      const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
-      return band.ring.row(((level - 1) * kRingRows + slot) * 2 + chem);
+      return band.ring.row(ring_index(level, y) * 2 + chem);
     };
     int* next = band.next.data();  // next[l]: the next row level l computes
     int* lo = band.lo.data();      // level l computes rows [lo[l], hi[l])
     int* hi = band.hi.data();
     const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
     Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
-    // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
-    // [jlo, jhi) that differ from the fixed point, grown by one cell per level. Outside
-    // them every level holds the fixed point. Without skipping: everything.
+    // What this block computes: the level-0 rows [rlo, rhi) (band and halo) that differ from
+    // the fixed point, grown by one row per level, and in each row of level l the vectors
+    // that differ in level-0 rows within l of it, grown by l cells (columns()). Outside them
+    // every level holds the fixed point. Without skipping: everything.
     const bool skipping = skip && k > 1;
-    int rlo = y0 - k, rhi = y1 + k, jlo = 0, jhi = nv;
+    int rlo = y0 - k, rhi = y1 + k;
+    Int2* window = band.window.data() - (y0 - k);  // window[y], y0 - k <= y < y1 + k
     if (skipping) {
       rlo = y1 + k;
       rhi = y0 - k;
-      int first = nv, end = 0;
       for (int y = y0 - k; y < y1 + k; ++y) {
         const Int2 v = activity[std::size_t(y < 0 ? y + ny : y >= ny ? y - ny : y)];
+        window[y] = v;
         if (v.y <= v.x) continue;
         rlo = std::min(rlo, y);
         rhi = y + 1;
-        first = std::min(first, v.x);
-        end = std::max(end, v.y);
-      }
-      // A change within k cells of a row's end reaches the other end through the wrap.
-      const int reach = (k + kLanes - 1) / kLanes;
-      if (first * kLanes - k >= 0 && end * kLanes - 1 + k < nx) {
-        jlo = first - reach;
-        jhi = std::min(nv, end + reach);
       }
       for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
     }
+    // The vectors that level l computes in rows [ya, yb).
+    auto columns = [&](int l, int ya, int yb) -> Int2 {
+      if (!skipping) return {0, nv};
+      int first = nv, end = 0;
+      for (int y = ya - l; y < yb + l; ++y) {
+        const Int2 v = window[y];
+        if (v.y <= v.x) continue;
+        first = std::min(first, v.x);
+        end = std::max(end, v.y);
+      }
+      if (end <= first) return {0, 0};
+      // A change within l cells of a row's end reaches the other end through the wrap.
+      if (first * kLanes - l < 0 || end * kLanes - 1 + l >= nx) return {0, nv};
+      const int reach = (l + kLanes - 1) / kLanes;
+      return {first - reach, std::min(nv, end + reach)};
+    };
+    // Makes rows (a, b) hold the fixed point outside `written`, which is about to be written
+    // (refilling only what may differ: `dirty`), and records `written` as what may differ.
+    auto refill = [&](float* a, float* b, Int2& dirty, Int2 written) {
+      if (dirty.y > dirty.x &&
+          (written.y <= written.x || dirty.x < written.x || dirty.y > written.y)) {
+        const std::size_t x0 = std::size_t(dirty.x * kLanes);
+        const std::size_t count = std::size_t((dirty.y - dirty.x) * kLanes);
+        for (int chem = 0; chem < 2; ++chem) {
+          float* row = chem == 0 ? a : b;
+          std::memcpy(row + x0, fixed_row[chem] + x0, sizeof(float) * count);
+          row[-1] = row[nx] = fixed_row[chem][0];  // ghosts
+        }
+      }
+      dirty = written;
+    };
     const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
     for (int l = 1; l <= k; ++l) {
       lo[l] = std::max(y0 - (k - l), rlo - l);
@@ -544,20 +575,9 @@ void ParallelGrayScott9::run(int64_t steps) {
     for (int y = y0; y < y1; ++y) {
       const int edge = edge_index(band, y);
       if (edge < 0) continue;  // updated in place
-      Int2& dirty = band.edge_dirty[std::size_t((1 - parity) * 2 * kmax + edge)];
-      const Int2 written = !idle && y >= lo[k] && y < hi[k] ? Int2{jlo, jhi} : Int2{0, 0};
-      if (dirty.y > dirty.x &&
-          (written.y <= written.x || dirty.x < written.x || dirty.y > written.y)) {
-        const std::size_t x0 = std::size_t(dirty.x * kLanes) + RowStore::kPad;
-        const std::size_t count = std::size_t((dirty.y - dirty.x) * kLanes);
-        for (int chem = 0; chem < 2; ++chem) {
-          float* row = band_row(band, 1 - parity, y, chem) - RowStore::kPad;
-          const float* fixed = fixed_row[chem] - RowStore::kPad;
-          std::memcpy(row + x0, fixed + x0, sizeof(float) * count);
-          row[RowStore::kPad - 1] = row[RowStore::kPad + nx] = fixed[RowStore::kPad];  // ghosts
-        }
-      }
-      dirty = written;
+      refill(band_row(band, 1 - parity, y, 0), band_row(band, 1 - parity, y, 1),
+             band.edge_dirty[std::size_t((1 - parity) * 2 * kmax + edge)],
+             !idle && y >= lo[k] && y < hi[k] ? columns(k, y, y + 1) : Int2{0, 0});
     }
     // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
     // (level k writes row y after level 1 has read it for the last time); the kmax rows at
@@ -604,17 +624,23 @@ void ParallelGrayScott9::run(int64_t steps) {
           a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
           b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
         }
-        kernel[rows - 1](a_in, b_in, a_out, b_out, nx, nv, jlo, jhi, coeffs);
-        for (int r = 0; r < rows; ++r) {
-          if (nx % kLanes != 0 && jhi == nv) {
-            zero_padding(a_out[r], nx, nv);
-            zero_padding(b_out[r], nx, nv);
+        const Int2 cols = columns(l, y, y + rows);
+        if (!to_grid)  // ring rows: the fixed point outside cols (the end rows were refilled)
+          for (int r = 0; r < rows; ++r)
+            refill(a_out[r], b_out[r], band.ring_dirty[std::size_t(ring_index(l, y + r))], cols);
+        if (cols.y > cols.x) {
+          kernel[rows - 1](a_in, b_in, a_out, b_out, nx, nv, cols.x, cols.y, coeffs);
+          for (int r = 0; r < rows; ++r) {
+            if (nx % kLanes != 0 && cols.y == nv) {
+              zero_padding(a_out[r], nx, nv);
+              zero_padding(b_out[r], nx, nv);
+            }
+            if (skipping && l == k)
+              next_activity[y + r] = differing_vectors(a_out[r], b_out[r], fixed_row[0],
+                                                       fixed_row[1], nx, cols.x, cols.y);
           }
-          if (skipping && l == k)
-            next_activity[y + r] =
-                differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);
+          updates += int64_t(rows) * (std::min(cols.y * kLanes, nx) - cols.x * kLanes);
         }
-        updates += int64_t(rows) * (std::min(jhi * kLanes, nx) - jlo * kLanes);
         next[l] = y + rows;
         progressed = true;
       }
