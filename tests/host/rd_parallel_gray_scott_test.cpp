@@ -119,12 +119,12 @@ TEST(ParallelGrayScott9, SkippingQuiescentCellsChangesNoBit) {
       }
       const double computed =
           double(skipping.last_run_cell_updates()) / double(dense.last_run_cell_updates());
-      // After 200 steps the pattern spans most of these grids (the last piece computes 86-91%
-      // of the cells on 2026-11-21); across the corner it spans both wraps, so nothing is
+      // After 200 steps the pattern spans most of these grids (the last piece computes 74-79%
+      // of the cells on 2026-11-21); across the corner it spans both wraps, so little is
       // skipped there.
       EXPECT_GT(skipping.last_run_cell_updates(), 0);
       if (c.square_at.x < c.size.x / 2) {
-        EXPECT_LT(computed, 0.95);
+        EXPECT_LT(computed, 0.9);
       }
     }
   }
