@@ -232,7 +232,7 @@ void zero_padding(float* r, int n, int nv) {
 
 // Looks for a uniform state that one step maps to itself bit for bit: steps a strip of one
 // vector (ghosts and padding included) that starts at (a, b). Seed 001's A = 1, B = 0 settles
-// on A = 1.00000036 within ~100 steps. False if the strip does not settle or stops being
+// on A = 1.00000036 after 2 steps. False if the strip does not settle or stops being
 // uniform.
 bool find_fixed_point(RowsKernel kernel, const RowCoeffs& c, float& a, float& b) {
   constexpr int kWidth = 3 * kLanes;  // x = -kLanes .. 2 kLanes - 1

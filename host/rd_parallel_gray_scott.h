@@ -17,7 +17,7 @@
 // stepping one step at a time; the result differs from the article's double-precision loop by
 // float rounding only.
 // Quiescent cells are skipped, bit for bit: a uniform state that the float update maps to
-// itself exactly (seed 001's background settles on A = 1.00000036, B = 0 within ~100 steps)
+// itself exactly (seed 001's background settles on A = 1.00000036, B = 0 after 2 steps)
 // stays so wherever its whole 3x3 neighbourhood has it. Each block starts from the bounding
 // rows that differ from it and, for each row it computes at level l, the SIMD vectors that
 // differ within l rows of it (recorded as rows are written), grown by l cells; everything
