@@ -110,37 +110,32 @@ struct RowConsts {
 }
 
 // kLanes output cells of both chemicals from the vertical sums left of, at and right of them.
-// Returns the A vector; the B vector goes to *b_new.
 template <bool kUnitDt>
-[[gnu::always_inline]] inline Vec update_cells(Vec va_prev, Vec va, Vec va_next, Vec vb_prev,
-                                               Vec vb, Vec vb_next, Vec A, Vec B, float* ao,
-                                               float* bo, const RowConsts& k, Vec* b_new) {
+[[gnu::always_inline]] inline void update_cells(Vec va_prev, Vec va, Vec va_next, Vec vb_prev,
+                                                Vec vb, Vec vb_next, Vec A, Vec B, float* ao,
+                                                float* bo, const RowConsts& k) {
   const Vec sa = fma(k.four, va, lefts(va_prev, va, kLaneSeq) + rights(va, va_next, kLaneSeq));
   const Vec sb = fma(k.four, vb, lefts(vb_prev, vb, kLaneSeq) + rights(vb, vb_next, kLaneSeq));
   // A B^2 (times dt) enters both updates fused: A' = ca S_A + (pa A + q) - A B^2.
   const Vec bb = kUnitDt ? B * B : k.dt * (B * B);
-  const Vec a_new = fnma(A, bb, fma(k.ca, sa, fma(k.pa, A, k.q)));
-  *b_new = fma(A, bb, fma(k.cb, sb, k.pb * B));
-  store(ao, a_new);
-  store(bo, *b_new);
-  return a_new;
+  store(ao, fnma(A, bb, fma(k.ca, sa, fma(k.pa, A, k.q))));
+  store(bo, fma(A, bb, fma(k.cb, sb, k.pb * B)));
 }
 
 // kRows (1 or 2) consecutive output rows from the kRows + 2 input rows around them, vectors
-// [jlo, jhi) of the nv in a row of n cells. Rows point at x = 0 (64-byte aligned) and hold
-// x = -kLanes .. kLanes * (nv + 1) - 1, with the periodic ghosts at x = -1 and x = n filled
-// in; the output rows get theirs here too, from registers (reading them back from the stores
-// just made stalled store-to-load forwarding). Every output lane depends only on input lanes
-// x - 1 .. x + 1, so lanes x < n are exact and lanes past n (padding) are harmless. The vertical
-// sums are formed once per vector and shifted in registers for the horizontal pass; two rows per
-// call share the loads of their two middle input rows. Where the range stops short of a row's end,
-// the neighbouring vector is taken to hold the fixed point (c.fixed_a, c.fixed_b) and is not read:
-// outside the range, rows may hold stale values. All variants evaluate every cell with the same
-// expressions (column_sum, update_cells), hence the same bits.
+// [jlo, jhi) of the nv in a row. Rows point at x = 0 (64-byte aligned) and hold x = -kLanes ..
+// kLanes * (nv + 1) - 1, with the periodic ghosts at x = -1 and x = n filled in. Every output
+// lane depends only on input lanes x - 1 .. x + 1, so lanes x < n are exact and lanes past n
+// (padding) are harmless. The vertical sums are formed once per vector and shifted in
+// registers for the horizontal pass; two rows per call share the loads of their two middle
+// input rows. Where the range stops short of a row's end, the neighbouring vector is taken to
+// hold the fixed point (c.fixed_a, c.fixed_b) and is not read: outside the range, rows may hold
+// stale values. All variants evaluate every cell with the same expressions (column_sum,
+// update_cells), hence the same bits.
 template <int kRows, bool kUnitDt>
 void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_rows,
-                           float* const* a_out, float* const* b_out, int n, int nv, int jlo,
-                           int jhi, const RowCoeffs& c) {
+                           float* const* a_out, float* const* b_out, int nv, int jlo, int jhi,
+                           const RowCoeffs& c) {
   // Local copies, so that the stores below cannot be taken to modify the row pointers.
   const float* a[kRows + 2];
   const float* b[kRows + 2];
@@ -171,14 +166,6 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     va[r] = column_sum(load(a[r] + x0), load(a[r + 1] + x0), load(a[r + 2] + x0), k);
     vb[r] = column_sum(load(b[r] + x0), load(b[r + 1] + x0), load(b[r + 2] + x0), k);
   }
-  // The output rows' ghosts: x = n takes x = 0, x = -1 takes x = n - 1 (the fixed point when
-  // outside the range).
-  float a_ghost_n[kRows], b_ghost_n[kRows], a_ghost_left[kRows], b_ghost_left[kRows];
-  for (int r = 0; r < kRows; ++r) {
-    a_ghost_n[r] = a_ghost_left[r] = c.fixed_a;
-    b_ghost_n[r] = b_ghost_left[r] = c.fixed_b;
-  }
-  const int last_x = (n - 1) / kLanes * kLanes, last_lane = (n - 1) % kLanes;
   // One vector of every output row; next_fixed: the vector after it lies outside the range.
   auto advance = [&](int x, bool next_fixed) __attribute__((always_inline)) {
     const int xn = x + kLanes;
@@ -191,18 +178,8 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     for (int r = 0; r < kRows; ++r) {
       const Vec va_next = next_fixed ? fixed_va : column_sum(an[r], an[r + 1], an[r + 2], k);
       const Vec vb_next = next_fixed ? fixed_vb : column_sum(bn[r], bn[r + 1], bn[r + 2], k);
-      Vec b_new;
-      const Vec a_new = update_cells<kUnitDt>(va_prev[r], va[r], va_next, vb_prev[r], vb[r],
-                                              vb_next, load(a[r + 1] + x), load(b[r + 1] + x),
-                                              ao[r] + x, bo[r] + x, k, &b_new);
-      if (x == 0) {
-        a_ghost_n[r] = a_new[0];
-        b_ghost_n[r] = b_new[0];
-      }
-      if (x == last_x) {
-        a_ghost_left[r] = a_new[last_lane];
-        b_ghost_left[r] = b_new[last_lane];
-      }
+      update_cells<kUnitDt>(va_prev[r], va[r], va_next, vb_prev[r], vb[r], vb_next,
+                            load(a[r + 1] + x), load(b[r + 1] + x), ao[r] + x, bo[r] + x, k);
       va_prev[r] = va[r];
       va[r] = va_next;
       vb_prev[r] = vb[r];
@@ -214,19 +191,16 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     advance((jhi - 1) * kLanes, true);
   else
     advance((jhi - 1) * kLanes, false);
-  for (int r = 0; r < kRows; ++r) {  // after the stores: x = n may lie in the last vector
-    ao[r][-1] = a_ghost_left[r];
-    bo[r][-1] = b_ghost_left[r];
-    ao[r][n] = a_ghost_n[r];
-    bo[r][n] = b_ghost_n[r];
-  }
 }
 
 using RowsKernel = void (*)(const float* const*, const float* const*, float* const*, float* const*,
-                            int, int, int, int, const RowCoeffs&);
+                            int, int, int, const RowCoeffs&);
 
-// Zeroes the padding past x = n (inside the last vector) so that it stays finite.
-void zero_padding(float* r, int n, int nv) {
+// Periodic ghosts of a row freshly written over vectors [jlo, jhi) (the rest holds `fixed`);
+// the padding past x = n is zeroed so that it stays finite.
+void finish_row(float* r, int n, int nv, int jlo, int jhi, float fixed) {
+  r[-1] = jhi == nv ? r[n - 1] : fixed;
+  r[n] = jlo == 0 ? r[0] : fixed;
   for (int x = n + 1; x < nv * kLanes; ++x) r[x] = 0.0f;
 }
 
@@ -244,7 +218,7 @@ bool find_fixed_point(RowsKernel kernel, const RowCoeffs& c, float& a, float& b)
     const float* b_rows[3] = {in[1] + kLanes, in[1] + kLanes, in[1] + kLanes};
     float* a_out[1] = {out[0] + kLanes};
     float* b_out[1] = {out[1] + kLanes};
-    kernel(a_rows, b_rows, a_out, b_out, kLanes, 1, 0, 1, c);
+    kernel(a_rows, b_rows, a_out, b_out, 1, 0, 1, c);
     const float next_a = out[0][kLanes], next_b = out[1][kLanes];
     for (int x = kLanes; x < 2 * kLanes; ++x)
       if (std::memcmp(&out[0][x], &next_a, sizeof(float)) != 0 ||
@@ -266,9 +240,6 @@ struct VecBits {
   VecBits operator^(VecBits o) const { return {v ^ o.v}; }
   VecBits operator|(VecBits o) const { return {v | o.v}; }
   explicit operator bool() const {
-#if defined(__AVX512F__)
-    return _mm512_test_epi32_mask(__m512i(v), __m512i(v)) != 0;
-#endif
     uint64_t words[kLanes / 2];
     std::memcpy(words, &v, sizeof v);
     uint64_t any = 0;
@@ -364,19 +335,14 @@ void ParallelGrayScott9::RowStore::resize(int rows, std::ptrdiff_t stride) {
 }
 
 ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads,
-                                       int block_steps, int bands_per_thread)
+                                       int block_steps)
     : size_(size), params_(params) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "grid must be non-empty");
   ARDCELL_CHECK(block_steps > 0, "block_steps must be positive");
   if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
   threads_ = std::clamp(threads, 1, size.y);
-  // One thread gains nothing from more bands (nothing to balance) and pays their halos.
-  if (bands_per_thread <= 0)
-    bands_per_thread = threads_ == 1 ? 1 : std::clamp(size.y / (threads_ * kBandRows), 1, 8);
-  bands_per_thread_ = std::clamp(bands_per_thread, 1, size.y / threads_);
-  const int band_count = threads_ * bands_per_thread_;
   // A block's halo must lie within the neighbouring band's published edge rows.
-  block_steps_ = std::min(block_steps, size.y / band_count);
+  block_steps_ = std::min(block_steps, size.y / threads_);
   a_ = FieldF(size, 1);
   b_ = FieldF(size, 1);
   vectors_ = (size.x + kLanes - 1) / kLanes;
@@ -384,23 +350,19 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
   stride_ = (RowStore::kPad + std::ptrdiff_t(kLanes) * (vectors_ + 1) + 15) / 16 * 16;
   grid_a_.resize(size.y, stride_);
   grid_b_.resize(size.y, stride_);
-  bands_.resize(std::size_t(band_count));
-  for (int j = 0; j < band_count; ++j) {
-    Band& band = bands_[std::size_t(j)];
-    band.y0 = int(int64_t(size.y) * j / band_count);
-    band.y1 = int(int64_t(size.y) * (j + 1) / band_count);
+  bands_.resize(std::size_t(threads_));
+  for (int t = 0; t < threads_; ++t) {
+    Band& band = bands_[std::size_t(t)];
+    band.y0 = int(int64_t(size.y) * t / threads_);
+    band.y1 = int(int64_t(size.y) * (t + 1) / threads_);
     band.ring.resize(std::max(1, block_steps_ - 1) * kRingRows * 2, stride_);
     band.next.assign(std::size_t(block_steps_ + 1), 0);
     band.lo.assign(std::size_t(block_steps_ + 1), 0);
     band.hi.assign(std::size_t(block_steps_ + 1), 0);
     band.edges.resize(2 * 2 * 2 * block_steps_, stride_);
-    band.edge_dirty.assign(2 * 2 * std::size_t(block_steps_), Int2{0, 0});
-    band.ring_dirty.assign(std::size_t(std::max(1, block_steps_ - 1) * kRingRows), Int2{0, 0});
-    band.window.assign(std::size_t(band.y1 - band.y0 + 2 * block_steps_), Int2{0, 0});
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
-  band_claims_ = std::make_unique<BandClaims[]>(std::size_t(threads_));
   workers_.reserve(std::size_t(threads_ - 1));
   for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker_loop(t); });
 }
@@ -434,17 +396,16 @@ void ParallelGrayScott9::seed_square() {
     }
 }
 
-int ParallelGrayScott9::edge_index(const Band& band, int y) const {
-  const int kmax = block_steps_;
-  if (y - band.y0 < kmax) return y - band.y0;
-  if (band.y1 - y <= kmax) return 2 * kmax - (band.y1 - y);
-  return -1;
-}
-
 float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
-  const int edge = edge_index(band, y);
+  const int kmax = block_steps_;
+  int edge = -1;
+  if (y - band.y0 < kmax) {
+    edge = y - band.y0;
+  } else if (band.y1 - y <= kmax) {
+    edge = 2 * kmax - (band.y1 - y);
+  }
   if (edge < 0) return chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
-  return band.edges.row(((parity * 2 + chem) * 2) * block_steps_ + edge);
+  return band.edges.row(((parity * 2 + chem) * 2) * kmax + edge);
 }
 
 void ParallelGrayScott9::copy_whole_row(const float* from, float* to) const {
@@ -462,16 +423,9 @@ void ParallelGrayScott9::run(int64_t steps) {
       float* rb = band_row(band, 0, y, 1);
       std::memcpy(ra, a_.row(y), row_bytes);
       std::memcpy(rb, b_.row(y), row_bytes);
-      for (float* r : {ra, rb}) {
-        r[-1] = r[nx - 1];
-        r[nx] = r[0];
-        zero_padding(r, nx, nv);
-      }
+      finish_row(ra, nx, nv, 0, nv, 0.0f);
+      finish_row(rb, nx, nv, 0, nv, 0.0f);
     }
-  for (Band& band : bands_) {  // end-row copies and rings may hold anything from before
-    std::fill(band.edge_dirty.begin(), band.edge_dirty.end(), Int2{0, nv});
-    std::fill(band.ring_dirty.begin(), band.ring_dirty.end(), Int2{0, nv});
-  }
   RowCoeffs coeffs = row_coeffs(params_);
   const bool unit_dt = params_.dt == 1.0f;  // drops a multiply: dt * abb == abb then
   const RowsKernel kernel[2] = {
@@ -495,188 +449,133 @@ void ParallelGrayScott9::run(int64_t steps) {
   }
   BlockBarrier barrier(n);
   std::atomic<int64_t> cell_updates{0};
-  const int nb = int(bands_.size()), per_thread = bands_per_thread_;
-  const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
-  // Advances band j by one block of k steps from parity `parity`.
-  auto process_band = [&](int j, int parity, int k, int64_t& updates) {
-    Band& band = bands_[std::size_t(j)];
-    Band& above = bands_[std::size_t((j + nb - 1) % nb)];
-    Band& below = bands_[std::size_t((j + 1) % nb)];
+  auto work = [&](int t) {
+    Band& band = bands_[std::size_t(t)];
+    Band& above = bands_[std::size_t((t + n - 1) % n)];
+    Band& below = bands_[std::size_t((t + 1) % n)];
     const int y0 = band.y0, y1 = band.y1;
-    auto ring_index = [&](int level, int y) {
-      return (level - 1) * kRingRows + int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
-    };
+    const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
     auto ring_row = [&](int level, int y, int chem) {
-      return band.ring.row(ring_index(level, y) * 2 + chem);
+      const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
+      return band.ring.row(((level - 1) * kRingRows + slot) * 2 + chem);
     };
     int* next = band.next.data();  // next[l]: the next row level l computes
     int* lo = band.lo.data();      // level l computes rows [lo[l], hi[l])
     int* hi = band.hi.data();
-    const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
-    Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
-    // What this block computes: the level-0 rows [rlo, rhi) (band and halo) that differ from
-    // the fixed point, grown by one row per level, and in each row of level l the vectors
-    // that differ in level-0 rows within l of it, grown by l cells (columns()). Outside them
-    // every level holds the fixed point. Without skipping: everything.
-    const bool skipping = skip && k > 1;
-    int rlo = y0 - k, rhi = y1 + k;
-    Int2* window = band.window.data() - (y0 - k);  // window[y], y0 - k <= y < y1 + k
-    if (skipping) {
-      rlo = y1 + k;
-      rhi = y0 - k;
-      for (int y = y0 - k; y < y1 + k; ++y) {
-        const Int2 v = activity[std::size_t(y < 0 ? y + ny : y >= ny ? y - ny : y)];
-        window[y] = v;
-        if (v.y <= v.x) continue;
-        rlo = std::min(rlo, y);
-        rhi = y + 1;
-      }
-      for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
-    }
-    // The vectors that level l computes in rows [ya, yb).
-    auto columns = [&](int l, int ya, int yb) -> Int2 {
-      if (!skipping) return {0, nv};
-      int first = nv, end = 0;
-      for (int y = ya - l; y < yb + l; ++y) {
-        const Int2 v = window[y];
-        if (v.y <= v.x) continue;
-        first = std::min(first, v.x);
-        end = std::max(end, v.y);
-      }
-      if (end <= first) return {0, 0};
-      // A change within l cells of a row's end reaches the other end through the wrap.
-      if (first * kLanes - l < 0 || end * kLanes - 1 + l >= nx) return {0, nv};
-      const int reach = (l + kLanes - 1) / kLanes;
-      return {first - reach, std::min(nv, end + reach)};
-    };
-    // Makes rows (a, b) hold the fixed point outside `written`, which is about to be written
-    // (refilling only what may differ: `dirty`), and records `written` as what may differ.
-    auto refill = [&](float* a, float* b, Int2& dirty, Int2 written) {
-      if (dirty.y > dirty.x &&
-          (written.y <= written.x || dirty.x < written.x || dirty.y > written.y)) {
-        const std::size_t x0 = std::size_t(dirty.x * kLanes);
-        const std::size_t count = std::size_t((dirty.y - dirty.x) * kLanes);
-        for (int chem = 0; chem < 2; ++chem) {
-          float* row = chem == 0 ? a : b;
-          std::memcpy(row + x0, fixed_row[chem] + x0, sizeof(float) * count);
-          row[-1] = row[nx] = fixed_row[chem][0];  // ghosts
+    int64_t updates = 0;
+    int parity = 0;
+    for (int64_t done = 0; done < steps;) {
+      const int k = int(std::min<int64_t>(kmax, steps - done));
+      const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
+      Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
+      // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
+      // [jlo, jhi) that differ from the fixed point, grown by one cell per level. Outside
+      // them every level holds the fixed point. Without skipping: everything.
+      const bool skipping = skip && k > 1;
+      int rlo = y0 - k, rhi = y1 + k, jlo = 0, jhi = nv;
+      if (skipping) {
+        rlo = y1 + k;
+        rhi = y0 - k;
+        int first = nv, end = 0;
+        for (int y = y0 - k; y < y1 + k; ++y) {
+          const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
+          if (v.y <= v.x) continue;
+          rlo = std::min(rlo, y);
+          rhi = y + 1;
+          first = std::min(first, v.x);
+          end = std::max(end, v.y);
         }
+        // A change within k cells of a row's end reaches the other end through the wrap.
+        const int reach = (k + kLanes - 1) / kLanes;
+        if (first * kLanes - k >= 0 && end * kLanes - 1 + k < nx) {
+          jlo = first - reach;
+          jhi = std::min(nv, end + reach);
+        }
+        for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
       }
-      dirty = written;
-    };
-    const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
-    for (int l = 1; l <= k; ++l) {
-      lo[l] = std::max(y0 - (k - l), rlo - l);
-      hi[l] = std::min(y1 + (k - l), rhi + l);
-      next[l] = lo[l];
-    }
-    // The band's end rows alternate between two copies; the next copy must hold the fixed
-    // point wherever this block does not write it.
-    for (int y = y0; y < y1; ++y) {
-      const int edge = edge_index(band, y);
-      if (edge < 0) continue;  // updated in place
-      refill(band_row(band, 1 - parity, y, 0), band_row(band, 1 - parity, y, 1),
-             band.edge_dirty[std::size_t((1 - parity) * 2 * kmax + edge)],
-             !idle && y >= lo[k] && y < hi[k] ? columns(k, y, y + 1) : Int2{0, 0});
-    }
-    // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
-    // (level k writes row y after level 1 has read it for the last time); the kmax rows at
-    // either end, which the neighbours read as halo, alternate between two copies by block
-    // parity.
-    auto level0 = [&](int y, int chem) -> const float* {
-      if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
-      if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
-      return band_row(band, parity, y, chem);
-    };
-    auto input = [&](int level, int y, int chem) -> const float* {
-      if (level == 0) return level0(y, chem);
-      if (y < lo[level] || y >= hi[level]) return fixed_row[chem];
-      return ring_row(level, y, chem);
-    };
-    // Level l (1 .. k) spans the band grown by k - l rows (and, when skipping, the changing
-    // rows grown by l). Wavefront: each sweep lets every level compute its next two rows
-    // (one at a span's end) once its inputs, rows y - 1 .. y + 2 of level l - 1, exist, and
-    // as long as it does not overwrite ring rows that level l + 1 still reads (rows >=
-    // next[l + 1] - 1). A level's rows outside its span hold the fixed point and need no
-    // wait.
-    // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through
-    // the ring and are written back once no longer read.
-    int written_back = y0;
-    while (!idle && next[k] < hi[k]) {
-      bool progressed = false;
+      const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
       for (int l = 1; l <= k; ++l) {
-        const int y = next[l];
-        const int rows = std::min(2, hi[l] - y);
-        if (rows <= 0) continue;
-        if (l > 1 && next[l - 1] < std::min(y + rows + 1, hi[l - 1])) continue;
-        if (l < k && next[l + 1] < hi[l + 1] && y + rows - kRingRows >= next[l + 1]) continue;
-        if (l == k && k > 1 && next[1] < std::min(y + rows + 1, hi[1])) continue;
-        const bool to_grid = l == k && k > 1;
-        const float* a_in[4];
-        const float* b_in[4];
-        float* a_out[2];
-        float* b_out[2];
-        for (int r = 0; r < rows + 2; ++r) {
-          a_in[r] = input(l - 1, y - 1 + r, 0);
-          b_in[r] = input(l - 1, y - 1 + r, 1);
-        }
-        for (int r = 0; r < rows; ++r) {
-          a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
-          b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
-        }
-        const Int2 cols = columns(l, y, y + rows);
-        if (!to_grid)  // ring rows: the fixed point outside cols (the end rows were refilled)
-          for (int r = 0; r < rows; ++r)
-            refill(a_out[r], b_out[r], band.ring_dirty[std::size_t(ring_index(l, y + r))], cols);
-        if (cols.y > cols.x) {
-          kernel[rows - 1](a_in, b_in, a_out, b_out, nx, nv, cols.x, cols.y, coeffs);
-          for (int r = 0; r < rows; ++r) {
-            if (nx % kLanes != 0 && cols.y == nv) {
-              zero_padding(a_out[r], nx, nv);
-              zero_padding(b_out[r], nx, nv);
-            }
-            if (skipping && l == k)
-              next_activity[y + r] = differing_vectors(a_out[r], b_out[r], fixed_row[0],
-                                                       fixed_row[1], nx, cols.x, cols.y);
-          }
-          updates += int64_t(rows) * (std::min(cols.y * kLanes, nx) - cols.x * kLanes);
-        }
-        next[l] = y + rows;
-        progressed = true;
+        lo[l] = std::max(y0 - (k - l), rlo - l);
+        hi[l] = std::min(y1 + (k - l), rhi + l);
+        next[l] = lo[l];
       }
-      ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
-      for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
-           ++written_back) {
+      // The band's end rows alternate between two copies; the next copy must hold the fixed
+      // point wherever this block does not write it.
+      if (skipping)
+        for (int y = y0; y < y1; ++y) {
+          if (y - y0 >= kmax && y1 - y > kmax) continue;  // updated in place
+          if (!idle && y >= lo[k] && y < hi[k] && jlo == 0 && jhi == nv) continue;
+          copy_whole_row(fixed_row[0], band_row(band, 1 - parity, y, 0));
+          copy_whole_row(fixed_row[1], band_row(band, 1 - parity, y, 1));
+        }
+      // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
+      // (level k writes row y after level 1 has read it for the last time); the kmax rows at
+      // either end, which the neighbours read as halo, alternate between two copies by block
+      // parity.
+      auto level0 = [&](int y, int chem) -> const float* {
+        if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
+        if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
+        return band_row(band, parity, y, chem);
+      };
+      auto input = [&](int level, int y, int chem) -> const float* {
+        if (level == 0) return level0(y, chem);
+        if (y < lo[level] || y >= hi[level]) return fixed_row[chem];
+        return ring_row(level, y, chem);
+      };
+      // Level l (1 .. k) spans the band grown by k - l rows (and, when skipping, the changing
+      // rows grown by l). Wavefront: each sweep lets every level compute its next two rows
+      // (one at a span's end) once its inputs, rows y - 1 .. y + 2 of level l - 1, exist, and
+      // as long as it does not overwrite ring rows that level l + 1 still reads (rows >=
+      // next[l + 1] - 1). A level's rows outside its span hold the fixed point and need no
+      // wait.
+      // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through
+      // the ring and are written back once no longer read.
+      int written_back = y0;
+      while (!idle && next[k] < hi[k]) {
+        bool progressed = false;
+        for (int l = 1; l <= k; ++l) {
+          const int y = next[l];
+          const int rows = std::min(2, hi[l] - y);
+          if (rows <= 0) continue;
+          if (l > 1 && next[l - 1] < std::min(y + rows + 1, hi[l - 1])) continue;
+          if (l < k && next[l + 1] < hi[l + 1] && y + rows - kRingRows >= next[l + 1]) continue;
+          if (l == k && k > 1 && next[1] < std::min(y + rows + 1, hi[1])) continue;
+          const bool to_grid = l == k && k > 1;
+          const float* a_in[4];
+          const float* b_in[4];
+          float* a_out[2];
+          float* b_out[2];
+          for (int r = 0; r < rows + 2; ++r) {
+            a_in[r] = input(l - 1, y - 1 + r, 0);
+            b_in[r] = input(l - 1, y - 1 + r, 1);
+          }
+          for (int r = 0; r < rows; ++r) {
+            a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
+            b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
+          }
+          kernel[rows - 1](a_in, b_in, a_out, b_out, nv, jlo, jhi, coeffs);
+          for (int r = 0; r < rows; ++r) {
+            finish_row(a_out[r], nx, nv, jlo, jhi, coeffs.fixed_a);
+            finish_row(b_out[r], nx, nv, jlo, jhi, coeffs.fixed_b);
+            if (skipping && l == k)
+              next_activity[y + r] =
+                  differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);
+          }
+          updates += int64_t(rows) * (std::min(jhi * kLanes, nx) - jlo * kLanes);
+          next[l] = y + rows;
+          progressed = true;
+        }
+        ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
+        for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
+             ++written_back) {
+          copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
+          copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
+        }
+      }
+      for (; k == 1 && written_back < y1; ++written_back) {
         copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
         copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
       }
-    }
-    for (; k == 1 && written_back < y1; ++written_back) {
-      copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
-      copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
-    }
-  };
-  // Thread t owns bands [t per_thread, (t + 1) per_thread) and takes them first, in order (they
-  // stay in its cache); then it takes the bands other threads have not started, so that a
-  // thread the machine holds up delays the block by at most the band it is on. Claims count
-  // up across blocks: those of block b are b per_thread .. (b + 1) per_thread - 1.
-  for (int t = 0; t < n; ++t) band_claims_[std::size_t(t)].next.store(0, std::memory_order_relaxed);
-  auto claim = [&](int owner, int64_t block) {
-    std::atomic<int64_t>& claims = band_claims_[std::size_t(owner)].next;
-    const int64_t end = (block + 1) * per_thread;
-    for (int64_t c = claims.load(std::memory_order_relaxed); c < end;)
-      if (claims.compare_exchange_weak(c, c + 1, std::memory_order_relaxed))
-        return owner * per_thread + int(c - block * per_thread);
-    return -1;
-  };
-  auto work = [&](int t) {
-    int64_t updates = 0;
-    int parity = 0;
-    for (int64_t done = 0, block = 0; done < steps; ++block) {
-      const int k = int(std::min<int64_t>(kmax, steps - done));
-      for (int u = 0; u < n; ++u)
-        for (int j = claim((t + u) % n, block); j >= 0; j = claim((t + u) % n, block))
-          process_band(j, parity, k, updates);
       parity = 1 - parity;
       barrier.wait();
       done += k;

@@ -2,27 +2,24 @@
 // Seed 001's explicit Gray-Scott (9-point Laplacian, periodic) on every core. Reads halo 1.
 //   A' = A + DA L9(A) + dt (F (1 - A) - A B^2),  B' = B + DB L9(B) + dt (A B^2 - (F + k) B)
 //   L9 = 0.05 S - 1.8 c with S the separable (1 4 1) x (1 4 1) sum (seed 001's rewrite).
-// Schedule: the grid is cut into bands of rows, a few per thread (about 48 rows each), updated
-// in place. A thread takes its own bands first and then any band another thread has not
-// started, so that a thread the machine holds up delays a block by one band at most. Each band
-// advances block_steps steps at a time by a wavefront (temporal blocking): level l computes its
-// next two rows as soon as rows y-1..y+2 of level l-1 exist, into a ring of 5 rows per level,
-// so a thread's bands (about 690 KiB for 400^2 on 2 threads) stay in L2 and the rows in flight
-// in L1; a band's halo (block_steps rows each side) is recomputed redundantly. The block_steps
-// rows at either end of a band are double-buffered by block parity, so the neighbours read
-// them while their owner writes the next ones (no copies). All threads meet at one barrier per
-// block. The row kernel forms each vertical (1 4 1) sum once per SIMD vector (AVX-512 when
-// built for it, else SSE/AVX/NEON through GCC vector extensions) and shifts it in registers
-// for the horizontal pass. Every schedule (threads, block_steps, bands) gives the same bits as
-// stepping one step at a time; the result differs from the article's double-precision loop by
-// float rounding only.
+// Schedule: the grid is cut into bands of rows, one per thread, updated in place. Each thread
+// advances its band block_steps steps at a time by a wavefront (temporal blocking): level l
+// computes its next two rows as soon as rows y-1..y+2 of level l-1 exist, into a ring of 5
+// rows per level, so a band (about 690 KiB for 400^2 on 2 threads) stays in L2 and the rows
+// in flight in L1; the band's halo (block_steps rows each side) is recomputed redundantly.
+// The block_steps rows at either end of a band are double-buffered by block parity, so the
+// neighbours read them while their owner writes the next ones (no copies). All threads meet
+// at one barrier per block. The row kernel forms each vertical (1 4 1) sum once per SIMD
+// vector (AVX-512 when built for it, else SSE/AVX/NEON through GCC vector extensions) and
+// shifts it in registers for the horizontal pass. Every schedule (threads, block_steps) gives
+// the same bits as stepping one step at a time; the result differs from the article's
+// double-precision loop by float rounding only.
 // Quiescent cells are skipped, bit for bit: a uniform state that the float update maps to
 // itself exactly (seed 001's background settles on A = 1.00000036, B = 0 after 2 steps)
 // stays so wherever its whole 3x3 neighbourhood has it. Each block starts from the bounding
-// rows that differ from it and, for each row it computes at level l, the SIMD vectors that
-// differ within l rows of it (recorded as rows are written), grown by l cells; everything
-// outside is known to be the fixed point. Seed 001's pattern covers 35% of the grid on
-// average over 2000 steps.
+// box of the rows and SIMD vectors that differ from it (recorded as rows are written), grows
+// it by one cell per level, and computes only that; everything outside is known to be the
+// fixed point. Seed 001's pattern covers 35% of the grid on average over 2000 steps.
 #include <atomic>
 #include <cstdint>
 #include <cstdlib>
@@ -44,11 +41,8 @@ class ParallelGrayScott9 {
 
   // threads <= 0: one per hardware thread. block_steps: steps per residency (1 = plain
   // step-by-step sweeps; any value gives the same bits), capped at the smallest band height.
-  // bands_per_thread <= 0: with several threads, bands of about kBandRows rows, at most 8 per
-  // thread; one band on one thread.
   ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads = 0,
-                     int block_steps = kBlockSteps, int bands_per_thread = 0);
-  static constexpr int kBandRows = 48;
+                     int block_steps = kBlockSteps);
   // The threads - 1 workers are started here and kept: run() allocates nothing and starts
   // no thread, so that a frame loop may call it.
   ~ParallelGrayScott9();
@@ -59,7 +53,6 @@ class ParallelGrayScott9 {
   FieldF& a() { return a_; }
   FieldF& b() { return b_; }
   int threads() const { return threads_; }
-  int bands() const { return int(bands_.size()); }
   int block_steps() const { return block_steps_; }
 
   // Seed 001's start: A = 1, B = 0, a 10x10 square of B = 1 at the centre.
@@ -104,25 +97,17 @@ class ParallelGrayScott9 {
     RowStore ring, edges;
     std::vector<int> next;    // per level, the next row to compute
     std::vector<int> lo, hi;  // per level, the rows it computes in this block
-    // Per copy of an end row (parity * 2 block_steps + edge): the vectors that may hold other
-    // values than the fixed point, so that a block refills only what it does not overwrite.
-    std::vector<Int2> edge_dirty;
-    std::vector<Int2> ring_dirty;  // the same per ring row ((level - 1) * kRingRows + slot)
-    std::vector<Int2> window;      // a block's level-0 differing vectors, rows y0 - k ..
   };
   // Rows per level in a band's wavefront ring: the next level reads 4 while 2 are written.
   static constexpr int kRingRows = 5;
   // Row y of a band as of block parity `parity` (rows within block_steps_ of the band's ends
   // alternate between two copies, the others are updated in place).
   float* band_row(Band& band, int parity, int y, int chem);
-  // Which end row y is (0 .. 2 block_steps - 1), or -1 for a row updated in place.
-  int edge_index(const Band& band, int y) const;
   void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
 
   Int2 size_;
   GrayScott9Params params_;
   int threads_ = 1;
-  int bands_per_thread_ = 1;
   int block_steps_ = kBlockSteps;
   FieldF a_, b_;
   int vectors_ = 0;
@@ -147,11 +132,6 @@ class ParallelGrayScott9 {
   std::atomic<uint32_t> job_generation_{0};
   std::atomic<int> jobs_done_{0};
   std::atomic<bool> stopping_{false};
-  // Per thread, the claims on its bands so far (run() hands bands out through them).
-  struct alignas(64) BandClaims {
-    std::atomic<int64_t> next{0};
-  };
-  std::unique_ptr<BandClaims[]> band_claims_;
   std::vector<std::jthread> workers_;  // last member: started after everything they read
 };
 
