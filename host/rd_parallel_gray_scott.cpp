@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -279,12 +280,17 @@ Int2 differing_vectors(const float* a, const float* b, const float* fixed_a, con
 // about one block), then sleeps in the kernel so that a loaded machine is not made worse.
 // With 200 pauses a waiter usually went to sleep and paid a futex wake-up per block: quiet
 // 400^2, 2000 steps, 6 runs each: 52-70 ms (spin 200) against 47-59 ms (spin 20000).
+// The last thread to arrive runs `on_complete` before anyone leaves (as std::barrier's
+// completion function): it sees everything the others did before arriving, and they see what
+// it did.
 class BlockBarrier {
  public:
   explicit BlockBarrier(int n) : n_(n) {}
-  void wait() {
+  template <class OnComplete>
+  void wait(OnComplete&& on_complete) {
     const int gen = gen_.load(std::memory_order_acquire);
     if (count_.fetch_add(1, std::memory_order_acq_rel) == n_ - 1) {
+      on_complete();
       count_.store(0, std::memory_order_relaxed);
       gen_.fetch_add(1, std::memory_order_release);
       gen_.notify_all();
@@ -343,6 +349,9 @@ ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params
   threads_ = std::clamp(threads, 1, size.y);
   // A block's halo must lie within the neighbouring band's published edge rows.
   block_steps_ = std::min(block_steps, size.y / threads_);
+  // Balancing keeps bands at least this tall: halos stay within the neighbour, and the two
+  // ends of a band do not overlap where the grid allows it.
+  min_band_rows_ = std::min(2 * block_steps_, size.y / threads_);
   a_ = FieldF(size, 1);
   b_ = FieldF(size, 1);
   vectors_ = (size.x + kLanes - 1) / kLanes;
@@ -412,6 +421,70 @@ void ParallelGrayScott9::copy_whole_row(const float* from, float* to) const {
   std::memcpy(to - RowStore::kPad, from - RowStore::kPad, sizeof(float) * std::size_t(stride_));
 }
 
+std::vector<int> ParallelGrayScott9::band_starts() const {
+  std::vector<int> starts;
+  for (const Band& band : bands_) starts.push_back(band.y0);
+  return starts;
+}
+
+int balanced_boundary_shift(double busy_a, double busy_b, int rows_a, int rows_b, int max_rows) {
+  if (rows_a <= 0 || rows_b <= 0 || busy_a + busy_b <= 0) return 0;
+  if (std::abs(busy_a - busy_b) < 0.05 * std::max(busy_a, busy_b)) return 0;
+  // Rows x moved from a to b equalise (rows_a - x) busy_a / rows_a and (rows_b + x) busy_b /
+  // rows_b, taking a row to cost the same throughout a band.
+  const double x = (busy_a - busy_b) / (busy_a / rows_a + busy_b / rows_b);
+  const int half = int(std::lround(0.5 * x));
+  return std::clamp(half == 0 ? (x > 0 ? 1 : -1) : half, -max_rows, max_rows);
+}
+
+void ParallelGrayScott9::balance_bands(int parity) {
+  if (threads_ < 2 || !balancing_) return;
+  if (probe_seed_ == 0 && ++blocks_since_balance_ < kBalanceBlocks) return;
+  blocks_since_balance_ = 0;
+  const int max_rows = std::max(2 * block_steps_, size_.y / (8 * threads_));
+  for (int t = 0; t + 1 < threads_; ++t) {
+    Band& a = bands_[std::size_t(t)];
+    Band& b = bands_[std::size_t(t + 1)];
+    int shift = 0;
+    if (probe_seed_ != 0) {
+      probe_seed_ = probe_seed_ * 1664525u + 1013904223u;
+      if (probe_seed_ == 0) probe_seed_ = 1;  // stays a probe
+      shift = int((probe_seed_ >> 16) % 13u) - 6;
+    } else {
+      shift = balanced_boundary_shift(double(a.busy_ns), double(b.busy_ns), a.y1 - a.y0,
+                                      b.y1 - b.y0, max_rows);
+    }
+    const int to = std::clamp(a.y1 - shift, a.y0 + min_band_rows_, b.y1 - min_band_rows_);
+    if (to != a.y1) move_boundary(t, to, parity);
+  }
+  for (Band& band : bands_) band.busy_ns = 0;
+}
+
+void ParallelGrayScott9::move_boundary(int t, int to, int parity) {
+  Band& a = bands_[std::size_t(t)];
+  Band& b = bands_[std::size_t(t + 1)];
+  const int from = a.y1;
+  // Rows whose storage depends on the boundary: within block_steps_ of its old or new place.
+  const int z0 = std::max(a.y0, std::min(from, to) - block_steps_);
+  const int z1 = std::min(b.y1, std::max(from, to) + block_steps_);
+  // Through the grid rows (an end row's grid row is otherwise unused), so that no copy
+  // overwrites a row still to be moved.
+  for (int y = z0; y < z1; ++y)
+    for (int chem = 0; chem < 2; ++chem) {
+      float* grid = chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
+      const float* held = band_row(y < a.y1 ? a : b, parity, y, chem);
+      if (held != grid) copy_whole_row(held, grid);
+    }
+  a.y1 = to;
+  b.y0 = to;
+  for (int y = z0; y < z1; ++y)
+    for (int chem = 0; chem < 2; ++chem) {
+      const float* grid = chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
+      float* place = band_row(y < a.y1 ? a : b, parity, y, chem);
+      if (place != grid) copy_whole_row(grid, place);
+    }
+}
+
 void ParallelGrayScott9::run(int64_t steps) {
   last_run_cell_updates_ = 0;
   if (steps <= 0) return;
@@ -453,7 +526,6 @@ void ParallelGrayScott9::run(int64_t steps) {
     Band& band = bands_[std::size_t(t)];
     Band& above = bands_[std::size_t((t + n - 1) % n)];
     Band& below = bands_[std::size_t((t + 1) % n)];
-    const int y0 = band.y0, y1 = band.y1;
     const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
     auto ring_row = [&](int level, int y, int chem) {
       const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
@@ -464,8 +536,10 @@ void ParallelGrayScott9::run(int64_t steps) {
     int* hi = band.hi.data();
     int64_t updates = 0;
     int parity = 0;
+    auto started = std::chrono::steady_clock::now();
     for (int64_t done = 0; done < steps;) {
       const int k = int(std::min<int64_t>(kmax, steps - done));
+      const int y0 = band.y0, y1 = band.y1;  // balancing moves them between blocks
       const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
       Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
       // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
@@ -577,7 +651,11 @@ void ParallelGrayScott9::run(int64_t steps) {
         copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
       }
       parity = 1 - parity;
-      barrier.wait();
+      band.busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                          std::chrono::steady_clock::now() - started)
+                          .count();
+      barrier.wait([&] { balance_bands(parity); });
+      started = std::chrono::steady_clock::now();
       done += k;
     }
     cell_updates.fetch_add(updates, std::memory_order_relaxed);

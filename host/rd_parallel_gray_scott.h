@@ -20,6 +20,12 @@
 // box of the rows and SIMD vectors that differ from it (recorded as rows are written), grows
 // it by one cell per level, and computes only that; everything outside is known to be the
 // fixed point. Seed 001's pattern covers 35% of the grid on average over 2000 steps.
+// Balancing: the boundaries between bands move while a run goes on. Every kBalanceBlocks
+// blocks, the thread that completes the barrier compares the neighbours' busy times (barrier
+// waits excluded) and gives rows from the slower band to the faster one, so that a core
+// slowed by something else (another process, a host that shares it) or a band with more
+// active cells does not hold every block up. Moving a boundary copies the few rows whose
+// storage changes (end rows live in the double-buffered edge copies); the bits do not change.
 #include <atomic>
 #include <cstdint>
 #include <cstdlib>
@@ -71,6 +77,19 @@ class ParallelGrayScott9 {
   // redundant halo rows) without skipping, less with it.
   int64_t last_run_cell_updates() const { return last_run_cell_updates_; }
 
+  // Moving band boundaries by measured busy time (on by default; the bits are the same
+  // either way). The partition persists across run() calls.
+  void set_balancing(bool on) { balancing_ = on; }
+  // The first row of each band (band t owns rows [band_starts()[t], band_starts()[t + 1]),
+  // the last band up to ny).
+  std::vector<int> band_starts() const;
+  // For tests of the row moves: instead of timing, every block moves each boundary by a
+  // pseudo-random number of rows drawn from `seed` (0: back to timing).
+  void set_balance_probe(uint32_t seed) { probe_seed_ = seed; }
+
+  // Blocks per balancing decision: about half a millisecond of seed 001 on two cores.
+  static constexpr int kBalanceBlocks = 8;
+
  private:
   // Rows of floats with x = 0 64-byte aligned: kPad floats before it (the periodic ghost
   // x = -1 is the last), then the row, its ghost x = nx and SIMD padding.
@@ -97,6 +116,7 @@ class ParallelGrayScott9 {
     RowStore ring, edges;
     std::vector<int> next;    // per level, the next row to compute
     std::vector<int> lo, hi;  // per level, the rows it computes in this block
+    int64_t busy_ns = 0;      // time computing (not waiting) since the last balancing
   };
   // Rows per level in a band's wavefront ring: the next level reads 4 while 2 are written.
   static constexpr int kRingRows = 5;
@@ -104,6 +124,12 @@ class ParallelGrayScott9 {
   // alternate between two copies, the others are updated in place).
   float* band_row(Band& band, int parity, int y, int chem);
   void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
+  // Run by the last thread to reach a block's barrier: every kBalanceBlocks blocks (every
+  // block under a probe), moves band boundaries; `parity` is the next block's.
+  void balance_bands(int parity);
+  // Moves the boundary between bands t and t + 1 to row `to`, keeping the rows of block
+  // parity `parity` (the others are rewritten by the next block).
+  void move_boundary(int t, int to, int parity);
 
   Int2 size_;
   GrayScott9Params params_;
@@ -116,6 +142,10 @@ class ParallelGrayScott9 {
   std::vector<Band> bands_;
   bool skip_quiescent_ = true;
   int64_t last_run_cell_updates_ = 0;
+  bool balancing_ = true;
+  int min_band_rows_ = 1;
+  int blocks_since_balance_ = 0;
+  uint32_t probe_seed_ = 0;
   // The fixed point (valid while a run skips) as whole rows, read wherever a level's rows
   // are known to hold it, and each row's differing vectors by block parity:
   // row_activity_[parity * ny + y].
@@ -134,6 +164,12 @@ class ParallelGrayScott9 {
   std::atomic<bool> stopping_{false};
   std::vector<std::jthread> workers_;  // last member: started after everything they read
 };
+
+// Rows to move from band a to its neighbour b (negative: from b to a) so that both take
+// about the same time, given each one's busy time and rows over the last period: the
+// difference over the cost of a row in each, halved against over-reaction to noise, nothing
+// within a 5% dead band, at most max_rows.
+int balanced_boundary_shift(double busy_a, double busy_b, int rows_a, int rows_b, int max_rows);
 
 // Copies the periodic ghosts (x = -1, nx; y = -1, ny, corners included) of a halo-1 field.
 void wrap_periodic(FieldF& f);

@@ -151,6 +151,63 @@ TEST(ParallelGrayScott9, SkippingFollowsTheFixedPoint) {
     }
 }
 
+// Moving band boundaries during a run changes no bit: a probe moves every boundary by -6 .. 6
+// rows after every block (as far as the bands' minimum height allows), dense and skipping,
+// against one thread stepping one step at a time. The partition is checked to have moved.
+TEST(ParallelGrayScott9, MovingBandBoundariesChangesNoBit) {
+  struct Case {
+    Int2 size;
+    int threads, block_steps;
+    bool seed_square;  // else noise (no quiescent cells)
+  };
+  for (const Case c :
+       {Case{{40, 60}, 2, 3, false}, Case{{48, 97}, 3, 4, false}, Case{{33, 80}, 4, 2, false},
+        Case{{128, 120}, 2, 4, true}, Case{{100, 90}, 3, 5, true}}) {
+    SCOPED_TRACE(testing::Message() << c.size.x << "x" << c.size.y << " threads " << c.threads
+                                    << " block_steps " << c.block_steps);
+    ParallelGrayScott9 ref(c.size, {}, 1, 1);
+    ParallelGrayScott9 moved(c.size, {}, c.threads, c.block_steps);
+    for (ParallelGrayScott9* s : {&ref, &moved}) {
+      if (c.seed_square)
+        s->seed_square();
+      else
+        fill_noise(*s, 13);
+    }
+    moved.set_balance_probe(12345);
+    const std::vector<int> before = moved.band_starts();
+    std::vector<std::vector<int>> seen;
+    for (const int piece : {37, 1, 60}) {
+      ref.run(piece);
+      moved.run(piece);
+      expect_same_bits(ref, moved);
+      seen.push_back(moved.band_starts());
+    }
+    EXPECT_TRUE(seen[0] != before || seen[1] != before || seen[2] != before);
+    for (const std::vector<int>& starts : seen) {
+      ASSERT_EQ(int(starts.size()), c.threads);
+      EXPECT_EQ(starts[0], 0);
+      for (int t = 1; t < c.threads; ++t)
+        EXPECT_GE(starts[std::size_t(t)] - starts[std::size_t(t - 1)], 2 * c.block_steps);
+      EXPECT_GE(c.size.y - starts.back(), 2 * c.block_steps);
+    }
+  }
+}
+
+// The balancing rule: rows go from the slower band to the faster one, about half of what
+// would equalise them (a row taken to cost the same throughout a band), none within 5%.
+TEST(ParallelGrayScott9, BalancedBoundaryShiftGivesRowsToTheFasterBand) {
+  EXPECT_EQ(balanced_boundary_shift(1.0, 1.0, 200, 200, 50), 0);
+  EXPECT_EQ(balanced_boundary_shift(1.04, 1.0, 200, 200, 50), 0);  // noise
+  EXPECT_EQ(balanced_boundary_shift(0.0, 0.0, 200, 200, 50), 0);
+  // b's core runs at 0.58 of a's speed: 200 rows each take 1.0 and 1.724. Equal times need
+  // a to take 400 * 1 / 1.58 = 253 rows, i.e. 53 from b; half of it per decision.
+  const int shift = balanced_boundary_shift(1.0, 1.0 / 0.58, 200, 200, 50);
+  EXPECT_EQ(shift, -27);
+  EXPECT_EQ(balanced_boundary_shift(1.0 / 0.58, 1.0, 200, 200, 50), 27);
+  EXPECT_EQ(balanced_boundary_shift(1.0 / 0.58, 1.0, 200, 200, 10), 10);  // capped
+  EXPECT_EQ(balanced_boundary_shift(1.1, 1.0, 4, 4, 10), 1);  // at least a row when over 5%
+}
+
 // The workers are started once; a run, as a frame loop calls it, allocates nothing.
 TEST(ParallelGrayScott9, RunAllocatesNothing) {
   ParallelGrayScott9 sim({64, 48}, {}, 3, 4);
