@@ -11,7 +11,8 @@
 //
 // Ours: ParallelGrayScott9 (host/rd_parallel_gray_scott.h): float, SIMD row kernel with
 // register-shifted separable sums, one band of rows per hardware thread updated in place,
-// temporally blocked (block_steps steps per barrier), and skipping the quiescent background
+// temporally blocked (block_steps steps per barrier), band boundaries moved by measured busy
+// time (balancing, see the header), and skipping the quiescent background
 // bit for bit (skip = 1; skip = 0 computes every cell). computed_fraction: the cell updates
 // a run computed over 400 * 400 * 2000.
 //
@@ -131,11 +132,17 @@ BENCHMARK(BM_Seed001_Ours_2000Steps)
 // time, single-threaded) and ours on every core back to back, so that all see the same
 // machine load. ratio_cpu: baseline (-O3 -march=native) / ours' CPU per thread;
 // ratio_generic_cpu: the same against the article's own build; ratio_wall: baseline / ours'
-// wall clock (inflated by other processes on a shared machine).
+// wall clock (inflated by other processes on a shared machine). ours_fixed_wall_ms: the same
+// run with the band boundaries held fixed (no balancing), in the same iteration, first on
+// alternate iterations; band1_start: where balancing left the second band (200 = even).
 void BM_Seed001_Ratio(benchmark::State& state) {
   ardcell::ParallelGrayScott9 sim({400, 400}, {}, 0);
+  ardcell::ParallelGrayScott9 fixed_bands({400, 400}, {}, 0);
   sim.set_skip_quiescent(state.range(0) != 0);
-  double base = 0, generic = 0, ours_cpu = 0, ours_wall = 0;
+  fixed_bands.set_skip_quiescent(state.range(0) != 0);
+  fixed_bands.set_balancing(false);
+  double base = 0, generic = 0, ours_cpu = 0, ours_wall = 0, fixed_wall = 0;
+  int64_t iteration = 0;
   for (auto _ : state) {
     article::init();
     const double b0 = thread_cpu_s();
@@ -147,18 +154,30 @@ void BM_Seed001_Ratio(benchmark::State& state) {
     for (int i = 0; i < 2000; ++i) article_generic::update();
     generic += thread_cpu_s() - g0;
     benchmark::DoNotOptimize(article_generic::table[article_generic::curT][1][200][200]);
+    auto run_fixed = [&] {
+      fixed_bands.seed_square();
+      const double f0 = wall_s();
+      fixed_bands.run(2000);
+      fixed_wall += wall_s() - f0;
+      benchmark::DoNotOptimize(fixed_bands.b()(200, 200));
+    };
+    if (iteration % 2 == 1) run_fixed();
     sim.seed_square();
     const double c0 = process_cpu_s(), w0 = wall_s();
     sim.run(2000);
     ours_cpu += (process_cpu_s() - c0) / double(sim.threads());
     ours_wall += wall_s() - w0;
     benchmark::DoNotOptimize(sim.b()(200, 200));
+    if (iteration % 2 == 0) run_fixed();
+    ++iteration;
   }
   const double n = double(state.iterations());
   state.counters["baseline_ms"] = 1e3 * base / n;
   state.counters["baseline_generic_ms"] = 1e3 * generic / n;
   state.counters["ours_cpu_per_thread_ms"] = 1e3 * ours_cpu / n;
   state.counters["ours_wall_ms"] = 1e3 * ours_wall / n;
+  state.counters["ours_fixed_wall_ms"] = 1e3 * fixed_wall / n;
+  state.counters["band1_start"] = sim.band_starts().size() > 1 ? sim.band_starts()[1] : 0;
   state.counters["ratio_cpu"] = base / ours_cpu;
   state.counters["ratio_generic_cpu"] = generic / ours_cpu;
   state.counters["ratio_wall"] = base / ours_wall;
