@@ -25,6 +25,7 @@
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <vector>
 
 #include "host/rd_parallel_gray_scott.h"
 
@@ -177,7 +178,8 @@ void BM_Seed001_Ratio(benchmark::State& state) {
   state.counters["ours_cpu_per_thread_ms"] = 1e3 * ours_cpu / n;
   state.counters["ours_wall_ms"] = 1e3 * ours_wall / n;
   state.counters["ours_fixed_wall_ms"] = 1e3 * fixed_wall / n;
-  state.counters["band1_start"] = sim.band_starts().size() > 1 ? sim.band_starts()[1] : 0;
+  const std::vector<int> starts = sim.band_starts();
+  state.counters["band1_start"] = starts.size() > 1 ? starts[1] : 0;
   state.counters["ratio_cpu"] = base / ours_cpu;
   state.counters["ratio_generic_cpu"] = generic / ours_cpu;
   state.counters["ratio_wall"] = base / ours_wall;

@@ -413,7 +413,7 @@ float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
   } else if (band.y1 - y <= kmax) {
     edge = 2 * kmax - (band.y1 - y);
   }
-  if (edge < 0) return chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
+  if (edge < 0) return grid_row(y, chem);
   return band.edges.row(((parity * 2 + chem) * 2) * kmax + edge);
 }
 
@@ -439,17 +439,18 @@ int balanced_boundary_shift(double busy_a, double busy_b, int rows_a, int rows_b
 
 void ParallelGrayScott9::balance_bands(int parity) {
   if (threads_ < 2 || !balancing_) return;
-  if (probe_seed_ == 0 && ++blocks_since_balance_ < kBalanceBlocks) return;
+  if (probe_state_ == 0 && ++blocks_since_balance_ < kBalanceBlocks) return;
   blocks_since_balance_ = 0;
   const int max_rows = std::max(2 * block_steps_, size_.y / (8 * threads_));
   for (int t = 0; t + 1 < threads_; ++t) {
     Band& a = bands_[std::size_t(t)];
     Band& b = bands_[std::size_t(t + 1)];
     int shift = 0;
-    if (probe_seed_ != 0) {
-      probe_seed_ = probe_seed_ * 1664525u + 1013904223u;
-      if (probe_seed_ == 0) probe_seed_ = 1;  // stays a probe
-      shift = int((probe_seed_ >> 16) % 13u) - 6;
+    if (probe_state_ != 0) {
+      probe_state_ ^= probe_state_ << 13;  // xorshift32: never 0 again, so it stays a probe
+      probe_state_ ^= probe_state_ >> 17;
+      probe_state_ ^= probe_state_ << 5;
+      shift = int(probe_state_ % 13u) - 6;
     } else {
       shift = balanced_boundary_shift(double(a.busy_ns), double(b.busy_ns), a.y1 - a.y0,
                                       b.y1 - b.y0, max_rows);
@@ -471,17 +472,15 @@ void ParallelGrayScott9::move_boundary(int t, int to, int parity) {
   // overwrites a row still to be moved.
   for (int y = z0; y < z1; ++y)
     for (int chem = 0; chem < 2; ++chem) {
-      float* grid = chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
-      const float* held = band_row(y < a.y1 ? a : b, parity, y, chem);
-      if (held != grid) copy_whole_row(held, grid);
+      float* held = band_row(y < a.y1 ? a : b, parity, y, chem);
+      if (held != grid_row(y, chem)) copy_whole_row(held, grid_row(y, chem));
     }
   a.y1 = to;
   b.y0 = to;
   for (int y = z0; y < z1; ++y)
     for (int chem = 0; chem < 2; ++chem) {
-      const float* grid = chem == 0 ? grid_a_.row(y) : grid_b_.row(y);
       float* place = band_row(y < a.y1 ? a : b, parity, y, chem);
-      if (place != grid) copy_whole_row(grid, place);
+      if (place != grid_row(y, chem)) copy_whole_row(grid_row(y, chem), place);
     }
 }
 

@@ -85,7 +85,7 @@ class ParallelGrayScott9 {
   std::vector<int> band_starts() const;
   // For tests of the row moves: instead of timing, every block moves each boundary by a
   // pseudo-random number of rows drawn from `seed` (0: back to timing).
-  void set_balance_probe(uint32_t seed) { probe_seed_ = seed; }
+  void set_balance_probe(uint32_t seed) { probe_state_ = seed; }
 
   // Blocks per balancing decision: about half a millisecond of seed 001 on two cores.
   static constexpr int kBalanceBlocks = 8;
@@ -123,6 +123,8 @@ class ParallelGrayScott9 {
   // Row y of a band as of block parity `parity` (rows within block_steps_ of the band's ends
   // alternate between two copies, the others are updated in place).
   float* band_row(Band& band, int parity, int y, int chem);
+  // Row y of the whole grid: where a band's inner rows live (its end rows' are unused).
+  float* grid_row(int y, int chem) { return chem == 0 ? grid_a_.row(y) : grid_b_.row(y); }
   void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
   // Run by the last thread to reach a block's barrier: every kBalanceBlocks blocks (every
   // block under a probe), moves band boundaries; `parity` is the next block's.
@@ -145,7 +147,7 @@ class ParallelGrayScott9 {
   bool balancing_ = true;
   int min_band_rows_ = 1;
   int blocks_since_balance_ = 0;
-  uint32_t probe_seed_ = 0;
+  uint32_t probe_state_ = 0;  // xorshift32 state of the test probe; 0: no probe
   // The fixed point (valid while a run skips) as whole rows, read wherever a level's rows
   // are known to hold it, and each row's differing vectors by block parity:
   // row_activity_[parity * ny + y].
