@@ -527,7 +527,12 @@ int do_run(RunArgs& a, CliContext& ctx) {
         (scene_name.empty() ? std::string("cavity") : scene_name) +
         "' runs on the engine (expected no ";
     if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
-    if (a.workers_opt->count()) return usage("--workers" + general + "--workers)");
+    if (a.workers_opt->count() && (a.workers < 1 || a.workers > 256))
+      return usage("--workers " + std::to_string(a.workers) + ": expected 1..256");
+    if (a.workers_opt->count() && backend == BackendKind::kSerial)
+      return usage(
+          "--workers applies to the threads back end (expected no --workers with "
+          "--backend serial)");
     if (a.cl_device_opt->count() && !opencl_asked)
       return usage("--cl-device " + std::to_string(a.cl_device) + " needs --backend opencl or " +
                    "auto (expected no --cl-device with --backend " + a.backend + ")");
@@ -639,7 +644,10 @@ int do_run(RunArgs& a, CliContext& ctx) {
   }
   std::unique_ptr<Engine> engine;
   if (!state) {
-    engine = std::make_unique<Engine>(scene);
+    EngineOptions options;
+    if (backend == BackendKind::kSerial) options.backend = EngineOptions::Backend::kSerial;
+    if (a.workers_opt->count()) options.workers = a.workers;
+    engine = std::make_unique<Engine>(scene, options);
     state = &engine->state();
   }
   if (!frame_field_available(*state, field))
@@ -667,6 +675,9 @@ int do_run(RunArgs& a, CliContext& ctx) {
                    scene.size.x, scene.size.y, device_name.c_str());
     return run_and_report(a, ctx, *device_stepper, scene, steps, every, render, outputs);
   }
+  if (a.stats)
+    std::fprintf(ctx.out, "scene=%s size=%dx%d backend=%s workers=%d\n", scene.name.c_str(),
+                 scene.size.x, scene.size.y, engine->backend_name(), engine->workers());
   EngineStepper stepper(*engine, playback.get());
   return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs);
 }
@@ -714,8 +725,8 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
                                   "with a fixed-sweep solver: opencl)");
   a.cl_device_opt =
       run->add_option("--cl-device", a.cl_device, "OpenCL device index (see ardcell devices)");
-  a.workers_opt = run->add_option(
-      "--workers", a.workers, "table1 scenes: threads back end workers (default: one per core)");
+  a.workers_opt =
+      run->add_option("--workers", a.workers, "threads back end workers (default: one per core)");
   run->add_flag("--stats", a.stats,
                 "print per-frame times (mean, p50, p99) and, for table1 scenes, per-pass timings");
   run->callback([args, &ctx] {

@@ -2,6 +2,8 @@
 
 #include "host/fluid_step.h"
 #include "host/rd_step.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
 
 #include <algorithm>
 #include <string>
@@ -14,24 +16,42 @@ struct Engine::Solvers {
   std::unique_ptr<RdStepper> rd;  // when config.rd.enabled (host/rd_step.h)
 };
 
-Engine::Engine(const SceneConfig& config) : config_(config), solvers_(std::make_unique<Solvers>()) {
+namespace {
+
+std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
+  if (options.backend == EngineOptions::Backend::kSerial) return std::make_unique<SerialBackend>();
+  ThreadBackendOptions t;
+  t.workers = options.workers;
+  return std::make_unique<ThreadBackend>(t);
+}
+
+}  // namespace
+
+Engine::Engine(const SceneConfig& config, const EngineOptions& options)
+    : config_(config),
+      backend_(make_engine_backend(options)),
+      executor_(std::make_unique<RowExecutor>(*backend_)),
+      solvers_(std::make_unique<Solvers>()) {
   ARDCELL_CHECK(config.size.x > 0 && config.size.y > 0, "Engine: grid size must be positive");
   ARDCELL_CHECK(config.domain_width > 0.0 && config.dt > 0.0,
                 "Engine: domain width and dt must be positive");
   state_.size = config_.size;
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
-  solvers_->fluid = make_fluid_step(config_);
+  solvers_->fluid = make_fluid_step(config_, *executor_);
   if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->allocate(state_);
   if (config_.rd.enabled) {
     // Throws std::invalid_argument with one line naming a bad RD parameter.
-    solvers_->rd = std::make_unique<RdStepper>(config_);
+    solvers_->rd = std::make_unique<RdStepper>(config_, *executor_);
     solvers_->rd->init_state(state_);  // allocates A, B, theta0
   }
   reset();
 }
 
 Engine::~Engine() = default;
+
+const char* Engine::backend_name() const { return backend_->name(); }
+int Engine::workers() const { return backend_->workers(); }
 
 void Engine::reset() {
   state_.time = 0.0;

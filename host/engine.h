@@ -1,8 +1,13 @@
 #pragma once
-// Engine: runs one scene. Owns the simulation state and the solvers, built once from a
-// SceneConfig; step() advances one frame (fluid step, then the RD step when the scene has RD)
-// and does no heap allocation once the first frame has run.
+// Engine: runs one scene. Owns the simulation state, the solvers and the back end they run on,
+// built once from a SceneConfig; step() advances one frame (fluid step, then the RD step when the
+// scene has RD) and does no heap allocation once the first frame has run.
+//
+// Every stage runs on the engine's back end: per-cell kernels, solver sweeps and reductions in
+// bands of rows (runtime/row_executor.h), so `serial` and `threads` with any number of workers
+// give the same bits (tests/host/engine_backend_parity_test.cpp).
 #include <memory>
+#include <string>
 
 #include "host/scene_config.h"
 #include "host/sim_state.h"
@@ -11,10 +16,20 @@
 namespace ardcell {
 
 struct RdStepStats;
+class Backend;
+class RowExecutor;
+
+// Where the engine runs: the serial reference or the threads back end (workers 0: one per
+// hardware thread).
+struct EngineOptions {
+  enum class Backend : uint8_t { kSerial, kThreads };
+  Backend backend = Backend::kThreads;
+  int workers = 0;
+};
 
 class Engine {
  public:
-  explicit Engine(const SceneConfig& config);
+  explicit Engine(const SceneConfig& config, const EngineOptions& options = {});
   ~Engine();
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
@@ -41,12 +56,20 @@ class Engine {
   SimState& state() { return state_; }
   const SimState& state() const { return state_; }
   const SceneConfig& config() const { return config_; }
+  // "serial" or "threads", and its number of workers.
+  const char* backend_name() const;
+  int workers() const;
+  // What the engine's stages run on (for a caller that steps more on the same workers, as the
+  // live display's coarse RD grids do).
+  RowExecutor& executor() { return *executor_; }
   // What the last RD step's solves did (iterations, residuals); nullptr when the scene has no RD.
   const RdStepStats* rd_stats() const;
 
  private:
   struct Solvers;  // the fluid and RD solvers and their scratch (host/engine.cpp)
   SceneConfig config_;
+  std::unique_ptr<Backend> backend_;
+  std::unique_ptr<RowExecutor> executor_;
   SimState state_;
   std::unique_ptr<Solvers> solvers_;
 };

@@ -57,25 +57,27 @@ void add_boundary_rhs(FieldF& b, const BoundaryFill& fill, double scale) {
   add(fill.top, 0, ny - 1, 1, 0, nx);
 }
 
-void zero_solid(FieldF& f, const Field<uint8_t>& solid) {
+void zero_solid(FieldF& f, const Field<uint8_t>& solid, RowExecutor& ex) {
   if (solid.empty()) return;
-  for (int j = 0; j < f.ny(); ++j) {
-    const uint8_t* s = solid.row(j);
-    float* r = f.row(j);
-    for (int i = 0; i < f.nx(); ++i)
-      if (s[i]) r[i] = 0.0f;
-  }
+  ex.for_rows(f.ny(), f.nx(), [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      const uint8_t* s = solid.row(j);
+      float* r = f.row(j);
+      for (int i = 0; i < f.nx(); ++i)
+        if (s[i]) r[i] = 0.0f;
+    }
+  });
 }
 
-double interior_sum(const FieldF& f) {
-  double total = 0.0;
-  for (int j = 0; j < f.ny(); ++j) {
-    const float* r = f.row(j);
-    double row_total = 0.0;
-    for (int i = 0; i < f.nx(); ++i) row_total += r[i];
-    total += row_total;
-  }
-  return total;
+double interior_sum(const FieldF& f, RowExecutor& ex) {
+  return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      const float* r = f.row(j);
+      double row_total = 0.0;
+      for (int i = 0; i < f.nx(); ++i) row_total += r[i];
+      partials[j] = row_total;
+    }
+  });
 }
 
 struct Range {
@@ -83,17 +85,32 @@ struct Range {
   float lo = 0.0f, hi = 0.0f;
 };
 
-Range interior_range(const FieldF& f) {
-  Range r{0.0, f(0, 0), f(0, 0)};
-  for (int j = 0; j < f.ny(); ++j) {
-    const float* row = f.row(j);
-    double row_total = 0.0;
-    for (int i = 0; i < f.nx(); ++i) {
-      row_total += row[i];
-      r.lo = std::min(r.lo, row[i]);
-      r.hi = std::max(r.hi, row[i]);
+// Sum (rows added in order), minimum and maximum of the interior.
+Range interior_range(const FieldF& f, RowExecutor& ex) {
+  const int ny = f.ny();
+  double* lo = ex.rows_scratch(ny, 0);
+  double* hi = ex.rows_scratch(ny, 1);
+  Range r;
+  r.sum = ex.sum_rows(ny, f.nx(), [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      const float* row = f.row(j);
+      double row_total = 0.0;
+      float row_lo = row[0], row_hi = row[0];
+      for (int i = 0; i < f.nx(); ++i) {
+        row_total += row[i];
+        row_lo = std::min(row_lo, row[i]);
+        row_hi = std::max(row_hi, row[i]);
+      }
+      partials[j] = row_total;
+      lo[j] = row_lo;
+      hi[j] = row_hi;
     }
-    r.sum += row_total;
+  });
+  r.lo = float(lo[0]);
+  r.hi = float(hi[0]);
+  for (int j = 1; j < ny; ++j) {
+    r.lo = std::min(r.lo, float(lo[j]));
+    r.hi = std::max(r.hi, float(hi[j]));
   }
   return r;
 }
@@ -102,21 +119,26 @@ Range interior_range(const FieldF& f) {
 // the extremes of the field before advection, so plateaus (and the max principle) survive; the
 // result is clamped to [lo, hi] (the mass then stays short only when the weights cannot hold
 // it, far beyond any normal step).
-void restore_mass(FieldF& f, double missing, float lo, float hi) {
-  double total_weight = 0.0;
-  for (int j = 0; j < f.ny(); ++j) {
-    const float* row = f.row(j);
-    for (int i = 0; i < f.nx(); ++i) total_weight += double(row[i] - lo) * double(hi - row[i]);
-  }
+void restore_mass(FieldF& f, double missing, float lo, float hi, RowExecutor& ex) {
+  const double total_weight = ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      const float* row = f.row(j);
+      double row_total = 0.0;
+      for (int i = 0; i < f.nx(); ++i) row_total += double(row[i] - lo) * double(hi - row[i]);
+      partials[j] = row_total;
+    }
+  });
   if (!(total_weight > 0.0)) return;
   const double k = missing / total_weight;
-  for (int j = 0; j < f.ny(); ++j) {
-    float* row = f.row(j);
-    for (int i = 0; i < f.nx(); ++i) {
-      const float q = row[i] + float(k * double(row[i] - lo) * double(hi - row[i]));
-      row[i] = std::min(std::max(q, lo), hi);
+  ex.for_rows(f.ny(), f.nx(), [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      float* row = f.row(j);
+      for (int i = 0; i < f.nx(); ++i) {
+        const float q = row[i] + float(k * double(row[i] - lo) * double(hi - row[i]));
+        row[i] = std::min(std::max(q, lo), hi);
+      }
     }
-  }
+  });
 }
 
 void copy_all(const FieldF& from, FieldF& to) {
@@ -130,8 +152,14 @@ struct FluidStep::Operators {
   std::unique_ptr<LinearSolver> solver_u, solver_v, solver_p, solver_dye;
 };
 
-FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt)
+template <class F>
+void FluidStep::for_bands(const F& f) const {
+  ex_->for_rows(size_.y, size_.x, [&](int y0, int y1) { f(Box2{{0, y0}, {size_.x, y1}}); });
+}
+
+FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, RowExecutor& ex)
     : config_(config),
+      ex_(&ex),
       size_(size),
       h_(h),
       scratch_u_(size, 1),
@@ -186,10 +214,12 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt)
   ops_ = std::make_unique<Operators>(Operators{make_op(fill_u_), make_op(fill_v_), make_op(fill_p_),
                                                make_op(fill_dye_), nullptr, nullptr, nullptr,
                                                nullptr});
-  ops_->solver_u = LinearSolver::make(config_.viscosity_solver, size);
-  ops_->solver_v = LinearSolver::make(config_.viscosity_solver, size);
-  ops_->solver_p = LinearSolver::make(config_.pressure_solver, size);
-  ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size);
+  ops_->solver_u = LinearSolver::make(config_.viscosity_solver, size, ex);
+  ops_->solver_v = LinearSolver::make(config_.viscosity_solver, size, ex);
+  ops_->solver_p = LinearSolver::make(config_.pressure_solver, size, ex);
+  ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size, ex);
+  ex.reserve_rows(size.y);
+  (void)ex.rows_scratch(size.y, RowExecutor::kMaxRowSlots - 1);
 
   // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces.
   reassemble_stencil_operator(ops_->pressure, 0.0, 1.0, nullptr);
@@ -260,7 +290,7 @@ void FluidStep::reset(SimState& state) const {
   } else if (config_.kind == FluidSceneKind::kObstacle) {
     // Start from the uniform inflow; the first projection turns it around the disc.
     state.v.fill(float(-config_.inflow_speed));
-    zero_solid(state.v, solid_);
+    zero_solid(state.v, solid_, *ex_);
   }
   if (config_.kind != FluidSceneKind::kNone) {
     fill_velocity(state);
@@ -272,8 +302,11 @@ void FluidStep::fill_velocity(SimState& state) const {
   fill_boundary(state.u.view(), size_, fill_u_);
   fill_boundary(state.v.view(), size_, fill_v_);
   if (!solid_.empty()) {
-    fill_obstacle(state.u.view(), solid_.view(), state.u.interior(), ObstacleRule::kNoSlip);
-    fill_obstacle(state.v.view(), solid_.view(), state.v.interior(), ObstacleRule::kNoSlip);
+    // Solid cells are written from fluid cells only: bands of rows do not interfere.
+    for_bands([&](Box2 rows) {
+      fill_obstacle(state.u.view(), solid_.view(), rows, ObstacleRule::kNoSlip);
+      fill_obstacle(state.v.view(), solid_.view(), rows, ObstacleRule::kNoSlip);
+    });
   }
 }
 
@@ -286,10 +319,11 @@ void FluidStep::add_forces_and_sources(SimState& state) {
       const double angle = e.swirl * state.time;
       const double fx = e.force_x * std::cos(angle) - e.force_y * std::sin(angle);
       const double fy = e.force_x * std::sin(angle) + e.force_y * std::cos(angle);
-      const Box2 all = state.u.interior();
-      add_splat(state.dye.view(), all, {cx, cy, r, float(dt * e.dye_rate)});
-      add_splat(state.u.view(), all, {cx, cy, r, float(dt * fx)});
-      add_splat(state.v.view(), all, {cx, cy, r, float(dt * fy)});
+      for_bands([&](Box2 rows) {
+        add_splat(state.dye.view(), rows, {cx, cy, r, float(dt * e.dye_rate)});
+        add_splat(state.u.view(), rows, {cx, cy, r, float(dt * fx)});
+        add_splat(state.v.view(), rows, {cx, cy, r, float(dt * fy)});
+      });
     }
   } else if (config_.kind == FluidSceneKind::kObstacle && config_.inflow_dye_stripes > 0) {
     // Dye enters with the inflow in vertical stripes (the top row is refreshed each frame).
@@ -306,7 +340,7 @@ void FluidStep::diffuse_velocity(SimState& state) {
                    const BoundaryFill& fill) {
     copy_all(x, scratch_b_);
     add_boundary_rhs(scratch_b_, fill, s);
-    zero_solid(scratch_b_, solid_);
+    zero_solid(scratch_b_, solid_, *ex_);
     return solver.solve(op, scratch_b_, x);
   };
   report_.viscosity_u = solve(state.u, ops_->visc_u, *ops_->solver_u, fill_u_);
@@ -315,15 +349,21 @@ void FluidStep::diffuse_velocity(SimState& state) {
 
 SolveReport FluidStep::project(SimState& state) {
   fill_velocity(state);
-  const Box2 interior = state.u.interior();
-  pressure_rhs(state.u.view(), state.v.view(), rhs_.view(), interior, {float(h_)});
+  const ProjectParams params{float(h_)};
+  for_bands(
+      [&](Box2 rows) { pressure_rhs(state.u.view(), state.v.view(), rhs_.view(), rows, params); });
   add_boundary_rhs(rhs_, fill_p_, 1.0);
-  zero_solid(rhs_, solid_);
+  zero_solid(rhs_, solid_, *ex_);
   const SolveReport report = ops_->solver_p->solve(ops_->pressure, rhs_, state.p);
   fill_boundary(state.p.view(), size_, fill_p_);
-  if (!solid_.empty()) fill_obstacle(state.p.view(), solid_.view(), interior, ObstacleRule::kCopy);
-  face_velocities(state.u.view(), state.v.view(), state.p.view(), face_u_.view(), face_v_.view(),
-                  interior, {float(h_)});
+  if (!solid_.empty())
+    for_bands([&](Box2 rows) {
+      fill_obstacle(state.p.view(), solid_.view(), rows, ObstacleRule::kCopy);
+    });
+  for_bands([&](Box2 rows) {
+    face_velocities(state.u.view(), state.v.view(), state.p.view(), face_u_.view(), face_v_.view(),
+                    rows, params, rows.max.y == size_.y);
+  });
   if (fill_u_.bottom.rule == EdgeRule::kPeriodic) {
     // Ghost rows of uf and ghost columns of vf, wrapped, for the periodic back-trace.
     const int nx = size_.x, ny = size_.y;
@@ -336,7 +376,9 @@ SolveReport FluidStep::project(SimState& state) {
       face_v_(nx, j) = face_v_(0, j);
     }
   }
-  subtract_gradient(state.p.view(), state.u.view(), state.v.view(), interior, {float(h_)});
+  for_bands([&](Box2 rows) {
+    subtract_gradient(state.p.view(), state.u.view(), state.v.view(), rows, params);
+  });
   fill_velocity(state);
   return report;
 }
@@ -346,14 +388,17 @@ void FluidStep::advect(SimState& state) {
   copy_all(state.u, scratch_u_);
   copy_all(state.v, scratch_v_);
   const bool periodic = fill_u_.left.rule == EdgeRule::kPeriodic;
-  advect_velocity(scratch_u_.view(), scratch_v_.view(), state.u.view(), state.v.view(),
-                  state.u.interior(), {float(state.dt / h_), size_, periodic});
+  const AdvectParams params{float(state.dt / h_), size_, periodic};
+  for_bands([&](Box2 rows) {
+    advect_velocity(scratch_u_.view(), scratch_v_.view(), state.u.view(), state.v.view(), rows,
+                    params);
+  });
 }
 
 void FluidStep::diffuse_dye(SimState& state) {
   if (!(config_.dye_diffusion > 0.0)) return;
   copy_all(state.dye, scratch_b_);
-  zero_solid(scratch_b_, solid_);
+  zero_solid(scratch_b_, solid_, *ex_);
   report_.dye = ops_->solver_dye->solve(ops_->dye, scratch_b_, state.dye);
 }
 
@@ -369,24 +414,29 @@ void FluidStep::step(SimState& state) {
   diffuse_dye(state);
   fill_boundary(state.dye.view(), size_, fill_dye_);
   if (!solid_.empty())
-    fill_obstacle(state.dye.view(), solid_.view(), state.dye.interior(), ObstacleRule::kCopy);
+    for_bands([&](Box2 rows) {
+      fill_obstacle(state.dye.view(), solid_.view(), rows, ObstacleRule::kCopy);
+    });
   copy_all(state.dye, scratch_b_);
   const bool closed =
       config_.kind == FluidSceneKind::kCavity || config_.kind == FluidSceneKind::kInk;
   const bool fix_mass = config_.conserve_dye && closed;
-  const Range before = fix_mass ? interior_range(state.dye) : Range{};
+  const Range before = fix_mass ? interior_range(state.dye, *ex_) : Range{};
   const bool periodic = fill_dye_.left.rule == EdgeRule::kPeriodic;
-  advect_scalar_mac(scratch_b_.view(), face_u_.view(), face_v_.view(), state.dye.view(),
-                    state.dye.interior(), {float(state.dt / h_), size_, periodic});
+  const AdvectParams params{float(state.dt / h_), size_, periodic};
+  for_bands([&](Box2 rows) {
+    advect_scalar_mac(scratch_b_.view(), face_u_.view(), face_v_.view(), state.dye.view(), rows,
+                      params);
+  });
   if (fix_mass) {
-    restore_mass(state.dye, before.sum - interior_sum(state.dye), before.lo, before.hi);
+    restore_mass(state.dye, before.sum - interior_sum(state.dye, *ex_), before.lo, before.hi, *ex_);
   }
   fill_boundary(state.dye.view(), size_, fill_dye_);
 }
 
-std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene) {
+std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene, RowExecutor& ex) {
   return std::make_unique<FluidStep>(scene.fluid, scene.size, scene.domain_width / scene.size.x,
-                                     scene.dt);
+                                     scene.dt, ex);
 }
 
 }  // namespace ardcell

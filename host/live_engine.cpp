@@ -5,6 +5,7 @@
 
 #include "host/rd_step.h"
 #include "runtime/boundary.h"
+#include "runtime/row_executor.h"
 
 namespace ardcell {
 
@@ -62,28 +63,34 @@ AxisMap nearest(int n_in, int n_out) {
   return m;
 }
 
-// out = Y (X in) over the interiors; tmp holds out.nx x in.ny.
+// out = Y (X in) over the interiors; tmp holds out.nx x in.ny. Both passes in bands of rows
+// on the engine's executor (each output row is written by one band).
 template <class In>
-void transfer(const AxisMap& mx, const AxisMap& my, const Field<In>& in, FieldF& tmp, FieldF& out) {
-  for (int y = 0; y < in.ny(); ++y) {
-    const In* src = in.row(y);
-    float* dst = tmp.row(y);
-    for (int x = 0; x < mx.size(); ++x) {
-      double acc = 0;
-      for (int k = mx.start[size_t(x)]; k < mx.start[size_t(x) + 1]; ++k)
-        acc += double(mx.weight[size_t(k)]) * double(src[mx.index[size_t(k)]]);
-      dst[x] = float(acc);
+void transfer(RowExecutor& ex, const AxisMap& mx, const AxisMap& my, const Field<In>& in,
+              FieldF& tmp, FieldF& out) {
+  ex.for_rows(in.ny(), mx.size(), [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const In* src = in.row(y);
+      float* dst = tmp.row(y);
+      for (int x = 0; x < mx.size(); ++x) {
+        double acc = 0;
+        for (int k = mx.start[size_t(x)]; k < mx.start[size_t(x) + 1]; ++k)
+          acc += double(mx.weight[size_t(k)]) * double(src[mx.index[size_t(k)]]);
+        dst[x] = float(acc);
+      }
     }
-  }
-  for (int y = 0; y < my.size(); ++y) {
-    float* dst = out.row(y);
-    for (int x = 0; x < out.nx(); ++x) dst[x] = 0;
-    for (int k = my.start[size_t(y)]; k < my.start[size_t(y) + 1]; ++k) {
-      const float w = my.weight[size_t(k)];
-      const float* src = tmp.row(my.index[size_t(k)]);
-      for (int x = 0; x < out.nx(); ++x) dst[x] += w * src[x];
+  });
+  ex.for_rows(my.size(), out.nx(), [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      float* dst = out.row(y);
+      for (int x = 0; x < out.nx(); ++x) dst[x] = 0;
+      for (int k = my.start[size_t(y)]; k < my.start[size_t(y) + 1]; ++k) {
+        const float w = my.weight[size_t(k)];
+        const float* src = tmp.row(my.index[size_t(k)]);
+        for (int x = 0; x < out.nx(); ++x) dst[x] += w * src[x];
+      }
     }
-  }
+  });
 }
 
 }  // namespace
@@ -157,7 +164,7 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
     l->config.size = n;
     l->take_parameters(scene);
     if (!rd_config_problem(l->config).empty()) break;
-    l->rd = std::make_unique<RdStepper>(l->config);
+    l->rd = std::make_unique<RdStepper>(l->config, engine_.executor());
     l->state.size = n;
     l->state.h = scene.domain_width / n.x;
     l->state.dt = scene.dt;
@@ -202,12 +209,12 @@ void EngineSimulation::sync_coarse_from_fine(RdLevel& l, bool chemicals) {
   const SimState& f = engine_.state();
   SimState& c = l.state;
   if (chemicals) {
-    transfer(l.down_x, l.down_y, f.A, l.down_tmp, c.A);
-    transfer(l.down_x, l.down_y, f.B, l.down_tmp, c.B);
+    transfer(engine_.executor(), l.down_x, l.down_y, f.A, l.down_tmp, c.A);
+    transfer(engine_.executor(), l.down_x, l.down_y, f.B, l.down_tmp, c.B);
   }
-  transfer(l.near_x, l.near_y, f.theta0, l.down_tmp, c.theta0);
+  transfer(engine_.executor(), l.near_x, l.near_y, f.theta0, l.down_tmp, c.theta0);
   if (!f.obstacle.empty()) {
-    transfer(l.down_x, l.down_y, f.obstacle, l.down_tmp, l.solid_tmp);
+    transfer(engine_.executor(), l.down_x, l.down_y, f.obstacle, l.down_tmp, l.solid_tmp);
     for (int y = 0; y < c.size.y; ++y)
       for (int x = 0; x < c.size.x; ++x) c.obstacle(x, y) = l.solid_tmp(x, y) >= 0.5f ? 1 : 0;
   }
@@ -239,14 +246,14 @@ void EngineSimulation::step() {
   SimState& f = engine_.state();
   SimState& c = l.state;
   if (!c.u.empty()) {
-    transfer(l.down_x, l.down_y, f.u, l.down_tmp, c.u);
-    transfer(l.down_x, l.down_y, f.v, l.down_tmp, c.v);
+    transfer(engine_.executor(), l.down_x, l.down_y, f.u, l.down_tmp, c.u);
+    transfer(engine_.executor(), l.down_x, l.down_y, f.v, l.down_tmp, c.v);
     fill_boundary(c.u.view(), c.size, BoundaryFill::copy());
     fill_boundary(c.v.view(), c.size, BoundaryFill::copy());
   }
   l.rd->step(c);
-  transfer(l.up_x, l.up_y, c.A, l.up_tmp, f.A);
-  transfer(l.up_x, l.up_y, c.B, l.up_tmp, f.B);
+  transfer(engine_.executor(), l.up_x, l.up_y, c.A, l.up_tmp, f.A);
+  transfer(engine_.executor(), l.up_x, l.up_y, c.B, l.up_tmp, f.B);
 }
 
 void EngineSimulation::reset() {
@@ -284,9 +291,9 @@ void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputM
   for (int y = 0; y < f.size.y; ++y)
     for (int x = 0; x < f.size.x; ++x)
       snap_a_(x, y) = std::abs(f.A(x, y) - snap_a_(x, y)) + std::abs(f.B(x, y) - snap_b_(x, y));
-  transfer(l->down_x, l->down_y, snap_a_, l->down_tmp, l->solid_tmp);
-  transfer(l->down_x, l->down_y, f.A, l->down_tmp, l->a_tmp);
-  transfer(l->down_x, l->down_y, f.B, l->down_tmp, l->b_tmp);
+  transfer(engine_.executor(), l->down_x, l->down_y, snap_a_, l->down_tmp, l->solid_tmp);
+  transfer(engine_.executor(), l->down_x, l->down_y, f.A, l->down_tmp, l->a_tmp);
+  transfer(engine_.executor(), l->down_x, l->down_y, f.B, l->down_tmp, l->b_tmp);
   for (int y = 0; y < c.size.y; ++y)
     for (int x = 0; x < c.size.x; ++x)
       if (l->solid_tmp(x, y) > 0) {

@@ -47,7 +47,7 @@ class EngineSimulation final : public LiveSimulation {
   // presets for those.
   void apply(const SceneConfig& config) override;
   void paint(std::span<const StrokeSample> samples, const InputMapping& input) override;
-  std::string_view backend() const override { return "cpu"; }
+  std::string_view backend() const override { return engine_.backend_name(); }
   double lowest_rd_scale() const override;
   void set_rd_scale(double scale) override;
 

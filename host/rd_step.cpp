@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <type_traits>
 
 #include "kernels/advect.h"
 #include "kernels/explicit_rd.h"
@@ -64,14 +65,41 @@ std::string rd_config_problem(const SceneConfig& scene) {
   return "";
 }
 
-RdStepper::RdStepper(const SceneConfig& scene) : scene_(scene), rd_(scene.rd) {
+struct RdStepper::SerialLane {
+  SerialBackend backend;
+  RowExecutor ex{backend};
+};
+
+template <class F>
+void RdStepper::for_bands(const F& f) const {
+  const Int2 n = scene_.size;
+  ex_->for_rows(n.y, n.x, [&](int y0, int y1, int worker) {
+    const Box2 rows{{0, y0}, {n.x, y1}};
+    if constexpr (std::is_invocable_v<const F&, Box2, int>)
+      f(rows, worker);
+    else
+      f(rows);
+  });
+}
+
+RdStepper::RdStepper(const SceneConfig& scene, RowExecutor& ex)
+    : scene_(scene), ex_(&ex), rd_(scene.rd) {
   if (std::string why = rd_config_problem(scene); !why.empty()) throw std::invalid_argument(why);
   const double scene_h = scene.domain_width / scene.size.x;
   dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
   h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_h;
   if (rd_.scheme == RdScheme::kImplicit && rd_.diffuse) {
-    diff_a_ = std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver);
-    diff_b_ = std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver);
+    RowExecutor* on_a = &ex;
+    RowExecutor* on_b = &ex;
+    if (rd_.diffusion_solver.kind == SolverKind::kIccg) {
+      for (auto& lane : lanes_) lane = std::make_unique<SerialLane>();
+      on_a = &lanes_[0]->ex;
+      on_b = &lanes_[1]->ex;
+    }
+    diff_a_ =
+        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, *on_a);
+    diff_b_ =
+        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, *on_b);
   }
   if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit) {
     const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
@@ -80,10 +108,13 @@ RdStepper::RdStepper(const SceneConfig& scene) : scene_(scene), rd_(scene.rd) {
   conductivity_ = FieldF(scene.size, 1);
   scratch_a_ = FieldF(scene.size, 1);
   scratch_b_ = FieldF(scene.size, 1);
-  row_scratch_.assign(2 * std::size_t(scene.size.x + 2) + 16, 0.0f);
+  row_scratch_stride_ = (2 * std::size_t(scene.size.x + 2) + 16 + 15) / 16 * 16;
+  row_scratch_.assign(row_scratch_stride_ * std::size_t(ex.workers()), 0.0f);
+  ex.reserve_rows(scene.size.y);
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
       rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic)
-    parallel_gs9_ = std::make_unique<ParallelGrayScott9>(scene.size, gray_scott9_params());
+    parallel_gs9_ =
+        std::make_unique<ParallelGrayScott9>(scene.size, gray_scott9_params(), ex.workers());
 }
 
 GrayScott9Params RdStepper::gray_scott9_params() const {
@@ -193,12 +224,15 @@ void RdStepper::fill_chemical_ghosts(SimState& s) {
 }
 
 void RdStepper::react(SimState& s) {
-  const Box2 interior = s.A.interior();
   if (!table_.empty()) {
-    reaction_table_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), interior, table_.view());
+    for_bands([&](Box2 rows) {
+      reaction_table_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), rows, table_.view());
+    });
   } else {
-    reaction_implicit_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), interior, rd_.reaction,
-                           float(dt_));
+    for_bands([&](Box2 rows) {
+      reaction_implicit_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), rows, rd_.reaction,
+                             float(dt_));
+    });
   }
 }
 
@@ -209,19 +243,29 @@ void RdStepper::diffuse(SimState& s) {
     iso = rd_.anisotropy.isotropic_value;
   } else {
     fill_chemical_ghosts(s);
-    conductivity_tile(s.A.view(), s.theta0.view(), conductivity_.view(), s.A.interior(),
-                      rd_.anisotropy);
+    for_bands([&](Box2 rows) {
+      conductivity_tile(s.A.view(), s.theta0.view(), conductivity_.view(), rows, rd_.anisotropy);
+    });
     k = &conductivity_;
   }
   const Field<uint8_t>* solid = s.obstacle.empty() ? nullptr : &s.obstacle;
   diff_a_->set_solid(solid);
   diff_b_->set_solid(solid);
   const double base = dt_ / (h_ * h_) * iso;
-  const SolveReport ra =
-      diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
-  const SolveReport rb =
-      diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
-                    {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
+  SolveReport ra{}, rb{};
+  const auto solve_a = [&] {
+    ra = diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
+  };
+  const auto solve_b = [&] {
+    rb = diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
+                       {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
+  };
+  if (lanes_[0]) {
+    ex_->for_tasks(2, [&](int i) { i == 0 ? solve_a() : solve_b(); });
+  } else {
+    solve_a();
+    solve_b();
+  }
   stats_.diffusion_iterations_a = ra.iterations;
   stats_.diffusion_iterations_b = rb.iterations;
   stats_.diffusion_residual_a = ra.relative_residual;
@@ -233,18 +277,22 @@ void RdStepper::explicit_step(SimState& s) {
   const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
   const float da = rd_.diffuse ? float(rd_.diffusion_a * base) : 0.0f;
   const float db = rd_.diffuse ? float(rd_.diffusion_b * base) : 0.0f;
-  const Box2 interior = s.A.interior();
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
       rd_.react) {
-    gray_scott9_explicit_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(),
-                              interior, {rd_.reaction.F, rd_.reaction.k, float(dt_), da, db},
-                              row_scratch_.data());
+    const GrayScott9Params p{rd_.reaction.F, rd_.reaction.k, float(dt_), da, db};
+    for_bands([&](Box2 rows, int worker) {
+      gray_scott9_explicit_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows,
+                                p, row_scratch_.data() + row_scratch_stride_ * std::size_t(worker));
+    });
   } else {
     const ExplicitRdParams p{rd_.reaction, rd_.react ? float(dt_) : 0.0f, da, db};
-    if (rd_.scheme == RdScheme::kExplicit9)
-      explicit_rd9_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), interior, p);
-    else
-      explicit_rd5_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), interior, p);
+    const bool nine = rd_.scheme == RdScheme::kExplicit9;
+    for_bands([&](Box2 rows) {
+      if (nine)
+        explicit_rd9_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows, p);
+      else
+        explicit_rd5_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows, p);
+    });
   }
   std::swap(s.A, scratch_a_);
   std::swap(s.B, scratch_b_);
@@ -269,9 +317,10 @@ void RdStepper::advect(SimState& s) {
   const double scene_h = scene_.domain_width / scene_.size.x;
   const AdvectParams p{float(scene_.dt / scene_h), scene_.size,
                        rd_.boundary == BoundaryKind::kPeriodic};
-  const Box2 interior = s.A.interior();
-  advect_scalar(s.A.view(), s.u.view(), s.v.view(), scratch_a_.view(), interior, p);
-  advect_scalar(s.B.view(), s.u.view(), s.v.view(), scratch_b_.view(), interior, p);
+  for_bands([&](Box2 rows) {
+    advect_scalar(s.A.view(), s.u.view(), s.v.view(), scratch_a_.view(), rows, p);
+    advect_scalar(s.B.view(), s.u.view(), s.v.view(), scratch_b_.view(), rows, p);
+  });
   std::swap(s.A, scratch_a_);
   std::swap(s.B, scratch_b_);
 }

@@ -2,11 +2,13 @@
 
 namespace ardcell {
 
-ImplicitDiffusion::ImplicitDiffusion(Int2 size, BoundaryKind boundary, const SolverSettings& solver)
+ImplicitDiffusion::ImplicitDiffusion(Int2 size, BoundaryKind boundary, const SolverSettings& solver,
+                                     RowExecutor& ex)
     : size_(size),
+      ex_(&ex),
       boundary_(boundary),
       op_(assemble_stencil_operator(size, 1.0, 0.0, nullptr, boundary, boundary)),
-      solver_(LinearSolver::make(solver, size)),
+      solver_(LinearSolver::make(solver, size, ex)),
       rhs_(size, 1),
       x_(size, 1),
       tmp_(size, 1) {}
@@ -29,12 +31,14 @@ SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
   if (s.crank_nicolson) {
     // (1 + s/2 L) A = 2 A - (1 - s/2 L) A.
     apply_stencil_operator(op_, field, tmp_);
-    for (int y = 0; y < size_.y; ++y) {
-      const float* f = field.row(y);
-      const float* t = tmp_.row(y);
-      float* r = rhs_.row(y);
-      for (int x = 0; x < size_.x; ++x) r[x] = 2.0f * f[x] - t[x];
-    }
+    ex_->for_rows(size_.y, size_.x, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y) {
+        const float* f = field.row(y);
+        const float* t = tmp_.row(y);
+        float* r = rhs_.row(y);
+        for (int x = 0; x < size_.x; ++x) r[x] = 2.0f * f[x] - t[x];
+      }
+    });
   } else {
     copy_box<float>(field.view(), rhs_.view(), interior);
   }

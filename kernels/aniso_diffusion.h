@@ -23,7 +23,8 @@ struct DiffusionStep {
 
 class ImplicitDiffusion {
  public:
-  ImplicitDiffusion(Int2 size, BoundaryKind boundary, const SolverSettings& solver);
+  ImplicitDiffusion(Int2 size, BoundaryKind boundary, const SolverSettings& solver,
+                    RowExecutor& ex = RowExecutor::serial());
   ~ImplicitDiffusion();
 
   // Optional obstacle: cells with solid != 0 are held fixed and isolated (Neumann walls).
@@ -42,6 +43,7 @@ class ImplicitDiffusion {
 
  private:
   Int2 size_;
+  RowExecutor* ex_;
   BoundaryKind boundary_;
   StencilOperator op_;
   std::unique_ptr<LinearSolver> solver_;

@@ -13,8 +13,8 @@ namespace {
 
 class IccgSolver final : public LinearSolver {
  public:
-  IccgSolver(const SolverSettings& s, Int2 size)
-      : LinearSolver(s),
+  IccgSolver(const SolverSettings& s, Int2 size, RowExecutor& ex)
+      : LinearSolver(s, ex),
         size_(size),
         n_(std::size_t(size.x) * size.y),
         pivot_(n_),
@@ -29,7 +29,9 @@ class IccgSolver final : public LinearSolver {
         diag_(n_),
         scratch_row_(std::size_t(size.x)),
         rf_(size, 1),
-        null_space_(size) {}
+        null_space_(size) {
+    ex.reserve_rows(size.y);
+  }
 
   void prepare(const StencilOperator& op) override {
     ARDCELL_CHECK(op.size == size_, "iccg: size mismatch");
@@ -98,8 +100,9 @@ class IccgSolver final : public LinearSolver {
     }
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) x(i, j) = float(x_[idx(i, j)]);
-    null_space_.remove_mean(x);
-    report.relative_residual = relative_residual(op, b, x, rf_, null_space_);
+    null_space_.remove_mean(x, *ex_);
+    report.relative_residual =
+        relative_residual(op, b, x, rf_, null_space_, *ex_, null_space_.consistent_norm2(b, *ex_));
     return report;
   }
 
@@ -202,8 +205,9 @@ class IccgSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size) {
-  return std::make_unique<IccgSolver>(s, size);
+std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size,
+                                               RowExecutor& ex) {
+  return std::make_unique<IccgSolver>(s, size, ex);
 }
 
 }  // namespace ardcell::solver_detail

@@ -11,8 +11,10 @@ namespace {
 
 class JacobiSolver final : public LinearSolver {
  public:
-  JacobiSolver(const SolverSettings& s, Int2 size)
-      : LinearSolver(s), other_(size, 1), r_(size, 1), null_space_(size) {}
+  JacobiSolver(const SolverSettings& s, Int2 size, RowExecutor& ex)
+      : LinearSolver(s, ex), other_(size, 1), r_(size, 1), null_space_(size) {
+    ex.reserve_rows(size.y);
+  }
 
   void prepare(const StencilOperator& op) override { null_space_.analyse(op); }
 
@@ -20,18 +22,21 @@ class JacobiSolver final : public LinearSolver {
     ARDCELL_CHECK(b.size() == op.size && x.size() == op.size && other_.size() == op.size,
                   "jacobi: size mismatch");
     SolveReport report;
+    const double bb = null_space_.consistent_norm2(b, *ex_);
     const bool check = settings_.tolerance > 0.0;
     FieldF* from = &x;
     FieldF* to = &other_;
     for (int k = 0; k < settings_.max_iterations; ++k) {
-      stencil::jacobi_sweep(op, b, *from, *to);
+      stencil::jacobi_sweep(op, b, *from, *to, *ex_);
       std::swap(from, to);
       ++report.iterations;
-      if (check && relative_residual(op, b, *from, r_, null_space_) <= settings_.tolerance) break;
+      if (check &&
+          relative_residual(op, b, *from, r_, null_space_, *ex_, bb) <= settings_.tolerance)
+        break;
     }
     if (from != &x) std::memcpy(x.raw(), from->raw(), x.raw_size() * sizeof(float));
-    null_space_.remove_mean(x);
-    report.relative_residual = relative_residual(op, b, x, r_, null_space_);
+    null_space_.remove_mean(x, *ex_);
+    report.relative_residual = relative_residual(op, b, x, r_, null_space_, *ex_, bb);
     return report;
   }
 
@@ -42,8 +47,9 @@ class JacobiSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_jacobi_solver(const SolverSettings& s, Int2 size) {
-  return std::make_unique<JacobiSolver>(s, size);
+std::unique_ptr<LinearSolver> make_jacobi_solver(const SolverSettings& s, Int2 size,
+                                                 RowExecutor& ex) {
+  return std::make_unique<JacobiSolver>(s, size, ex);
 }
 
 }  // namespace ardcell::solver_detail

@@ -33,19 +33,20 @@ std::string_view solver_kind_name(SolverKind kind) {
   return "jacobi";
 }
 
-std::unique_ptr<LinearSolver> LinearSolver::make(const SolverSettings& settings, Int2 size) {
+std::unique_ptr<LinearSolver> LinearSolver::make(const SolverSettings& settings, Int2 size,
+                                                 RowExecutor& ex) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "solver size must be positive");
   switch (settings.kind) {
     case SolverKind::kJacobi:
-      return solver_detail::make_jacobi_solver(settings, size);
+      return solver_detail::make_jacobi_solver(settings, size, ex);
     case SolverKind::kRedBlackGaussSeidel:
-      return solver_detail::make_rbgs_solver(settings, size);
+      return solver_detail::make_rbgs_solver(settings, size, ex);
     case SolverKind::kIccg:
-      return solver_detail::make_iccg_solver(settings, size);
+      return solver_detail::make_iccg_solver(settings, size, ex);
     case SolverKind::kMultigrid:
-      return solver_detail::make_multigrid_solver(settings, size);
+      return solver_detail::make_multigrid_solver(settings, size, ex);
   }
-  return solver_detail::make_jacobi_solver(settings, size);
+  return solver_detail::make_jacobi_solver(settings, size, ex);
 }
 
 }  // namespace ardcell

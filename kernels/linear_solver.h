@@ -2,11 +2,14 @@
 // One interface over the solvers of A x = b for a StencilOperator (kernels/stencil_operator.h):
 // fixed-sweep Jacobi and red-black Gauss-Seidel (the real-time default), ICCG (seed 000's
 // choice), and geometric multigrid V-cycles. A solver is made once for a grid size and owns its
-// scratch space: solve() never allocates.
+// scratch space: solve() never allocates. Its sweeps, residuals and norms run on the RowExecutor
+// it is made with (the back end's workers, same bits for any worker count); ICCG's triangular
+// solves are sequential and run on the calling thread.
 #include <memory>
 #include <string_view>
 
 #include "kernels/stencil_operator.h"
+#include "runtime/row_executor.h"
 
 namespace ardcell {
 
@@ -30,7 +33,8 @@ struct SolveReport {
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
-  static std::unique_ptr<LinearSolver> make(const SolverSettings& settings, Int2 size);
+  static std::unique_ptr<LinearSolver> make(const SolverSettings& settings, Int2 size,
+                                            RowExecutor& ex = RowExecutor::serial());
 
   // Called whenever the operator's coefficients change (factorisation, coarse operators).
   virtual void prepare(const StencilOperator& op) = 0;
@@ -44,8 +48,9 @@ class LinearSolver {
   }
 
  protected:
-  explicit LinearSolver(const SolverSettings& s) : settings_(s) {}
+  LinearSolver(const SolverSettings& s, RowExecutor& ex) : settings_(s), ex_(&ex) {}
   SolverSettings settings_;
+  RowExecutor* ex_;
 };
 
 }  // namespace ardcell

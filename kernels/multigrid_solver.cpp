@@ -68,8 +68,9 @@ void coarsen(const StencilOperator& fine, StencilOperator& coarse) {
 
 class MultigridSolver final : public LinearSolver {
  public:
-  MultigridSolver(const SolverSettings& s, Int2 size)
-      : LinearSolver(s), size_(size), b0_(size, 1), r0_(size, 1), null_space_(size) {
+  MultigridSolver(const SolverSettings& s, Int2 size, RowExecutor& ex)
+      : LinearSolver(s, ex), size_(size), b0_(size, 1), r0_(size, 1), null_space_(size) {
+    ex.reserve_rows(size.y);
     Int2 n = size;
     while (n.x >= 4 && n.y >= 4) {
       n = Int2{(n.x + 1) / 2, (n.y + 1) / 2};
@@ -94,18 +95,19 @@ class MultigridSolver final : public LinearSolver {
     const FieldF* rhs = &b;
     if (null_space_.singular()) {
       copy_box(b.view(), b0_.view(), b.interior());
-      null_space_.remove_mean(b0_);
+      null_space_.remove_mean(b0_, *ex_);
       rhs = &b0_;
     }
     SolveReport report;
-    report.relative_residual = relative_residual(op, *rhs, x, r0_, null_space_);
+    const double bb = null_space_.consistent_norm2(*rhs, *ex_);
+    report.relative_residual = relative_residual(op, *rhs, x, r0_, null_space_, *ex_, bb);
     for (int k = 0; k < settings_.max_iterations; ++k) {
       if (settings_.tolerance > 0.0 && report.relative_residual <= settings_.tolerance) break;
       cycle(op, *rhs, x, 0);
-      null_space_.remove_mean(x);
+      null_space_.remove_mean(x, *ex_);
       ++report.iterations;
       const double before = report.relative_residual;
-      report.relative_residual = relative_residual(op, *rhs, x, r0_, null_space_);
+      report.relative_residual = relative_residual(op, *rhs, x, r0_, null_space_, *ex_, bb);
       // A healthy V-cycle divides the residual by ~10; when a cycle barely helps, x has reached
       // float32 round-off and further cycles are wasted.
       if (settings_.tolerance > 0.0 && report.relative_residual > kStagnation * before) break;
@@ -117,45 +119,49 @@ class MultigridSolver final : public LinearSolver {
   // One V-cycle on level `depth` (0 = the caller's grid).
   void cycle(const StencilOperator& op, const FieldF& b, FieldF& x, std::size_t depth) {
     if (depth == levels_.size()) {
-      for (int k = 0; k < kCoarsestSweeps; ++k) stencil::rbgs_sweep(op, b, x);
+      for (int k = 0; k < kCoarsestSweeps; ++k) stencil::rbgs_sweep(op, b, x, *ex_);
       return;
     }
-    for (int k = 0; k < kPreSmooth; ++k) stencil::rbgs_sweep(op, b, x);
+    for (int k = 0; k < kPreSmooth; ++k) stencil::rbgs_sweep(op, b, x, *ex_);
     FieldF& r = depth == 0 ? r0_ : levels_[depth - 1].r;
-    stencil::residual(op, b, x, &r);
+    stencil::residual(op, b, x, &r, *ex_);
     Level& coarse = levels_[depth];
-    restrict_sum(r, coarse.b);
+    restrict_sum(r, coarse.b, *ex_);
     coarse.x.fill(0.0f);
     cycle(coarse.op, coarse.b, coarse.x, depth + 1);
-    prolong_add(coarse.x, x);
-    for (int k = 0; k < kPostSmooth; ++k) stencil::rbgs_sweep(op, b, x);
+    prolong_add(coarse.x, x, *ex_);
+    for (int k = 0; k < kPostSmooth; ++k) stencil::rbgs_sweep(op, b, x, *ex_);
   }
 
-  static void restrict_sum(const FieldF& fine, FieldF& coarse) {
+  static void restrict_sum(const FieldF& fine, FieldF& coarse, RowExecutor& ex) {
     const int fx = fine.nx(), fy = fine.ny();
-    for (int J = 0; J < coarse.ny(); ++J) {
-      float* c = coarse.row(J);
-      const float* f0 = fine.row(2 * J);
-      const float* f1 = 2 * J + 1 < fy ? fine.row(2 * J + 1) : nullptr;
-      for (int I = 0; I < coarse.nx(); ++I) {
-        const int i = 2 * I;
-        float s = f0[i];
-        if (i + 1 < fx) s += f0[i + 1];
-        if (f1) {
-          s += f1[i];
-          if (i + 1 < fx) s += f1[i + 1];
+    ex.for_rows(coarse.ny(), fx, [&](int y0, int y1) {
+      for (int J = y0; J < y1; ++J) {
+        float* c = coarse.row(J);
+        const float* f0 = fine.row(2 * J);
+        const float* f1 = 2 * J + 1 < fy ? fine.row(2 * J + 1) : nullptr;
+        for (int I = 0; I < coarse.nx(); ++I) {
+          const int i = 2 * I;
+          float s = f0[i];
+          if (i + 1 < fx) s += f0[i + 1];
+          if (f1) {
+            s += f1[i];
+            if (i + 1 < fx) s += f1[i + 1];
+          }
+          c[I] = s;
         }
-        c[I] = s;
       }
-    }
+    });
   }
 
-  static void prolong_add(const FieldF& coarse, FieldF& fine) {
-    for (int j = 0; j < fine.ny(); ++j) {
-      const float* c = coarse.row(j / 2);
-      float* f = fine.row(j);
-      for (int i = 0; i < fine.nx(); ++i) f[i] += c[i / 2];
-    }
+  static void prolong_add(const FieldF& coarse, FieldF& fine, RowExecutor& ex) {
+    ex.for_rows(fine.ny(), fine.nx(), [&](int y0, int y1) {
+      for (int j = y0; j < y1; ++j) {
+        const float* c = coarse.row(j / 2);
+        float* f = fine.row(j);
+        for (int i = 0; i < fine.nx(); ++i) f[i] += c[i / 2];
+      }
+    });
   }
 
   Int2 size_;
@@ -166,8 +172,9 @@ class MultigridSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_multigrid_solver(const SolverSettings& s, Int2 size) {
-  return std::make_unique<MultigridSolver>(s, size);
+std::unique_ptr<LinearSolver> make_multigrid_solver(const SolverSettings& s, Int2 size,
+                                                    RowExecutor& ex) {
+  return std::make_unique<MultigridSolver>(s, size, ex);
 }
 
 }  // namespace ardcell::solver_detail

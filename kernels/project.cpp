@@ -32,7 +32,7 @@ void subtract_gradient(View<const float> p, View<float> u, View<float> v, Box2 r
 }
 
 void face_velocities(View<const float> u, View<const float> v, View<const float> p, View<float> uf,
-                     View<float> vf, Box2 region, const ProjectParams& params) {
+                     View<float> vf, Box2 region, const ProjectParams& params, bool top_faces) {
   const float inv_h = 1.0f / params.h;
   for (int y = region.min.y; y < region.max.y; ++y) {
     const float* ur = u.row(y);
@@ -41,7 +41,8 @@ void face_velocities(View<const float> u, View<const float> v, View<const float>
     for (int x = region.min.x; x <= region.max.x; ++x)
       out[x] = 0.5f * (ur[x - 1] + ur[x]) - (pr[x] - pr[x - 1]) * inv_h;
   }
-  for (int y = region.min.y; y <= region.max.y; ++y) {
+  const int last_face_row = top_faces ? region.max.y : region.max.y - 1;
+  for (int y = region.min.y; y <= last_face_row; ++y) {
     const float* vb = v.row(y - 1);
     const float* vm = v.row(y);
     const float* pb = p.row(y - 1);

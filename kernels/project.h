@@ -30,9 +30,11 @@ void subtract_gradient(View<const float> p, View<float> u, View<float> v, Box2 r
 //   uf(i, j) = (u(i-1, j) + u(i, j)) / 2 - (p(i, j) - p(i-1, j)) / h   (face between i-1 and i)
 //   vf(i, j) = (v(i, j-1) + v(i, j)) / 2 - (p(i, j) - p(i, j-1)) / h
 // for the faces of the region's cells: uf for i in [min.x, max.x] (both ends) and rows
-// [min.y, max.y), vf for j in [min.y, max.y] and columns [min.x, max.x). Reads u, v, p over the
-// region grown by 1.
+// [min.y, max.y), vf for j in [min.y, max.y] and columns [min.x, max.x); without `top_faces`, vf
+// row max.y is left out (it belongs to the band of rows above: bands of rows then write disjoint
+// faces). Reads u, v, p over the region grown by 1.
 void face_velocities(View<const float> u, View<const float> v, View<const float> p, View<float> uf,
-                     View<float> vf, Box2 region, const ProjectParams& params);
+                     View<float> vf, Box2 region, const ProjectParams& params,
+                     bool top_faces = true);
 
 }  // namespace ardcell

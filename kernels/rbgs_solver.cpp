@@ -8,8 +8,10 @@ namespace {
 
 class RbgsSolver final : public LinearSolver {
  public:
-  RbgsSolver(const SolverSettings& s, Int2 size)
-      : LinearSolver(s), r_(size, 1), null_space_(size) {}
+  RbgsSolver(const SolverSettings& s, Int2 size, RowExecutor& ex)
+      : LinearSolver(s, ex), r_(size, 1), null_space_(size) {
+    ex.reserve_rows(size.y);
+  }
 
   void prepare(const StencilOperator& op) override { null_space_.analyse(op); }
 
@@ -17,14 +19,16 @@ class RbgsSolver final : public LinearSolver {
     ARDCELL_CHECK(b.size() == op.size && x.size() == op.size && r_.size() == op.size,
                   "rbgs: size mismatch");
     SolveReport report;
+    const double bb = null_space_.consistent_norm2(b, *ex_);
     const bool check = settings_.tolerance > 0.0;
     for (int k = 0; k < settings_.max_iterations; ++k) {
-      stencil::rbgs_sweep(op, b, x);
+      stencil::rbgs_sweep(op, b, x, *ex_);
       ++report.iterations;
-      if (check && relative_residual(op, b, x, r_, null_space_) <= settings_.tolerance) break;
+      if (check && relative_residual(op, b, x, r_, null_space_, *ex_, bb) <= settings_.tolerance)
+        break;
     }
-    null_space_.remove_mean(x);
-    report.relative_residual = relative_residual(op, b, x, r_, null_space_);
+    null_space_.remove_mean(x, *ex_);
+    report.relative_residual = relative_residual(op, b, x, r_, null_space_, *ex_, bb);
     return report;
   }
 
@@ -35,8 +39,9 @@ class RbgsSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_rbgs_solver(const SolverSettings& s, Int2 size) {
-  return std::make_unique<RbgsSolver>(s, size);
+std::unique_ptr<LinearSolver> make_rbgs_solver(const SolverSettings& s, Int2 size,
+                                               RowExecutor& ex) {
+  return std::make_unique<RbgsSolver>(s, size, ex);
 }
 
 }  // namespace ardcell::solver_detail

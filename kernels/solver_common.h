@@ -9,18 +9,20 @@
 namespace ardcell::solver_detail {
 
 // |b - A x| / |b| over the consistent part (see NullSpace); |b - A x| when b is zero.
-// r is scratch of the operator's size.
+// r is scratch of the operator's size; bb = null_space.consistent_norm2(b), computed once per
+// solve (b does not change during it).
 inline double relative_residual(const StencilOperator& op, const FieldF& b, const FieldF& x,
-                                FieldF& r, const stencil::NullSpace& null_space) {
-  stencil::residual(op, b, x, &r);
-  const double rr = null_space.consistent_norm2(r);
-  const double bb = null_space.consistent_norm2(b);
+                                FieldF& r, const stencil::NullSpace& null_space, RowExecutor& ex,
+                                double bb) {
+  const double rr = null_space.consistent_part(stencil::residual(op, b, x, &r, ex), r, ex);
   return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
 }
 
-std::unique_ptr<LinearSolver> make_jacobi_solver(const SolverSettings& s, Int2 size);
-std::unique_ptr<LinearSolver> make_rbgs_solver(const SolverSettings& s, Int2 size);
-std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size);
-std::unique_ptr<LinearSolver> make_multigrid_solver(const SolverSettings& s, Int2 size);
+std::unique_ptr<LinearSolver> make_jacobi_solver(const SolverSettings& s, Int2 size,
+                                                 RowExecutor& ex);
+std::unique_ptr<LinearSolver> make_rbgs_solver(const SolverSettings& s, Int2 size, RowExecutor& ex);
+std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size, RowExecutor& ex);
+std::unique_ptr<LinearSolver> make_multigrid_solver(const SolverSettings& s, Int2 size,
+                                                    RowExecutor& ex);
 
 }  // namespace ardcell::solver_detail

@@ -40,86 +40,94 @@ inline int right_of(int i, int nx, bool px) { return i < nx - 1 ? i + 1 : (px ? 
 
 }  // namespace
 
-void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out) {
+void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
+                  RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
-  for (int j = 0; j < ny; ++j) {
-    const RowRefs r = row_refs(op, x_in, j);
-    const float* bj = b.row(j);
-    float* out = x_out.row(j);
-    for (int i = 1; i < nx - 1; ++i)
-      out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
-                r.wya[i] * r.xa[i]) /
-               r.d[i];
-    out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
-    if (nx > 1) {
-      const int i = nx - 1;
-      out[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+  ex.for_rows(ny, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      const RowRefs r = row_refs(op, x_in, j);
+      const float* bj = b.row(j);
+      float* out = x_out.row(j);
+      for (int i = 1; i < nx - 1; ++i)
+        out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
+                  r.wya[i] * r.xa[i]) /
+                 r.d[i];
+      out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
+      if (nx > 1) {
+        const int i = nx - 1;
+        out[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+      }
     }
-  }
+  });
 }
 
-void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color) {
+void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
+                     RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
-  for (int j = 0; j < ny; ++j) {
-    const RowRefs r = row_refs(op, x, j);
-    const float* bj = b.row(j);
-    float* xj = x.row(j);
-    const int first = (color + j) & 1;  // first i with (i + j) % 2 == color
-    auto update = [&](int i) {
-      xj[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
-    };
-    int i = first;
-    if (i == 0) {
-      update(0);
-      i = 2;
+  // Cells of one colour read only the other colour: rows are independent within a half sweep.
+  ex.for_rows(ny, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      const RowRefs r = row_refs(op, x, j);
+      const float* bj = b.row(j);
+      float* xj = x.row(j);
+      const int first = (color + j) & 1;  // first i with (i + j) % 2 == color
+      auto update = [&](int i) {
+        xj[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+      };
+      int i = first;
+      if (i == 0) {
+        update(0);
+        i = 2;
+      }
+      for (; i < nx - 1; i += 2)
+        xj[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
+                 r.wya[i] * r.xa[i]) /
+                r.d[i];
+      if (i == nx - 1) update(i);
     }
-    for (; i < nx - 1; i += 2)
-      xj[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
-               r.wya[i] * r.xa[i]) /
-              r.d[i];
-    if (i == nx - 1) update(i);
-  }
+  });
 }
 
-void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x) {
-  rbgs_half_sweep(op, b, x, 0);
-  rbgs_half_sweep(op, b, x, 1);
+void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, RowExecutor& ex) {
+  rbgs_half_sweep(op, b, x, 0, ex);
+  rbgs_half_sweep(op, b, x, 1, ex);
 }
 
-double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* res) {
+double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* res,
+                RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
-  double total = 0.0;
-  for (int j = 0; j < ny; ++j) {
-    const RowRefs r = row_refs(op, x, j);
-    const float* bj = b.row(j);
-    float* out = res ? res->row(j) : nullptr;
-    double row_total = 0.0;
-    for (int i = 0; i < nx; ++i) {
-      const int il = i > 0 ? i - 1 : left_of(i, nx, px);
-      const int ir = i < nx - 1 ? i + 1 : right_of(i, nx, px);
-      const double ri = double(bj[i]) - double(r.d[i]) * r.x0[i] +
-                        (double(r.wx[i]) * r.x0[il] + double(r.wx[i + 1]) * r.x0[ir] +
-                         double(r.wyb[i]) * r.xb[i] + double(r.wya[i]) * r.xa[i]);
-      if (out) out[i] = float(ri);
-      row_total += ri * ri;
+  return ex.sum_rows(ny, nx, [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      const RowRefs r = row_refs(op, x, j);
+      const float* bj = b.row(j);
+      float* out = res ? res->row(j) : nullptr;
+      double row_total = 0.0;
+      for (int i = 0; i < nx; ++i) {
+        const int il = i > 0 ? i - 1 : left_of(i, nx, px);
+        const int ir = i < nx - 1 ? i + 1 : right_of(i, nx, px);
+        const double ri = double(bj[i]) - double(r.d[i]) * r.x0[i] +
+                          (double(r.wx[i]) * r.x0[il] + double(r.wx[i + 1]) * r.x0[ir] +
+                           double(r.wyb[i]) * r.xb[i] + double(r.wya[i]) * r.xa[i]);
+        if (out) out[i] = float(ri);
+        row_total += ri * ri;
+      }
+      partials[j] = row_total;
     }
-    total += row_total;
-  }
-  return total;
+  });
 }
 
-double norm2_squared(const FieldF& f) {
-  double total = 0.0;
-  for (int j = 0; j < f.ny(); ++j) {
-    const float* r = f.row(j);
-    double row_total = 0.0;
-    for (int i = 0; i < f.nx(); ++i) row_total += double(r[i]) * r[i];
-    total += row_total;
-  }
-  return total;
+double norm2_squared(const FieldF& f, RowExecutor& ex) {
+  return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      const float* r = f.row(j);
+      double row_total = 0.0;
+      for (int i = 0; i < f.nx(); ++i) row_total += double(r[i]) * r[i];
+      partials[j] = row_total;
+    }
+  });
 }
 
 void NullSpace::analyse(const StencilOperator& op) {
@@ -144,34 +152,39 @@ void NullSpace::analyse(const StencilOperator& op) {
   singular_ = count_ > 0 && others_decoupled;
 }
 
-void NullSpace::remove_mean(FieldF& f) const {
-  if (!singular_) return;
-  double sum = 0.0;
-  for (int j = 0; j < f.ny(); ++j) {
-    const float* r = f.row(j);
-    const uint8_t* z = in_null_.row(j);
-    for (int i = 0; i < f.nx(); ++i)
-      if (z[i]) sum += r[i];
-  }
-  const float mean = float(sum / double(count_));
-  for (int j = 0; j < f.ny(); ++j) {
-    float* r = f.row(j);
-    const uint8_t* z = in_null_.row(j);
-    for (int i = 0; i < f.nx(); ++i)
-      if (z[i]) r[i] -= mean;
-  }
+double NullSpace::null_sum(const FieldF& f, RowExecutor& ex) const {
+  return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      const float* r = f.row(j);
+      const uint8_t* z = in_null_.row(j);
+      double row_total = 0.0;
+      for (int i = 0; i < f.nx(); ++i)
+        if (z[i]) row_total += r[i];
+      partials[j] = row_total;
+    }
+  });
 }
 
-double NullSpace::consistent_norm2(const FieldF& f) const {
-  const double all = norm2_squared(f);
+void NullSpace::remove_mean(FieldF& f, RowExecutor& ex) const {
+  if (!singular_) return;
+  const float mean = float(null_sum(f, ex) / double(count_));
+  ex.for_rows(f.ny(), f.nx(), [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      float* r = f.row(j);
+      const uint8_t* z = in_null_.row(j);
+      for (int i = 0; i < f.nx(); ++i)
+        if (z[i]) r[i] -= mean;
+    }
+  });
+}
+
+double NullSpace::consistent_norm2(const FieldF& f, RowExecutor& ex) const {
+  return consistent_part(norm2_squared(f, ex), f, ex);
+}
+
+double NullSpace::consistent_part(double all, const FieldF& f, RowExecutor& ex) const {
   if (!singular_) return all;
-  double sum = 0.0;
-  for (int j = 0; j < f.ny(); ++j) {
-    const float* r = f.row(j);
-    const uint8_t* z = in_null_.row(j);
-    for (int i = 0; i < f.nx(); ++i)
-      if (z[i]) sum += r[i];
-  }
+  const double sum = null_sum(f, ex);
   return std::max(0.0, all - sum * sum / double(count_));
 }
 

@@ -3,23 +3,32 @@
 // solvers: y = A x, residual, Jacobi, red-black Gauss-Seidel. The loops run over rows with row
 // pointers; the first and last cell of a row take the (periodic or weight-0) edge neighbours
 // separately so the middle of the row vectorises. No halo of x is read.
+//
+// Each sweep runs its rows on a RowExecutor (runtime/row_executor.h): every row is written by
+// one band, and reductions add per-row partials in row order, so the result is the same bits
+// on any back end and any number of workers. The default is the serial executor.
 #include "kernels/stencil_operator.h"
+#include "runtime/row_executor.h"
 
 namespace ardcell::stencil {
 
 // x_out = D^-1 (b + (D - A) x_in) over the interior. x_in and x_out must differ.
-void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out);
+void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
+                  RowExecutor& ex = RowExecutor::serial());
 
 // One red-black Gauss-Seidel sweep in place: cells with (x + y) even, then odd.
-void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x);
+void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x,
+                RowExecutor& ex = RowExecutor::serial());
 // Half a sweep: only the cells with (x + y) % 2 == color.
-void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color);
+void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
+                     RowExecutor& ex = RowExecutor::serial());
 
 // r = b - A x (when r is not null); returns |b - A x|_2^2 accumulated in double.
-double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* r);
+double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* r,
+                RowExecutor& ex = RowExecutor::serial());
 
 // Sum of squares over the interior, in double.
-double norm2_squared(const FieldF& f);
+double norm2_squared(const FieldF& f, RowExecutor& ex = RowExecutor::serial());
 
 // The constant null space of singular operators (pure Neumann or periodic Poisson, possibly
 // with isolated solid cells): Z = cells whose row sums to zero. When every other cell is
@@ -33,11 +42,14 @@ class NullSpace {
   const Field<uint8_t>& mask() const { return in_null_; }  // 1 = cell of Z
   int64_t count() const { return count_; }
   // Subtracts the mean over Z from the cells of Z (no-op when not singular).
-  void remove_mean(FieldF& f) const;
+  void remove_mean(FieldF& f, RowExecutor& ex = RowExecutor::serial()) const;
   // |f|^2 without its component along the null vector (|f|^2 when not singular).
-  double consistent_norm2(const FieldF& f) const;
+  double consistent_norm2(const FieldF& f, RowExecutor& ex = RowExecutor::serial()) const;
+  // The same from |f|^2 already known (`all`, e.g. residual()'s return).
+  double consistent_part(double all, const FieldF& f, RowExecutor& ex) const;
 
  private:
+  double null_sum(const FieldF& f, RowExecutor& ex) const;  // sum of f over Z, row order
   Field<uint8_t> in_null_;
   bool singular_ = false;
   int64_t count_ = 0;

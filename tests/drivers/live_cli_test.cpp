@@ -98,7 +98,7 @@ TEST(LiveCli, OpenClBackendRunsTheDevicePresetAndFallsBackPerPreset) {
   EXPECT_NE(cpu.output.find("ardcell live: preset 'small-fluid' cannot run on OpenCL: fluid.scene"),
             std::string::npos)
       << cpu.output;
-  EXPECT_NE(cpu.output.find("ardcell live: backend cpu\n"), std::string::npos) << cpu.output;
+  EXPECT_NE(cpu.output.find("ardcell live: backend threads\n"), std::string::npos) << cpu.output;
   EXPECT_NE(cpu.output.find("frames 2, deadline misses "), std::string::npos) << cpu.output;
   // auto keeps the CPU (no OpenCL line at all).
   const Result automatic = run("live " + rd + " --backend auto --frames 1 --fps 0 --scale 1");

@@ -168,7 +168,7 @@ TEST(LiveOpenCl, SwitchesParametersAndPresetsUnderTheLoopLikeTheCpu) {
   // A preset the device refuses runs on the CPU, with one line naming why.
   select(fluid);
   frames(3, "cavity-gray-scott (CPU on both)");
-  EXPECT_EQ(on_device.simulation().backend(), "cpu");
+  EXPECT_EQ(on_device.simulation().backend(), "threads");
   EXPECT_EQ(sims.cpu_fallbacks(), 1);
   const std::string line = sims.last_fallback();
   EXPECT_EQ(line.rfind("ardcell live: preset 'cavity-gray-scott' cannot run on OpenCL: ", 0), 0u)

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
 #include "kernels/stencil_sweeps.h"
+#include "runtime/thread/thread_backend.h"
 
 namespace ardcell {
 namespace {
@@ -190,6 +192,47 @@ TEST(LinearSolver, ParsesSolverNames) {
     EXPECT_EQ(kind, k);
   }
   EXPECT_FALSE(parse_solver_kind("sor", kind));
+}
+
+}  // namespace
+}  // namespace ardcell
+
+namespace ardcell {
+namespace {
+
+// Every solver, with a tolerance (so its residual reductions steer the iteration count), gives
+// the same bits on the serial back end and on 1 to 4 threads-back-end workers.
+TEST(LinearSolver, SameBitsOnAnyWorkerCount) {
+  const Int2 size{131, 97};
+  StencilOperator op = assemble_stencil_operator(size, 0.0, 1.0, nullptr, BoundaryKind::kNeumann,
+                                                 BoundaryKind::kPeriodic);
+  FieldF b = random_field(size, 11);
+  for (SolverKind kind : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel, SolverKind::kIccg,
+                          SolverKind::kMultigrid}) {
+    const SolverSettings settings{kind, kind == SolverKind::kMultigrid ? 10 : 60, 1e-7};
+    FieldF reference(size, 1);
+    SolveReport expected{};
+    {
+      auto solver = LinearSolver::make(settings, size);
+      solver->prepare(op);
+      expected = solver->solve(op, b, reference);
+    }
+    for (int workers : {1, 2, 3, 4}) {
+      ThreadBackendOptions o;
+      o.workers = workers;
+      ThreadBackend backend(o);
+      RowExecutor ex(backend);
+      auto solver = LinearSolver::make(settings, size, ex);
+      solver->prepare(op);
+      FieldF x(size, 1);
+      const SolveReport got = solver->solve(op, b, x);
+      EXPECT_EQ(got.iterations, expected.iterations) << solver_kind_name(kind) << " " << workers;
+      EXPECT_EQ(std::memcmp(&got.relative_residual, &expected.relative_residual, sizeof(double)), 0)
+          << solver_kind_name(kind) << " " << workers;
+      EXPECT_EQ(std::memcmp(x.raw(), reference.raw(), x.raw_size() * sizeof(float)), 0)
+          << solver_kind_name(kind) << " " << workers;
+    }
+  }
 }
 
 }  // namespace
