@@ -1,21 +1,20 @@
-// `ardcell bench table1`: runs the Table 1 benchmark programs (bench/table1_bench.cpp for the CPU
-// rows and bench/table1_opencl_bench.cpp for the opencl-* rows, built next to the ardcell binary)
-// and reports it beside the paper's Cell figures: a Markdown table on stdout, and table1.md,
-// table1.csv and table1.png (bar chart, log FPS) in --out.
-#include <sys/wait.h>
+// `ardcell bench table1` (`bench scenes`: drivers/cli_bench_scenes.cpp): runs the Table 1 benchmark
+// programs (bench/table1_bench.cpp for the CPU rows and bench/table1_opencl_bench.cpp for the
+// opencl-* rows, built next to the ardcell binary) and reports it beside the paper's Cell figures:
+// a Markdown table on stdout, and table1.md, table1.csv and table1.png (bar chart, log FPS) in
+// --out.
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "drivers/bench_program.h"
 #include "drivers/cli.h"
 #include "drivers/png_writer.h"
 #include "host/atomic_file.h"
@@ -67,45 +66,15 @@ struct BenchOptions {
   int cl_device = -1;
 };
 
-fs::path default_binary(const char* name) {
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path(name) : self.parent_path() / name;
-}
-
-// Runs a bench program with output to json_path; its console output goes to stderr.
-int run_bench_program(const BenchOptions& o, const std::string& binary, const std::string& filter,
-                      const std::string& json_path) {
-  std::vector<std::string> args = {binary, "--benchmark_filter=" + filter,
-                                   "--benchmark_min_time=" + std::to_string(o.min_time),
-                                   "--benchmark_out=" + json_path, "--benchmark_out_format=json"};
-  const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    setenv("ARDCELL_BENCH_SIZES", o.sizes.c_str(), 1);
-    setenv("ARDCELL_BENCH_SERIAL_MAX", std::to_string(o.serial_max).c_str(), 1);
-    setenv("ARDCELL_BENCH_STORE_KIB", std::to_string(o.store_kib).c_str(), 1);
-    if (o.cl_device >= 0) setenv("ARDCELL_CL_DEVICE", std::to_string(o.cl_device).c_str(), 1);
-    dup2(STDERR_FILENO, STDOUT_FILENO);
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    std::fprintf(stderr, "ardcell bench: cannot run %s\n", argv[0]);
-    _exit(127);
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ','))
-    if (!item.empty()) out.push_back(item);
-  return out;
+// Runs a Table 1 bench program with output to json_path; its console output goes to stderr.
+int run_table1_program(const BenchOptions& o, const std::string& binary, const std::string& filter,
+                       const std::string& json_path) {
+  std::vector<std::pair<std::string, std::string>> env = {
+      {"ARDCELL_BENCH_SIZES", o.sizes},
+      {"ARDCELL_BENCH_SERIAL_MAX", std::to_string(o.serial_max)},
+      {"ARDCELL_BENCH_STORE_KIB", std::to_string(o.store_kib)}};
+  if (o.cl_device >= 0) env.emplace_back("ARDCELL_CL_DEVICE", std::to_string(o.cl_device));
+  return run_bench_program(binary, filter, o.min_time, json_path, env);
 }
 
 // A 3x5 digit font, enough to label the sizes and the decades of the chart.
@@ -136,56 +105,41 @@ void put_text(ImageRgb8& img, int x, int y, const std::string& s, int scale, con
   }
 }
 
-Status write_text_atomically(const fs::path& path, const std::string& text) {
-  AtomicFile f;
-  Status st = f.open(path);
-  if (!st) return st;
-  if (!f.write(text.data(), text.size())) return Status::error("cannot write " + path.string());
-  return f.commit();
-}
-
 // Reads a Google Benchmark JSON report into results ("<schedule>/<fluid|ard>/<N>") and the
 // STREAM triad; rows that reported an error are left out, the first error kept in *skipped.
 Status read_bench_json(const std::string& json_path, std::map<std::string, Result>& results,
                        double& triad, std::string* skipped) {
-  try {
-    std::ifstream in(json_path);
-    const nlohmann::json j = nlohmann::json::parse(in);
-    for (const auto& b : j.at("benchmarks")) {
-      std::string name = b.at("name").get<std::string>();
-      if (b.value("error_occurred", false)) {
-        if (skipped && skipped->empty())
-          *skipped = name + ": " + b.value("error_message", std::string("error"));
-        continue;
-      }
-      if (name.rfind("STREAM/triad", 0) == 0) {
-        triad = b.value("bytes_per_s", 0.0);
-        continue;
-      }
-      if (name.rfind("Table1/", 0) != 0) continue;
-      name = name.substr(7);
-      const auto cut = name.find("/min_time");
-      if (cut != std::string::npos) name = name.substr(0, cut);
-      const auto cut2 = name.find("/real_time");
-      if (cut2 != std::string::npos) name = name.substr(0, cut2);
-      Result r;
-      r.fps = b.value("fps", 0.0);
-      r.bytes_per_s = b.value("bytes_per_s", 0.0);
-      r.fps_unshared = b.value("fps_if_unshared", 0.0);
-      r.present = true;
-      results[name] = r;
+  std::vector<BenchRow> rows;
+  if (Status st = read_bench_rows(json_path, rows, skipped); !st) return st;
+  for (BenchRow& row : rows) {
+    const auto counter = [&](const char* key) {
+      const auto it = row.counters.find(key);
+      return it == row.counters.end() ? 0.0 : it->second;
+    };
+    if (row.name.rfind("STREAM/triad", 0) == 0) {
+      triad = counter("bytes_per_s");
+      continue;
     }
-  } catch (const std::exception& e) {
-    return Status::error("cannot read " + json_path + ": " + e.what());
+    if (row.name.rfind("Table1/", 0) != 0) continue;
+    Result r;
+    r.fps = counter("fps");
+    r.bytes_per_s = counter("bytes_per_s");
+    r.fps_unshared = counter("fps_if_unshared");
+    r.present = true;
+    results[row.name.substr(7)] = r;
   }
   return Status::ok();
 }
 
 }  // namespace
 
+void add_bench_scenes_command(CLI::App& bench, CliContext& ctx);  // drivers/cli_bench_scenes.cpp
+
 void add_bench_command(CLI::App& app, CliContext& ctx) {
-  auto* bench = app.add_subcommand("bench", "Benchmarks (Table 1 of the paper)");
+  auto* bench =
+      app.add_subcommand("bench", "Benchmarks (Table 1 of the paper; every preset on the engine)");
   bench->require_subcommand(1);
+  add_bench_scenes_command(*bench, ctx);
   auto* t1 = bench->add_subcommand(
       "table1", "Fluid and fluid+RD FPS per size and schedule beside the Cell's (seed 000)");
   auto o = std::make_shared<BenchOptions>();
@@ -210,7 +164,7 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
   t1->callback([o, &ctx, cl_device_opt, t1] {
     const std::string cmd = "bench table1";
     std::vector<int> sizes;
-    for (const std::string& s : split(o->sizes)) {
+    for (const std::string& s : split_commas(o->sizes)) {
       char* end = nullptr;
       const long n = std::strtol(s.c_str(), &end, 10);
       if (*end != '\0' || n < 8 || n > 8192) {
@@ -219,7 +173,7 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       }
       sizes.push_back(int(n));
     }
-    std::vector<std::string> schedules = split(o->schedules);
+    std::vector<std::string> schedules = split_commas(o->schedules);
     for (const std::string& s : schedules)
       if (!is_cpu_schedule(s) && !is_opencl_schedule(s)) {
         ctx.exit_code = cli_usage_error(ctx, cmd,
@@ -235,7 +189,8 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
     // The OpenCL rows: from table1_opencl_bench when it was built; left out with a note when
     // they were not asked for by name.
     const bool opencl_asked = t1->get_option("--schedules")->count() > 0;
-    if (o->opencl_binary.empty()) o->opencl_binary = default_binary("table1_opencl_bench").string();
+    if (o->opencl_binary.empty())
+      o->opencl_binary = bench_binary_beside_ardcell("table1_opencl_bench").string();
     const bool want_opencl = std::any_of(schedules.begin(), schedules.end(), is_opencl_schedule);
     if (want_opencl && access(o->opencl_binary.c_str(), X_OK) != 0) {
       if (opencl_asked) {
@@ -258,7 +213,7 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
           ctx, cmd, "need at least one size and schedule, --min-time > 0, --store-kib >= 8");
       return;
     }
-    if (o->binary.empty()) o->binary = default_binary("table1_bench").string();
+    if (o->binary.empty()) o->binary = bench_binary_beside_ardcell("table1_bench").string();
     if (access(o->binary.c_str(), X_OK) != 0) {
       ctx.exit_code = cli_usage_error(ctx, cmd,
                                       "benchmark program '" + o->binary +
@@ -278,7 +233,7 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
     double triad = 0;
     const auto run_program = [&](const std::string& binary, const std::string& filter,
                                  const std::string& json_path) {
-      const int rc = run_bench_program(*o, binary, filter, json_path);
+      const int rc = run_table1_program(*o, binary, filter, json_path);
       if (rc != 0) {
         std::fprintf(ctx.err, "ardcell bench table1: %s exited with status %d\n", binary.c_str(),
                      rc);

@@ -6,7 +6,8 @@
 //     (max |cl - serial| / max |serial| over the interior, per field);
 //   - --cl-device 99 prints the fallback line and still runs (on threads);
 //   - bad --schedule / --backend exit 2 with one line; general scenes refuse --schedule with
-//     one line (their --backend opencl: tests/drivers/run_opencl_cli_test.cpp).
+//     one line (their --backend opencl: tests/drivers/run_opencl_cli_test.cpp);
+//   - general scenes on --backend serial and threads (--workers 2, 3) save the same bytes.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -122,7 +123,9 @@ TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
       std::string("run table1 --size 48 --show A"),
       std::string("run cavity --size 16 --steps 1 --schedule blocked"),
       std::string("run cavity --size 16 --steps 1 --backend opencl --schedule stream"),
-      std::string("run cavity --size 16 --steps 1 --schedule bogus")};
+      std::string("run cavity --size 16 --steps 1 --schedule bogus"),
+      std::string("run cavity --size 16 --steps 1 --workers 0"),
+      std::string("run cavity --size 16 --steps 1 --backend serial --workers 2")};
   for (const std::string& args : cases) {
     const Result r = run(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
@@ -137,6 +140,28 @@ TEST_F(RunTable1Test, GeneralSceneStatsPrintFrameTimes) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("frame ms: mean="), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("(20 frames)"), std::string::npos) << r.out;
+}
+
+TEST_F(RunTable1Test, GeneralSceneBackendsSaveTheSameBytes) {
+  // A scene with fluid, dye mass fix and RD: every kind of stage and reduction.
+  const std::string base = "run obstacle-ard-gray-scott --size 96x120 --steps 12 --every 0 ";
+  const Result serial = run(base + "--backend serial --stats --save-state serial");
+  ASSERT_EQ(serial.code, 0) << serial.err;
+  EXPECT_NE(serial.out.find("backend=serial workers=1"), std::string::npos) << serial.out;
+  for (const char* workers : {"2", "3"}) {
+    const std::string dir = std::string("threads") + workers;
+    const Result r =
+        run(base + "--backend threads --workers " + workers + " --stats --save-state " + dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(std::string("backend=threads workers=") + workers), std::string::npos)
+        << r.out;
+    for (const char* field : {"u.npy", "v.npy", "p.npy", "dye.npy", "A.npy", "B.npy"}) {
+      const std::string expected = slurp(work() / "serial" / field);
+      ASSERT_GT(expected.size(), 96u * 120u * 4u) << field;
+      EXPECT_EQ(slurp(work() / dir / field), expected)
+          << field << " with " << workers << " workers";
+    }
+  }
 }
 
 }  // namespace

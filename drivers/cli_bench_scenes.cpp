@@ -1,0 +1,129 @@
+// `ardcell bench scenes`: every preset through the engine users run, serial against threads in
+// one run (bench/scenes_bench.cpp, SceneSpeedup/<preset>/<N>: the two back ends' frames
+// alternate, so a slow spell of the machine hits both). Prints a Markdown table and writes
+// scenes.md and scenes.csv in --out.
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "drivers/bench_program.h"
+#include "drivers/cli.h"
+#include "host/preset.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ScenesOptions {
+  std::string sizes = "256,512,1024";
+  std::string presets;  // empty: every embedded preset
+  double min_time = 0.3;
+  std::string out = "bench-results";
+  std::string binary;
+};
+
+int run_scenes(const ScenesOptions& o, CliContext& ctx) {
+  const std::string cmd = "bench scenes";
+  for (const std::string& s : split_commas(o.sizes)) {
+    char* end = nullptr;
+    const long n = std::strtol(s.c_str(), &end, 10);
+    if (*end != '\0' || n < 16 || n > 8192)
+      return cli_usage_error(ctx, cmd, "--sizes: '" + s + "' is not a size in 16..8192");
+  }
+  std::vector<std::string> presets = o.presets.empty() ? preset_names() : split_commas(o.presets);
+  for (const std::string& name : presets) {
+    Preset p;
+    if (Status st = load_preset(name, p); !st)
+      return cli_usage_error(ctx, cmd, "--presets: " + st.message());
+  }
+  if (split_commas(o.sizes).empty() || presets.empty() || !(o.min_time > 0))
+    return cli_usage_error(ctx, cmd, "need at least one size and preset, and --min-time > 0");
+  const std::string binary =
+      o.binary.empty() ? bench_binary_beside_ardcell("scenes_bench").string() : o.binary;
+  if (access(binary.c_str(), X_OK) != 0)
+    return cli_usage_error(ctx, cmd,
+                           "benchmark program '" + binary +
+                               "' not found or not executable (build the scenes_bench target, "
+                               "or pass --bench-binary)");
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) return cli_usage_error(ctx, cmd, "--out: cannot create '" + o.out + "': " + ec.message());
+
+  std::string joined;
+  for (const std::string& name : presets) joined += (joined.empty() ? "" : ",") + name;
+  const std::string json = (fs::path(o.out) / ".scenes_bench.json").string();
+  const int rc =
+      run_bench_program(binary, "SceneSpeedup/", o.min_time, json,
+                        {{"ARDCELL_BENCH_SIZES", o.sizes}, {"ARDCELL_BENCH_PRESETS", joined}});
+  if (rc != 0) {
+    std::fprintf(ctx.err, "ardcell bench scenes: %s exited with status %d\n", binary.c_str(), rc);
+    return kExitFailure;
+  }
+  std::vector<BenchRow> rows;
+  std::string skipped;
+  if (Status st = read_bench_rows(json, rows, &skipped); !st) {
+    std::fprintf(ctx.err, "ardcell bench scenes: %s\n", st.message().c_str());
+    return kExitFailure;
+  }
+  fs::remove(json, ec);
+  if (!skipped.empty())
+    std::fprintf(ctx.err, "ardcell bench scenes: rows left out (%s)\n", skipped.c_str());
+
+  std::ostringstream md, csv;
+  md << "| preset | N | serial FPS | threads FPS | threads / serial | workers |\n"
+        "|---|---|---|---|---|---|\n";
+  csv << "preset,n,serial_fps,threads_fps,speedup,workers\n";
+  char line[256];
+  for (const BenchRow& row : rows) {
+    // SceneSpeedup/<preset>/<N>
+    const auto first = row.name.find('/'), last = row.name.rfind('/');
+    if (first == std::string::npos || last == first) continue;
+    const std::string preset = row.name.substr(first + 1, last - first - 1);
+    const std::string n = row.name.substr(last + 1);
+    const auto counter = [&](const char* key) {
+      const auto it = row.counters.find(key);
+      return it == row.counters.end() ? 0.0 : it->second;
+    };
+    const double serial_fps = 1e3 / counter("serial_ms"), threads_fps = 1e3 / counter("threads_ms");
+    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2fx | %.0f |\n", preset.c_str(),
+                  n.c_str(), serial_fps, threads_fps, counter("speedup"), counter("workers"));
+    md << line;
+    std::snprintf(line, sizeof line, "%s,%s,%.4f,%.4f,%.4f,%.0f\n", preset.c_str(), n.c_str(),
+                  serial_fps, threads_fps, counter("speedup"), counter("workers"));
+    csv << line;
+  }
+  const fs::path dir(o.out);
+  Status st = write_text_atomically(dir / "scenes.md", md.str());
+  if (st) st = write_text_atomically(dir / "scenes.csv", csv.str());
+  if (!st) {
+    std::fprintf(ctx.err, "ardcell bench scenes: %s\n", st.message().c_str());
+    return kExitFailure;
+  }
+  std::fputs(md.str().c_str(), ctx.out);
+  std::fprintf(ctx.err, "ardcell bench scenes: wrote %s, %s\n", (dir / "scenes.md").c_str(),
+               (dir / "scenes.csv").c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_bench_scenes_command(CLI::App& bench, CliContext& ctx) {
+  auto* scenes = bench.add_subcommand(
+      "scenes", "Every preset on the engine: serial and threads FPS per size, in one run");
+  auto o = std::make_shared<ScenesOptions>();
+  scenes->add_option("--sizes", o->sizes, "Grid widths N, comma-separated")->capture_default_str();
+  scenes->add_option("--presets", o->presets, "Presets, comma-separated (default: every one)");
+  scenes->add_option("--min-time", o->min_time, "Seconds per benchmark (at least)")
+      ->capture_default_str();
+  scenes->add_option("--out", o->out, "Folder for scenes.md and scenes.csv")->capture_default_str();
+  scenes->add_option("--bench-binary", o->binary,
+                     "The scenes_bench program (default: beside ardcell)");
+  scenes->callback([o, &ctx] { ctx.exit_code = run_scenes(*o, ctx); });
+}
+
+}  // namespace ardcell
