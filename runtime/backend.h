@@ -9,7 +9,9 @@
 //                     tile into double-buffer `slot` of the worker's LocalStore; compute(tile,
 //                     slot) waits for them, runs the kernels on the local copies and issues the
 //                     puts. A worker calls fetch for tile i+1 before compute for tile i, so the
-//                     next tile streams in while the current one computes;
+//                     next tile streams in while the current one computes. fetch is null for an
+//                     in-place pass (runtime/row_executor.h): compute works on the fields in
+//                     main memory and tiles are claimed one at a time;
 //   kernel_id       - for back ends that compile kernels themselves (OpenCL): the host's id of
 //                     the fused kernel group; `program` points at the host's description of it.
 // Passes dispatched between two sync() calls must be independent (no pass reads what another

@@ -10,7 +10,6 @@ RowExecutor::RowExecutor(Backend& backend) : backend_(&backend) {
   pass_.name = "rows";
   pass_.program = &program_;
   pass_.run_whole = &RowExecutor::run_whole;
-  pass_.fetch = &RowExecutor::fetch;
   pass_.compute = &RowExecutor::compute;
 }
 
@@ -48,8 +47,6 @@ void RowExecutor::run_whole(const void* program) {
   const auto& p = *static_cast<const Program*>(program);
   p.fn(p.f, 0, p.rows, 0);
 }
-
-void RowExecutor::fetch(const void*, const Tile&, int, WorkerContext&) {}
 
 void RowExecutor::compute(const void* program, const Tile& tile, int, WorkerContext& ctx) {
   const auto& p = *static_cast<const Program*>(program);

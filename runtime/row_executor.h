@@ -107,7 +107,6 @@ class RowExecutor {
     int rows = 0;
   };
   static void run_whole(const void* program);
-  static void fetch(const void* program, const Tile& tile, int slot, WorkerContext& ctx);
   static void compute(const void* program, const Tile& tile, int slot, WorkerContext& ctx);
 
   Backend* backend_;

@@ -98,8 +98,7 @@ ThreadBackend::~ThreadBackend() {
 }
 
 void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {
-  ARDCELL_CHECK(pass.fetch != nullptr && pass.compute != nullptr,
-                "threads back end needs a tile program (fetch and compute)");
+  ARDCELL_CHECK(pass.compute != nullptr, "threads back end needs a tile program (compute)");
   const std::uint64_t d = issued_.load(std::memory_order_relaxed);
   ARDCELL_CHECK(d - synced_ < kMaxOutstanding, "threads back end: too many passes before sync");
   ARDCELL_CHECK(tiles.size() <= kClaimMask, "threads back end: too many tiles in one pass");
@@ -183,9 +182,19 @@ void ThreadBackend::run_share(Worker& w, std::uint64_t d) {
     }
     return count;
   };
+  std::size_t finished = 0;
+  if (!pass->fetch) {
+    // In place: nothing to fetch ahead, so a tile is claimed only when the worker can start it
+    // (a look-ahead claim would take the last tiles of the others' shares from idle workers).
+    for (std::size_t i = claim(); i < count; i = claim()) {
+      pass->compute(pass->program, tiles[i], 0, w.ctx);
+      ++finished;
+    }
+    slot.done.fetch_add(finished, std::memory_order_release);
+    return;
+  }
   std::size_t i = claim();
   if (i >= count) return;
-  std::size_t finished = 0;
   pass->fetch(pass->program, tiles[i], 0, w.ctx);
   for (int buffer = 0;; buffer ^= 1) {
     const std::size_t j = claim();
