@@ -6,9 +6,10 @@
 //
 // Environment: ARDCELL_BENCH_SIZES (e.g. "128,256") restricts the sizes; ARDCELL_BENCH_SERIAL_MAX
 // (default 1024) is the largest size run on the slow serial schedule;
-// ARDCELL_BENCH_STORE_KIB sets the local store of the blocked schedule (default 1024: one
-// EPYC L2; the stream schedule keeps the SPE's 256 KiB); ARDCELL_BENCH_SWEEPS the blocked
-// schedule's sweeps per residency (default 20: one load per solve).
+// ARDCELL_BENCH_STORE_KIB sets the local store per worker of the stream and blocked schedules
+// (default: one L2 of this machine, runtime/local_store.h; 256 is the Cell SPE's);
+// ARDCELL_BENCH_SWEEPS the blocked schedule's sweeps per residency (default 20: one load per
+// solve). Counter store_kib reports the local store used.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
@@ -45,10 +46,11 @@ void run_table1(benchmark::State& state, Table1Schedule schedule, bool rd, int n
   o.rd = rd;
   o.schedule = schedule;
   o.workers = 0;
-  if (schedule == Table1Schedule::kBlocked) {
-    o.local_store_bytes = std::size_t(env_int("ARDCELL_BENCH_STORE_KIB", 1024)) * 1024;
+  o.local_store_bytes =
+      std::size_t(env_int("ARDCELL_BENCH_STORE_KIB", int(machine_local_store_bytes() / 1024))) *
+      1024;
+  if (schedule == Table1Schedule::kBlocked)
     o.sweeps_per_residency = env_int("ARDCELL_BENCH_SWEEPS", Table1Constants::kSweeps);
-  }
   Table1Workload w(o);
   w.step();  // warm: first touch of every field and store
   w.plan().reset_stats();
@@ -67,6 +69,7 @@ void run_table1(benchmark::State& state, Table1Schedule schedule, bool rd, int n
   state.counters["bytes_per_s"] =
       benchmark::Counter(frames * w.bytes_per_frame(), benchmark::Counter::kIsRate);
   state.counters["workers"] = w.backend().workers();
+  state.counters["store_kib"] = double(o.local_store_bytes / 1024);
   if (std::getenv("ARDCELL_BENCH_STATS")) w.plan().print_stats(stderr);
 }
 

@@ -19,6 +19,7 @@
 #include "drivers/png_writer.h"
 #include "host/atomic_file.h"
 #include "host/image.h"
+#include "runtime/local_store.h"
 
 namespace ardcell {
 namespace {
@@ -59,7 +60,7 @@ struct BenchOptions {
   std::string schedules = "serial,stream,blocked,opencl-stream,opencl-blocked";
   double min_time = 0.5;
   int serial_max = 1024;
-  int store_kib = 1024;
+  int store_kib = int(machine_local_store_bytes() / 1024);
   std::string out = "bench-results";
   std::string binary;
   std::string opencl_binary;
@@ -152,7 +153,9 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       ->capture_default_str();
   t1->add_option("--serial-max", o->serial_max, "Largest N run on the serial schedule")
       ->capture_default_str();
-  t1->add_option("--store-kib", o->store_kib, "Local store of the blocked schedule, KiB")
+  t1->add_option("--store-kib", o->store_kib,
+                 "Local store per worker of the stream and blocked schedules, KiB (default: one "
+                 "L2 of this machine; 256 is the Cell's)")
       ->capture_default_str();
   t1->add_option("--out", o->out, "Folder for table1.md, table1.csv, table1.png")
       ->capture_default_str();
@@ -265,7 +268,8 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
     // The table.
     std::ostringstream md, csv;
     char line[512];
-    md << "STREAM triad (measured in the same run): " << triad / 1e9 << " GB/s\n\n";
+    md << "STREAM triad (measured in the same run): " << triad / 1e9 << " GB/s; local store "
+       << o->store_kib << " KiB per worker (stream, blocked)\n\n";
     md << "| N | schedule | FPS fluid | FPS fluid+RD | RD overhead | x Cell (fluid+RD) | "
           "eff. GB/s (fluid+RD) | share of triad | Cell FPS fluid / fluid+RD | "
           "fluid+RD FPS if cores unshared |\n";

@@ -36,7 +36,7 @@ extern "C" void on_interrupt(int) { g_stop.store(true); }
 
 struct RunArgs {
   std::string scene, scene_positional, size, solver, out, save_state, load_state;
-  std::string colormap, show, video, schedule, backend;
+  std::string colormap, show, video, schedule, backend, store_kib;
   std::vector<std::string> sets;
   bool list = false, no_png = false, quiet = false, stats = false;
   int64_t steps = 0, every = 0;
@@ -44,6 +44,7 @@ struct RunArgs {
   int sweeps = 0, fps = 30, cl_device = -1, workers = 0;
   CLI::Option *steps_opt, *every_opt, *dt_opt, *re_opt, *sweeps_opt, *solver_opt, *size_opt;
   CLI::Option *colormap_opt, *show_opt, *schedule_opt, *backend_opt, *cl_device_opt, *workers_opt;
+  CLI::Option* store_kib_opt;
   RunPaintOptions paint;  // --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes
 };
 
@@ -355,6 +356,18 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
       return usage("--workers " + std::to_string(a.workers) + ": expected 1..256");
     options.workers = a.workers;
   }
+  if (a.store_kib_opt->count()) {
+    if (a.store_kib == "spe") {
+      options.local_store_bytes = kSpeLocalStoreBytes;
+    } else {
+      char* end = nullptr;
+      const long kib = std::strtol(a.store_kib.c_str(), &end, 10);
+      if (end == a.store_kib.c_str() || *end != '\0' || kib < 16 || kib > 65536 || kib % 16)
+        return usage("--store-kib " + a.store_kib +
+                     ": expected a multiple of 16 in 16..65536, or spe (the Cell's 256)");
+      options.local_store_bytes = std::size_t(kib) * 1024;
+    }
+  }
 
   BackendKind kind = BackendKind::kAuto;
   if (a.backend_opt->count()) parse_backend_kind(a.backend, kind);  // validated by do_run
@@ -429,7 +442,9 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
   if (a.stats) {
     std::fprintf(ctx.out, "scene=%s size=%dx%d schedule=%s backend=%s", scene_name.c_str(), grid.x,
                  grid.y, std::string(table1_schedule_name(schedule)).c_str(), backend_name.c_str());
-    if (cpu) std::fprintf(ctx.out, " workers=%d", cpu->backend().workers());
+    if (cpu)
+      std::fprintf(ctx.out, " workers=%d local_store=%zuKiB", cpu->backend().workers(),
+                   options.local_store_bytes / 1024);
     std::fputc('\n', ctx.out);
   }
   return run_and_report(a, ctx, *stepper, scene, steps, every, render, outputs, [&] {
@@ -527,6 +542,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
         (scene_name.empty() ? std::string("cavity") : scene_name) +
         "' runs on the engine (expected no ";
     if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
+    if (a.store_kib_opt->count()) return usage("--store-kib" + general + "--store-kib)");
     if (a.workers_opt->count() && (a.workers < 1 || a.workers > 256))
       return usage("--workers " + std::to_string(a.workers) + ": expected 1..256");
     if (a.workers_opt->count() && backend == BackendKind::kSerial)
@@ -727,6 +743,9 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--cl-device", a.cl_device, "OpenCL device index (see ardcell devices)");
   a.workers_opt =
       run->add_option("--workers", a.workers, "threads back end workers (default: one per core)");
+  a.store_kib_opt = run->add_option(
+      "--store-kib", a.store_kib,
+      "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2)");
   run->add_flag("--stats", a.stats,
                 "print per-frame times (mean, p50, p99) and, for table1 scenes, per-pass timings");
   run->callback([args, &ctx] {

@@ -80,7 +80,7 @@ struct PassDesc {
 struct FramePlanOptions {
   Int2 grid{};
   int field_halo = 1;
-  std::size_t local_store_bytes = kDefaultLocalStoreBytes;
+  std::size_t local_store_bytes = machine_local_store_bytes();
   int workers = 1;         // tiles are cut so that each worker gets several
   int max_tile_width = 0;  // caps for tests (0: as large as the store allows)
   int max_tile_height = 0;

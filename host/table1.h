@@ -37,7 +37,7 @@ struct Table1Options {
   bool rd = false;  // fluid + Gray-Scott RD
   Table1Schedule schedule = Table1Schedule::kStream;
   int workers = 0;  // threads back end workers (0: one per hardware thread)
-  std::size_t local_store_bytes = kDefaultLocalStoreBytes;
+  std::size_t local_store_bytes = machine_local_store_bytes();
   int sweeps_per_residency = 20;  // blocked: sweeps per tile load (20 = one load per solve)
   int max_tile_width = 0;         // test hooks: cap tile sizes to force awkward tilings
   int max_tile_height = 0;

@@ -1,12 +1,81 @@
 #include "runtime/local_store.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <new>
+#include <string>
 
 #include "runtime/check.h"
 
 namespace ardcell {
+
+namespace {
+
+// The first line of a sysfs file ("" when unreadable).
+std::string read_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// "512K", "1M", "2048" (bytes) -> bytes; 0 when not a size.
+std::size_t parse_cache_size(const std::string& s) {
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(s.c_str(), &end, 10);
+  if (end == s.c_str()) return 0;
+  if (*end == 'K') return std::size_t(v) << 10;
+  if (*end == 'M') return std::size_t(v) << 20;
+  return std::size_t(v);
+}
+
+// CPUs in a list like "0", "0-1", "0,4" or "0-3,8-11".
+int cpu_count(const std::string& list) {
+  int count = 0;
+  const char* p = list.c_str();
+  while (*p) {
+    char* end = nullptr;
+    const long a = std::strtol(p, &end, 10);
+    if (end == p) break;
+    long b = a;
+    if (*end == '-') b = std::strtol(end + 1, &end, 10);
+    count += int(std::max(1L, b - a + 1));
+    p = *end == ',' ? end + 1 : end;
+    if (*end != ',') break;
+  }
+  return std::max(1, count);
+}
+
+// L2 bytes per core, 0 when unknown.
+std::size_t l2_per_core() {
+  for (int i = 0; i < 8; ++i) {
+    const std::string dir = "/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(i) + "/";
+    if (read_line(dir + "level") != "2" || read_line(dir + "type") == "Instruction") continue;
+    if (const std::size_t bytes = parse_cache_size(read_line(dir + "size")))
+      return bytes / std::size_t(cpu_count(read_line(dir + "shared_cpu_list")));
+  }
+#if defined(_SC_LEVEL2_CACHE_SIZE)
+  const long bytes = sysconf(_SC_LEVEL2_CACHE_SIZE);
+  if (bytes > 0) return std::size_t(bytes);
+#endif
+  return 0;
+}
+
+}  // namespace
+
+std::size_t machine_local_store_bytes() {
+  static const std::size_t bytes = [] {
+    const std::size_t l2 = l2_per_core();
+    if (l2 == 0) return kSpeLocalStoreBytes;
+    const std::size_t clamped = std::clamp<std::size_t>(l2, 64 << 10, 16 << 20);
+    return clamped / (2 * kRowAlignBytes) * (2 * kRowAlignBytes);
+  }();
+  return bytes;
+}
 
 LocalStore::LocalStore(std::size_t capacity_bytes) : capacity_(capacity_bytes) {
   ARDCELL_CHECK(capacity_bytes >= 2 * kRowAlignBytes && capacity_bytes % (2 * kRowAlignBytes) == 0,

@@ -1,5 +1,6 @@
 #pragma once
-// LocalStore: a worker's fixed arena, as an SPE's 256 KiB local store. Allocated once when the
+// LocalStore: a worker's fixed arena, as an SPE's local store (256 KiB on the Cell; by default
+// here the size of a core's L2 cache, machine_local_store_bytes). Allocated once when the
 // worker starts; a tile program lays its buffers out in it with a bump cursor, reset per tile.
 // It is split into two halves (slots) for double buffering: tile i+1 is fetched into one slot
 // while tile i computes in the other.
@@ -12,12 +13,18 @@
 
 namespace ardcell {
 
-inline constexpr std::size_t kDefaultLocalStoreBytes = 256 * 1024;
+// The Cell SPE's local store: the Cell-faithful size (`--store-kib spe`).
+inline constexpr std::size_t kSpeLocalStoreBytes = 256 * 1024;
+
+// The local store a worker gets by default: this machine's L2 cache per core (from
+// /sys/devices/system/cpu/cpu0/cache, else sysconf), a multiple of 256 bytes in
+// [64 KiB, 16 MiB]; the SPE's 256 KiB where the machine does not say. Read once.
+std::size_t machine_local_store_bytes();
 
 class LocalStore {
  public:
   static constexpr int kSlots = 2;
-  explicit LocalStore(std::size_t capacity_bytes = kDefaultLocalStoreBytes);
+  explicit LocalStore(std::size_t capacity_bytes = machine_local_store_bytes());
   LocalStore(const LocalStore&) = delete;
   LocalStore& operator=(const LocalStore&) = delete;
 

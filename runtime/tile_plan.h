@@ -27,7 +27,7 @@ struct TilePlanRequest {
   // When not empty: one entry per buffer, the halo it holds around the written box; replaces
   // fields_with_halo and fields_core (a pass whose buffers have different halos).
   std::span<const int> buffer_halos;
-  std::size_t store_bytes = kDefaultLocalStoreBytes;  // both slots together
+  std::size_t store_bytes = machine_local_store_bytes();  // both slots together
   int min_tiles = 1;   // at least this many tiles where the grid allows (load balance)
   int max_width = 0;   // cap on core width in cells (0: none); tests use it to force cuts
   int max_height = 0;  // cap on core height in cells (0: none)

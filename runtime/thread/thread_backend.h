@@ -30,7 +30,7 @@ namespace ardcell {
 
 struct ThreadBackendOptions {
   int workers = 0;  // 0: one per hardware thread
-  std::size_t local_store_bytes = kDefaultLocalStoreBytes;
+  std::size_t local_store_bytes = machine_local_store_bytes();
   // Pin worker w to core w % cores, and a host thread that is worker 0 to core 0 for the back
   // end's lifetime (silently unpinned where not permitted).
   bool pin = true;

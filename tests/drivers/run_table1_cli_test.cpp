@@ -40,7 +40,9 @@ TEST_F(RunTable1Test, BlockedWithStatsPrintsPassTimingsAndFrames) {
                        "--workers 2 --every 5 --out frames");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("frames=5 "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("schedule=blocked backend=threads workers=2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("schedule=blocked backend=threads workers=2 local_store="),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("frame ms: mean="), std::string::npos) << r.out;
   // The plan's passes: at least the sources pass and a projection, each with a ms figure.
   EXPECT_GE(count_lines(r.out), 5) << r.out;
@@ -125,6 +127,9 @@ TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
       std::string("run cavity --size 16 --steps 1 --backend opencl --schedule stream"),
       std::string("run cavity --size 16 --steps 1 --schedule bogus"),
       std::string("run cavity --size 16 --steps 1 --workers 0"),
+      std::string(kSmall) + "--store-kib 100",
+      std::string(kSmall) + "--store-kib big",
+      std::string("run cavity --size 16 --steps 1 --store-kib spe"),
       std::string("run cavity --size 16 --steps 1 --backend serial --workers 2")};
   for (const std::string& args : cases) {
     const Result r = run(args);
@@ -140,6 +145,13 @@ TEST_F(RunTable1Test, GeneralSceneStatsPrintFrameTimes) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("frame ms: mean="), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("(20 frames)"), std::string::npos) << r.out;
+}
+
+TEST_F(RunTable1Test, StoreKibSpeRunsTheCellSizedLocalStore) {
+  const Result r = run(std::string(kSmall) + "--schedule stream --backend threads --stats " +
+                       "--store-kib spe --every 0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("local_store=256KiB"), std::string::npos) << r.out;
 }
 
 TEST_F(RunTable1Test, GeneralSceneBackendsSaveTheSameBytes) {

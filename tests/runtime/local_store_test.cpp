@@ -2,13 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <string>
+
 #include <cstdint>
 
 namespace ardcell {
 namespace {
 
 TEST(LocalStore, TwoAlignedSlotsOfHalfTheCapacity) {
-  LocalStore store;
+  LocalStore store(kSpeLocalStoreBytes);
   EXPECT_EQ(store.capacity(), 256u * 1024);
   EXPECT_EQ(store.slot_bytes(), 128u * 1024);
   EXPECT_EQ(store.slot(1) - store.slot(0), std::ptrdiff_t(store.slot_bytes()));
@@ -42,6 +47,37 @@ TEST(LocalStore, LocalCopyBytesCountsWholeLines) {
   EXPECT_EQ(local_copy_bytes(Box2{{0, 0}, {31, 1}}, 1), 128u);
   // [30, 40) straddles two lines.
   EXPECT_EQ(local_copy_bytes(Box2{{30, 0}, {40, 1}}, 1), 256u);
+}
+
+// The default local store is one L2 cache per core, read here independently of the runtime's
+// parser: the first level-2 data or unified cache of cpu0 divided among the CPUs sharing it.
+TEST(LocalStore, DefaultIsOneL2PerCore) {
+  const std::size_t bytes = machine_local_store_bytes();
+  EXPECT_EQ(bytes % 256, 0u);
+  EXPECT_GE(bytes, std::size_t(64) << 10);
+  EXPECT_LE(bytes, std::size_t(16) << 20);
+  LocalStore store;  // the default constructor takes it
+  EXPECT_EQ(store.capacity(), bytes);
+  for (int i = 0; i < 8; ++i) {
+    const std::string dir = "/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(i) + "/";
+    std::ifstream level(dir + "level"), type(dir + "type"), size(dir + "size"),
+        shared(dir + "shared_cpu_map");
+    int l = 0;
+    std::string t, s, map;
+    if (!(level >> l) || l != 2 || !(type >> t) || t == "Instruction" || !(size >> s)) continue;
+    std::size_t l2 = std::stoul(s) * (s.back() == 'K' ? 1024 : s.back() == 'M' ? 1 << 20 : 1);
+    // shared_cpu_map is a hex mask: count its bits.
+    int sharing = 0;
+    if (shared >> map)
+      for (char c : map)
+        if (std::isxdigit(static_cast<unsigned char>(c)))
+          sharing += __builtin_popcount(unsigned(std::stoi(std::string(1, c), nullptr, 16)));
+    if (sharing > 0) l2 /= std::size_t(sharing);
+    l2 = std::clamp<std::size_t>(l2, std::size_t(64) << 10, std::size_t(16) << 20) / 256 * 256;
+    EXPECT_EQ(bytes, l2) << dir;
+    return;
+  }
+  GTEST_SKIP() << "this machine does not describe its L2 cache in sysfs";
 }
 
 }  // namespace
