@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "host/fluid_step.h"
+#include "host/engine/fluid_step.h"
 #include "kernels/advect.h"
 #include "kernels/stam_sweeps.h"
 #include "runtime/boundary.h"

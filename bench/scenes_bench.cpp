@@ -1,4 +1,4 @@
-// Every embedded preset through the engine users run (host/engine.h, the path of `ardcell run`
+// Every embedded preset through the engine users run (host/engine/engine.h, the path of `ardcell run`
 // and `ardcell live`), per back end and grid size:
 //   Scenes/<preset>/<serial|threads>/<N>   one iteration = one frame; counters fps, cells_per_s
 //   SceneSpeedup/<preset>/<N>             serial and threads frames alternating in the same
@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "bench/bench_env.h"
-#include "host/engine.h"
-#include "host/preset.h"
+#include "host/engine/engine.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 namespace {

@@ -9,7 +9,7 @@
 // project's flags (-O3 -march=native in Release, so the compiler may vectorise it: the honest
 // baseline) and as the article built it (-O2, generic x86-64).
 //
-// Ours: ParallelGrayScott9 (host/rd_parallel_gray_scott.h): float, SIMD row kernel with
+// Ours: ParallelGrayScott9 (host/engine/rd_parallel_gray_scott.h): float, SIMD row kernel with
 // register-shifted separable sums, one band of rows per hardware thread updated in place,
 // temporally blocked (block_steps steps per barrier), band boundaries moved by measured busy
 // time (balancing, see the header), and skipping the quiescent background
@@ -27,7 +27,7 @@
 #include <thread>
 #include <vector>
 
-#include "host/rd_parallel_gray_scott.h"
+#include "host/engine/rd_parallel_gray_scott.h"
 
 namespace {
 

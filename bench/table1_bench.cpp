@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "bench/bench_env.h"
-#include "host/table1.h"
+#include "host/engine/table1.h"
 #include "runtime/field.h"
 
 namespace ardcell {

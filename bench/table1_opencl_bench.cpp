@@ -2,7 +2,7 @@
 // Table1/opencl-blocked/..., beside the CPU rows of bench/table1_bench.cpp, with the same
 // naming: Table1/<backend>-<schedule>/<fluid|ard>/<N>. One iteration is one whole frame, enqueued
 // and finished (as a frame must be before it is shown). Counters: fps, bytes_per_s (the
-// sweep-by-sweep minimum traffic of host/table1.h, so GPU figures compare with the device's
+// sweep-by-sweep minimum traffic of host/engine/table1.h, so GPU figures compare with the device's
 // bandwidth).
 //
 // Table1Ratio/opencl-<schedule>/<fluid|ard>/<N>: the threads back end (Table1Workload, same
@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "bench/bench_env.h"
-#include "host/table1_opencl.h"
+#include "host/engine/table1_opencl.h"
 
 namespace ardcell {
 namespace {

@@ -1,11 +1,11 @@
-# Embeds presets/*.toml into ardcell_host (host/preset.h: embedded_presets()).
+# Embeds presets/*.toml into ardcell_host (host/scenes/preset.h: embedded_presets()).
 # Included from CMakeLists.txt after ardcell_host is defined: adds a generated .cpp to it that is
 # rebuilt when a preset changes. Run in script mode (-P) it writes that .cpp (OUT, PRESET_DIR).
 if(CMAKE_SCRIPT_MODE_FILE)
   file(GLOB preset_files ${PRESET_DIR}/*.toml)
   list(SORT preset_files)
   set(body "// Generated from presets/*.toml by cmake/embed_presets.cmake. Do not edit.\n")
-  string(APPEND body "#include \"host/preset.h\"\n\nnamespace ardcell {\nnamespace {\n")
+  string(APPEND body "#include \"host/scenes/preset.h\"\n\nnamespace ardcell {\nnamespace {\n")
   set(table "")
   set(i 0)
   foreach(f ${preset_files})

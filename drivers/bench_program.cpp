@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "host/atomic_file.h"
+#include "host/io/atomic_file.h"
 
 namespace ardcell {
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "host/status.h"
+#include "host/config/status.h"
 
 namespace ardcell {
 

@@ -17,8 +17,8 @@
 #include "drivers/bench_program.h"
 #include "drivers/cli.h"
 #include "drivers/png_writer.h"
-#include "host/atomic_file.h"
-#include "host/image.h"
+#include "host/io/atomic_file.h"
+#include "host/render/image.h"
 #include "runtime/local_store.h"
 
 namespace ardcell {

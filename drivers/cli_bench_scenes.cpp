@@ -12,7 +12,7 @@
 
 #include "drivers/bench_program.h"
 #include "drivers/cli.h"
-#include "host/preset.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 namespace {

@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "drivers/cli.h"
-#include "host/preset.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 namespace {

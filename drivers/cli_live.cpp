@@ -1,5 +1,5 @@
 // `ardcell live [PRESET]`: the real-time window (drivers/display_sdl.h) running the live loop
-// (host/live_loop.h) with presets, adaptive quality, attract mode, GPIO buttons, OSC and
+// (host/live/live_loop.h) with presets, adaptive quality, attract mode, GPIO buttons, OSC and
 // recording. See README "Live display, presets and kiosk".
 #include <sched.h>
 #include <sys/mman.h>
@@ -14,10 +14,10 @@
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/gpio_buttons.h"
 #include "drivers/png_writer.h"
-#include "host/attract_mode.h"
-#include "host/live_engine.h"
-#include "host/live_opencl.h"
-#include "host/preset.h"
+#include "host/live/attract_mode.h"
+#include "host/live/live_engine.h"
+#include "host/live/live_opencl.h"
+#include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
 #ifdef ARDCELL_WITH_SDL2
 #include "drivers/display_sdl.h"

@@ -1,4 +1,4 @@
-// `ardcell run`: the headless run (host/offline_run.h) with frame, video and state output.
+// `ardcell run`: the headless run (host/run/offline_run.h) with frame, video and state output.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -14,16 +14,16 @@
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
-#include "host/atomic_file.h"
-#include "host/offline_run.h"
-#include "host/preset.h"
-#include "host/state_io.h"
-#include "host/table1.h"
+#include "host/io/atomic_file.h"
+#include "host/run/offline_run.h"
+#include "host/scenes/preset.h"
+#include "host/io/state_io.h"
+#include "host/engine/table1.h"
 #include "runtime/opencl/backend_choice.h"
 #if defined(ARDCELL_WITH_OPENCL)
-#include "host/opencl_rd_engine.h"
-#include "host/rd_step.h"
-#include "host/table1_opencl.h"
+#include "host/engine/opencl_rd_engine.h"
+#include "host/engine/rd_step.h"
+#include "host/engine/table1_opencl.h"
 #endif
 
 namespace ardcell {
@@ -48,7 +48,7 @@ struct RunArgs {
   RunPaintOptions paint;  // --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes
 };
 
-// The scenes that run the Table 1 workload (host/table1.h) on the frame plan.
+// The scenes that run the Table 1 workload (host/engine/table1.h) on the frame plan.
 constexpr const char* kTable1Scenes[][2] = {
     {"table1", "Table 1 workload (seed 000, 7.2): Stam's stable fluid alone, on the frame plan"},
     {"table1-ard", "Table 1 workload: fluid + Gray-Scott RD riding on it, on the frame plan"}};
@@ -458,7 +458,7 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
 }
 
 #if defined(ARDCELL_WITH_OPENCL)
-// A reaction-diffusion-only scene on an OpenCL device (host/opencl_rd_engine.h): the fields stay
+// A reaction-diffusion-only scene on an OpenCL device (host/engine/opencl_rd_engine.h): the fields stay
 // on the device; a written frame (and the saved state) downloads A and B.
 class OpenClRdStepper final : public OfflineStepper {
  public:

@@ -9,9 +9,9 @@
 #include "drivers/hid_report.h"
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
-#include "host/engine.h"
-#include "host/frame_render.h"
-#include "host/preset.h"
+#include "host/engine/engine.h"
+#include "host/render/frame_render.h"
+#include "host/scenes/preset.h"
 #if defined(ARDCELL_WITH_HIDAPI)
 #include "drivers/tablet_hidapi.h"
 #endif

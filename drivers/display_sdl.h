@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 
-#include "host/live_loop.h"
+#include "host/live/live_loop.h"
 
 struct SDL_Window;
 struct SDL_Renderer;

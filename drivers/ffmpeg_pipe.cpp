@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "drivers/y4m_writer.h"
-#include "host/atomic_file.h"
+#include "host/io/atomic_file.h"
 
 extern char** environ;
 

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "host/frame_sink.h"
+#include "host/render/frame_sink.h"
 
 namespace ardcell {
 

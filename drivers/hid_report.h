@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "drivers/hid_descriptor.h"
-#include "host/stroke.h"
+#include "host/paint/stroke.h"
 
 namespace ardcell {
 

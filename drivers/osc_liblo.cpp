@@ -12,7 +12,7 @@
 #include <cstring>
 #include <vector>
 
-#include "host/preset.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 

@@ -18,8 +18,8 @@
 #include <string>
 #include <thread>
 
-#include "host/live_loop.h"
-#include "host/stroke.h"
+#include "host/live/live_loop.h"
+#include "host/paint/stroke.h"
 
 namespace ardcell {
 

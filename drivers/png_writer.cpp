@@ -5,7 +5,7 @@
 #include <csetjmp>
 #include <cstdio>
 
-#include "host/atomic_file.h"
+#include "host/io/atomic_file.h"
 
 namespace ardcell {
 namespace {

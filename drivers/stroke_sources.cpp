@@ -3,7 +3,7 @@
 #include "drivers/hid_descriptor.h"
 #include "drivers/hid_recorder.h"
 #include "drivers/hid_report.h"
-#include "host/stroke_io.h"
+#include "host/paint/stroke_io.h"
 #if defined(ARDCELL_WITH_HIDAPI)
 #include "drivers/tablet_hidapi.h"
 #endif

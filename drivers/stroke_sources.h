@@ -1,6 +1,6 @@
 #pragma once
 // Stroke sources from files and devices, and the painting options of `ardcell run`:
-//   --strokes FILE   a stroke recording (host/stroke_io.h, JSON lines), replayed in real time
+//   --strokes FILE   a stroke recording (host/paint/stroke_io.h, JSON lines), replayed in real time
 //   --replay FILE    a hid-recorder capture of a pen tablet, decoded through its descriptor
 //   --paint-mode M   deposit | orient | push | obstacle | erase (default: the preset's mode)
 //   --paint-radius R brush radius in cells at full pressure
@@ -11,10 +11,10 @@
 
 #include <CLI/CLI.hpp>
 
-#include "host/paint.h"
-#include "host/scene_config.h"
-#include "host/stroke.h"
-#include "host/stroke_playback.h"
+#include "host/paint/paint.h"
+#include "host/config/scene_config.h"
+#include "host/paint/stroke.h"
+#include "host/paint/stroke_playback.h"
 
 namespace ardcell {
 
@@ -41,7 +41,7 @@ struct RunPaintOptions {
 // Adds --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes to a subcommand.
 void add_run_paint_options(CLI::App& command, RunPaintOptions& options);
 
-// The Painter defaults for a scene (host/paint.h paint_config_for).
+// The Painter defaults for a scene (host/paint/paint.h paint_config_for).
 PaintConfig paint_config_for_scene(const SceneConfig& scene);
 
 }  // namespace ardcell

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "drivers/hid_recorder.h"
-#include "host/stroke.h"
+#include "host/paint/stroke.h"
 
 namespace ardcell {
 

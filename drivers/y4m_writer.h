@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "host/atomic_file.h"
-#include "host/frame_sink.h"
+#include "host/io/atomic_file.h"
+#include "host/render/frame_sink.h"
 
 namespace ardcell {
 

@@ -1,7 +1,7 @@
 #pragma once
 // The one small interface every back end implements (serial, threads, OpenCL), and the two
 // things it is handed: a Pass (what to run) and Tiles (where). A back end knows no equations:
-// the host builds Passes (host/frame_plan.h) and the back end runs them over tiles.
+// the host builds Passes (host/engine/frame_plan.h) and the back end runs them over tiles.
 //
 // A Pass carries three ways to run it, one per kind of back end:
 //   run_whole       - the serial reference: the whole grid at once, no tiling, no local store;

@@ -3,7 +3,7 @@
 
 An Archimedean spiral r = r0 + (r1 - r0) * s, angle = 2.5 turns * s (s in [0, 1]) around the
 canvas centre, drawn from the inside out in 2 seconds at 200 samples/s with pressure 0.8, then
-one pen-up sample. Coordinates are normalized (x right, y down), as in host/stroke_io.h.
+one pen-up sample. Coordinates are normalized (x right, y down), as in host/paint/stroke_io.h.
 Run: scripts/make_fig3_spiral.py [OUT]
 """
 import json

@@ -16,8 +16,8 @@
 #include <set>
 #include <string>
 
-#include "host/npy.h"
-#include "host/state_io.h"
+#include "host/io/npy.h"
+#include "host/io/state_io.h"
 #include "tests/drivers/binary_run_fixture.h"
 
 namespace ardcell {

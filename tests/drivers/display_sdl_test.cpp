@@ -8,8 +8,8 @@
 #include <fstream>
 
 #include "drivers/bitmap_font.h"
-#include "host/engine.h"
-#include "host/live_engine.h"
+#include "host/engine/engine.h"
+#include "host/live/live_engine.h"
 
 // Sanitizer builds: SDL keeps D-Bus/X11 helper allocations for the life of the process.
 extern "C" const char* __lsan_default_options() {

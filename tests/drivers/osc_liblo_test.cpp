@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-#include "host/preset.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 namespace {

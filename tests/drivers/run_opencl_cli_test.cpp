@@ -13,7 +13,7 @@
 #include <cmath>
 #include <string>
 
-#include "host/npy.h"
+#include "host/io/npy.h"
 #include "tests/drivers/binary_run_fixture.h"
 #if defined(ARDCELL_WITH_OPENCL)
 #include "runtime/opencl/opencl_context.h"

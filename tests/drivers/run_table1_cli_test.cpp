@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "host/npy.h"
+#include "host/io/npy.h"
 #include "tests/drivers/binary_run_fixture.h"
 
 namespace ardcell {

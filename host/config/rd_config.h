@@ -1,0 +1,78 @@
+#pragma once
+// Parameters of the reaction-diffusion half of a scene (Kim & Lin). Plain data, like
+// FluidConfig. Owned by the RD solver (host/engine/rd_step.h).
+//
+// Units: the RD runs with its own step rd.dt (0: the scene's dt) and cell size rd.cell_size
+// (0: the scene's h), so that Pearson's and seed 001's parameters apply unchanged; the
+// chemicals are advected by the fluid with the scene's dt and h (Eqn 20).
+#include <cstdint>
+
+#include "kernels/anisotropy.h"
+#include "kernels/linear_solver.h"
+#include "kernels/reaction.h"
+#include "kernels/stencil_operator.h"
+
+namespace ardcell {
+
+enum class RdScheme : uint8_t {
+  kImplicit,   // Eqns 6 + 19 (+ 20): unconditionally stable (the paper)
+  kExplicit5,  // forward Euler, 5-point Laplacian (Eqn 5)
+  kExplicit9,  // forward Euler, seed 001's 9-point Laplacian
+};
+
+enum class RdInitialPattern : uint8_t {
+  kUniform,       // A = background_a, B = background_b everywhere (plus noise)
+  kCentreSquare,  // Pearson: a central square of (seed_a, seed_b), side seed_size * width
+  kSeedSquare,    // seed 001: a square of seed_cells x seed_cells cells at the centre
+  kRandomSpots,   // `spots` discs of (seed_a, seed_b), radius seed_radius cells
+  kStripe,        // a vertical band of (seed_a, seed_b) at the left (waves, Barkley)
+};
+
+struct RdConfig {
+  bool enabled = false;
+
+  // Reaction (Eqn 6, Appendix A).
+  ReactionParams reaction;
+  bool react = true;       // false: passive chemicals (the "advection only" columns)
+  bool use_table = false;  // precomputed implicit update (kernels/reaction_table.h)
+  int table_resolution = 256;
+  bool table_range_auto = true;  // true: the model's typical range
+  ConcentrationBox table_range{0, 1, 0, 1};
+
+  // Diffusion (Eqns 13-19).
+  bool diffuse = true;
+  double diffusion_a = 1.0;     // D_A in cell_size^2 per unit of rd.dt
+  double diffusion_b = 0.5;     // D_B
+  AnisotropyParams anisotropy;  // k = a(theta); A's rate D_A k, B's rate D_B k
+  // false: Eqn 14 as printed, a(theta) replaces A's diffusion constant only and B keeps its
+  // isotropic rate D_B (Eqn 3). With the same k on both chemicals a Turing pattern can settle
+  // into a stretched copy of its isotropic steady state and stop moving (Fig. 3 bottom).
+  bool anisotropy_on_b = true;
+  SolverSettings diffusion_solver{SolverKind::kIccg, 40, 1e-6};
+  BoundaryKind boundary = BoundaryKind::kDirichlet;  // the paper's choice
+  float boundary_a = 1.0f;                           // Dirichlet ghost values of A and B
+  float boundary_b = 0.0f;
+  bool crank_nicolson = false;
+
+  // Advection by the fluid (Eqn 20), when the scene has a fluid.
+  bool advect = true;
+
+  // Time stepping.
+  RdScheme scheme = RdScheme::kImplicit;
+  double dt = 0.0;         // RD step; 0: the scene's dt
+  double cell_size = 0.0;  // h of the RD; 0: the scene's h
+  int steps_per_frame = 1;
+
+  // Initial conditions.
+  RdInitialPattern initial = RdInitialPattern::kCentreSquare;
+  float background_a = 1.0f, background_b = 0.0f;
+  float seed_a = 0.5f, seed_b = 0.25f;
+  double seed_size = 0.1;  // kCentreSquare: side as a fraction of the width
+  int seed_cells = 10;     // kSeedSquare: side in cells
+  int spots = 12;          // kRandomSpots
+  double seed_radius = 4;  // kRandomSpots: radius in cells
+  double noise = 0.01;     // relative noise (Pearson: +-1%)
+  uint64_t seed = 1;       // random seed of the noise and spots
+};
+
+}  // namespace ardcell

@@ -1,0 +1,155 @@
+#include "host/engine/engine.h"
+
+#include "host/engine/fluid_step.h"
+#include "host/engine/rd_step.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
+
+#include <algorithm>
+#include <string>
+
+namespace ardcell {
+
+// The solvers of one scene, built once in the constructor.
+struct Engine::Solvers {
+  std::unique_ptr<FluidStep> fluid;
+  std::unique_ptr<RdStepper> rd;  // when config.rd.enabled (host/engine/rd_step.h)
+};
+
+namespace {
+
+std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
+  if (options.backend == EngineOptions::Backend::kSerial) return std::make_unique<SerialBackend>();
+  ThreadBackendOptions t;
+  t.workers = options.workers;
+  // Unpinned: an engine shares the machine with threads it does not own (seed 001's
+  // ParallelGrayScott9, the live display, other processes of a kiosk). Pinned, the host thread
+  // kept core 0 and the scheduler put ParallelGrayScott9's worker beside it: seed 001 ran at
+  // 3.0-3.4 ms per frame instead of 0.8.
+  t.pin = false;
+  return std::make_unique<ThreadBackend>(t);
+}
+
+}  // namespace
+
+Engine::Engine(const SceneConfig& config, const EngineOptions& options)
+    : config_(config),
+      backend_(make_engine_backend(options)),
+      executor_(std::make_unique<RowExecutor>(*backend_)),
+      solvers_(std::make_unique<Solvers>()) {
+  ARDCELL_CHECK(config.size.x > 0 && config.size.y > 0, "Engine: grid size must be positive");
+  ARDCELL_CHECK(config.domain_width > 0.0 && config.dt > 0.0,
+                "Engine: domain width and dt must be positive");
+  state_.size = config_.size;
+  state_.h = config_.domain_width / config_.size.x;
+  state_.dt = config_.dt;
+  solvers_->fluid = make_fluid_step(config_, *executor_);
+  if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->allocate(state_);
+  if (config_.rd.enabled) {
+    // Throws std::invalid_argument with one line naming a bad RD parameter.
+    solvers_->rd = std::make_unique<RdStepper>(config_, *executor_);
+    solvers_->rd->init_state(state_);  // allocates A, B, theta0
+  }
+  reset();
+}
+
+Engine::~Engine() = default;
+
+const char* Engine::backend_name() const { return backend_->name(); }
+int Engine::workers() const { return backend_->workers(); }
+
+void Engine::reset() {
+  state_.time = 0.0;
+  state_.step = 0;
+  state_.dt = config_.dt;
+  if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->reset(state_);
+  if (solvers_->rd) solvers_->rd->init_state(state_);
+}
+
+namespace {
+
+// The first structural difference between a and b (the key of host/scenes/preset.cpp), or nullptr.
+const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
+  const FluidConfig &fa = a.fluid, &fb = b.fluid;
+  const RdConfig &ra = a.rd, &rb = b.rd;
+  if (!(a.size == b.size)) return "grid.size";
+  if (a.domain_width != b.domain_width) return "grid.domain_width";
+  if (fa.kind != fb.kind) return "fluid.scene";
+  if (fa.walls != fb.walls) return "fluid.walls";
+  if (fa.obstacle_x != fb.obstacle_x) return "fluid.obstacle_x";
+  if (fa.obstacle_y != fb.obstacle_y) return "fluid.obstacle_y";
+  if (fa.obstacle_radius != fb.obstacle_radius) return "fluid.obstacle_radius";
+  if (fa.emitters.size() != fb.emitters.size()) return "fluid.emitters (their number)";
+  if (fa.viscosity_solver.kind != fb.viscosity_solver.kind) return "fluid.viscosity_solver.kind";
+  if (fa.pressure_solver.kind != fb.pressure_solver.kind) return "fluid.pressure_solver.kind";
+  if (ra.enabled != rb.enabled) return "rd.enabled";
+  if (!ra.enabled) return nullptr;
+  if (ra.reaction.model != rb.reaction.model) return "rd.reaction.model";
+  if (ra.scheme != rb.scheme) return "rd.scheme";
+  if (ra.boundary != rb.boundary) return "rd.boundary";
+  if (ra.react != rb.react) return "rd.react";
+  if (ra.diffuse != rb.diffuse) return "rd.diffuse";
+  if (ra.diffusion_solver.kind != rb.diffusion_solver.kind) return "rd.diffusion_solver.kind";
+  if (ra.use_table != rb.use_table) return "rd.table.enabled";
+  if (ra.use_table && ra.table_resolution != rb.table_resolution) return "rd.table.resolution";
+  if (ra.use_table &&
+      (ra.table_range_auto != rb.table_range_auto || ra.table_range.a_lo != rb.table_range.a_lo ||
+       ra.table_range.a_hi != rb.table_range.a_hi || ra.table_range.b_lo != rb.table_range.b_lo ||
+       ra.table_range.b_hi != rb.table_range.b_hi))
+    return "rd.table range";
+  return nullptr;
+}
+
+}  // namespace
+
+Status Engine::update_parameters(const SceneConfig& next) {
+  if (const char* key = structural_change(config_, next))
+    return Status::error(std::string(key) +
+                         ": changes the simulation's structure; rebuild the engine (switch "
+                         "presets) to change it");
+  if (!(next.dt > 0.0)) return Status::error("grid.dt: expected a positive time step");
+  if (next.rd.enabled) {
+    if (std::string why = rd_config_problem(next); !why.empty()) return Status::error(why);
+  }
+  // Field by field: the strings (name, description) are left alone so nothing allocates.
+  config_.dt = next.dt;
+  config_.default_steps = next.default_steps;
+  config_.output.show = next.output.show;  // short names: no allocation (SSO)
+  config_.output.colormap = next.output.colormap;
+  FluidConfig& f = config_.fluid;
+  f.viscosity = next.fluid.viscosity;
+  f.lid_speed = next.fluid.lid_speed;
+  f.dye_diffusion = next.fluid.dye_diffusion;
+  f.conserve_dye = next.fluid.conserve_dye;
+  f.inflow_speed = next.fluid.inflow_speed;
+  f.inflow_dye_stripes = next.fluid.inflow_dye_stripes;
+  std::copy(next.fluid.emitters.begin(), next.fluid.emitters.end(), f.emitters.begin());
+  f.viscosity_solver = next.fluid.viscosity_solver;
+  f.pressure_solver = next.fluid.pressure_solver;
+  config_.rd = next.rd;
+  solvers_->fluid->update_parameters(config_.fluid);
+  if (solvers_->rd) solvers_->rd->update_parameters(config_);
+  state_.dt = config_.dt;
+  return Status::ok();
+}
+
+void Engine::step() {
+  // Fluid first: the RD is advected by this frame's velocity.
+  solvers_->fluid->step(state_);
+  // RD: implicit reaction -> anisotropic diffusion -> advection by this frame's u, v.
+  if (solvers_->rd) solvers_->rd->step(state_);
+  state_.time += state_.dt;
+  ++state_.step;
+}
+
+void Engine::step_without_rd() {
+  solvers_->fluid->step(state_);
+  state_.time += state_.dt;
+  ++state_.step;
+}
+
+const RdStepStats* Engine::rd_stats() const {
+  return solvers_->rd ? &solvers_->rd->stats() : nullptr;
+}
+
+}  // namespace ardcell

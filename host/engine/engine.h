@@ -1,0 +1,77 @@
+#pragma once
+// Engine: runs one scene. Owns the simulation state, the solvers and the back end they run on,
+// built once from a SceneConfig; step() advances one frame (fluid step, then the RD step when the
+// scene has RD) and does no heap allocation once the first frame has run.
+//
+// Every stage runs on the engine's back end: per-cell kernels, solver sweeps and reductions in
+// bands of rows (runtime/row_executor.h), so `serial` and `threads` with any number of workers
+// give the same bits (tests/host/engine/engine_backend_parity_test.cpp).
+#include <memory>
+#include <string>
+
+#include "host/config/scene_config.h"
+#include "host/config/sim_state.h"
+#include "host/config/status.h"
+
+namespace ardcell {
+
+struct RdStepStats;
+class Backend;
+class RowExecutor;
+
+// Where the engine runs: the serial reference or the threads back end (workers 0: one per
+// hardware thread).
+struct EngineOptions {
+  enum class Backend : uint8_t { kSerial, kThreads };
+  Backend backend = Backend::kThreads;
+  int workers = 0;
+};
+
+class Engine {
+ public:
+  explicit Engine(const SceneConfig& config, const EngineOptions& options = {});
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  // Back to the scene's initial conditions (time 0, step 0).
+  void reset();
+  // Advances one frame of config().dt.
+  void step();
+  // The same frame without the RD stage (fluid, time and step count only): for a caller that
+  // advances A and B itself, as the live display does on a coarser RD grid.
+  void step_without_rd();
+
+  // Applies the non-structural parameters of `next` from the next frame on, with no reset and
+  // no heap allocation: dt, fluid viscosity, lid / inflow speed, dye diffusion, emitters (same
+  // count), solver iterations and tolerances, RD reaction parameters (F, k, ...), diffusion
+  // rates, anisotropy, RD dt / cell size / steps per frame, initial pattern (used by the next
+  // reset), frame count and output. Structural changes (grid size or width, fluid scene, walls,
+  // obstacle, solver kinds, RD on/off, model, scheme, boundary, react/diffuse, reaction table)
+  // are refused: nothing changes and the message names the first such key and says to rebuild.
+  // An invalid RD parameter is refused the same way. (A reaction table, when on, is rebuilt on
+  // a change of reaction parameters or dt: the one case that allocates.)
+  Status update_parameters(const SceneConfig& next);
+
+  SimState& state() { return state_; }
+  const SimState& state() const { return state_; }
+  const SceneConfig& config() const { return config_; }
+  // "serial" or "threads", and its number of workers.
+  const char* backend_name() const;
+  int workers() const;
+  // What the engine's stages run on (for a caller that steps more on the same workers, as the
+  // live display's coarse RD grids do).
+  RowExecutor& executor() { return *executor_; }
+  // What the last RD step's solves did (iterations, residuals); nullptr when the scene has no RD.
+  const RdStepStats* rd_stats() const;
+
+ private:
+  struct Solvers;  // the fluid and RD solvers and their scratch (host/engine/engine.cpp)
+  SceneConfig config_;
+  std::unique_ptr<Backend> backend_;
+  std::unique_ptr<RowExecutor> executor_;
+  SimState state_;
+  std::unique_ptr<Solvers> solvers_;
+};
+
+}  // namespace ardcell

@@ -1,0 +1,94 @@
+#pragma once
+// One frame of Stam's stable fluids on a SimState (Stam 1999; seed 000 section 5):
+//   forces and sources -> implicit viscosity (I - dt nu Lap) u = u* -> project -> self-advect
+//   (semi-Lagrangian) -> project; then the dye: implicit diffusion (when dye_diffusion > 0) and
+//   advection by the new velocity.
+// The implicit solves use the 5-point StencilOperator and the LinearSolver chosen in the
+// FluidConfig (jacobi | rbgs | iccg | mg); the per-cell work is the tile kernels of kernels/
+// (advect.h, project.h, sources.h) run in bands of rows on the RowExecutor it is made with (the
+// engine's back end: same bits on any number of workers). Everything is allocated in the
+// constructor: step() does no heap allocation.
+#include <memory>
+
+#include "host/config/fluid_config.h"
+#include "host/config/sim_state.h"
+#include "kernels/linear_solver.h"
+#include "runtime/boundary.h"
+
+namespace ardcell {
+
+struct SceneConfig;
+
+// What the last frame's solves reported.
+struct FluidStepReport {
+  SolveReport viscosity_u, viscosity_v, pressure_first, pressure_second, dye;
+};
+
+class FluidStep {
+ public:
+  FluidStep(const FluidConfig& config, Int2 size, double h, double dt,
+            RowExecutor& ex = RowExecutor::serial());
+  ~FluidStep();
+  FluidStep(const FluidStep&) = delete;
+  FluidStep& operator=(const FluidStep&) = delete;
+
+  // Allocates the fluid fields of `state` (u, v, p, dye, and the obstacle mask when the scene has
+  // one), halo 1, when they are missing or of another size.
+  void allocate(SimState& state) const;
+  // The scene's initial conditions (fluid at rest, the initial dye, the obstacle mask).
+  void reset(SimState& state) const;
+  // Advances the fluid and the dye by state.dt (re-preparing the operators if dt changed).
+  void step(SimState& state);
+  // Takes the non-structural parameters of `config` (viscosity, lid and inflow speed, dye
+  // diffusion, solver iterations and tolerances, emitters when their count is unchanged); the
+  // operators are re-prepared on the next step. Allocates nothing. The caller (Engine) refuses
+  // structural changes (scene kind, walls, obstacle, solver kinds).
+  void update_parameters(const FluidConfig& config);
+  // The pressure projection alone (fills boundaries, solves, subtracts the gradient): exposed for
+  // tests and tools.
+  SolveReport project(SimState& state);
+
+  const FluidStepReport& last_report() const { return report_; }
+  // Boundary rules of each field in this scene.
+  const BoundaryFill& u_fill() const { return fill_u_; }
+  const BoundaryFill& v_fill() const { return fill_v_; }
+  const BoundaryFill& p_fill() const { return fill_p_; }
+  const BoundaryFill& dye_fill() const { return fill_dye_; }
+  // Fills the ghost cells (and obstacle cells) of u and v, or of a scalar with its rule.
+  void fill_velocity(SimState& state) const;
+  // The divergence-free MAC face velocities of the last projection (kernels/project.h
+  // face_velocities): what the dye is advected with (kernels/advect.h advect_scalar_mac), and
+  // what any other passive quantity should be advected with to keep its mass.
+  const FieldF& face_u() const { return face_u_; }
+  const FieldF& face_v() const { return face_v_; }
+
+ private:
+  struct Operators;
+  void prepare(double dt);
+  void add_forces_and_sources(SimState& state);
+  void diffuse_velocity(SimState& state);
+  void diffuse_dye(SimState& state);
+  void advect(SimState& state);
+
+  // Interior rows of the grid in bands on the executor: f(Box2 rows) over the full width.
+  template <class F>
+  void for_bands(const F& f) const;
+
+  FluidConfig config_;
+  RowExecutor* ex_;
+  Int2 size_;
+  double h_;
+  double prepared_dt_ = -1.0;
+  BoundaryFill fill_u_, fill_v_, fill_p_, fill_dye_;
+  Field<uint8_t> solid_;  // the obstacle mask (empty when none)
+  std::unique_ptr<Operators> ops_;
+  FieldF scratch_u_, scratch_v_, scratch_b_, rhs_;
+  FieldF face_u_, face_v_;  // (nx + 1) x ny and nx x (ny + 1), halo 1
+  FluidStepReport report_;
+};
+
+// Builds the FluidStep of a scene (size, h = domain_width / size.x, dt).
+std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene,
+                                           RowExecutor& ex = RowExecutor::serial());
+
+}  // namespace ardcell

@@ -1,0 +1,245 @@
+#include "host/engine/frame_plan.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "runtime/check.h"
+#include "runtime/dma.h"
+#include "runtime/local_store.h"
+
+namespace ardcell {
+namespace {
+
+[[noreturn]] void bad_pass(const std::string& name, const char* why) {
+  std::fprintf(stderr, "ardcell: frame plan pass '%s': %s\n", name.c_str(), why);
+  std::exit(2);
+}
+
+Box2 grow_clip(const Box2& core, int reach, Int2 grid) {
+  return core.grown(reach).intersected(box_of_size(grid));
+}
+
+}  // namespace
+
+struct FramePlan::PassProgram {
+  PassDesc desc;
+  Int2 grid;
+  int field_halo = 1;
+  TilePlan plan;
+  Pass pass;
+  int nbuf = 0;
+  std::array<bool, kMaxBuffers> written{};
+  // Serial reference: the whole field each buffer maps to, and the copies made at pass start.
+  std::array<FieldF*, kMaxBuffers> whole{};
+  std::array<const FieldF*, kMaxBuffers> copy_from{};
+  std::vector<std::unique_ptr<FieldF>> scratch;
+
+  Box2 buffer_box(const Tile& t, int i) const {
+    return TilePlan::written_box(t, grid, field_halo)
+        .grown(desc.buffers[std::size_t(i)].halo)
+        .intersected(box_of_size(grid).grown(field_halo));
+  }
+
+  // Lays the buffers out in `slot` (the same layout every time for a tile), fetching when asked.
+  void layout(const Tile& t, int slot, WorkerContext& ctx, View<float>* views, bool fetch) const {
+    SlotArena arena(*ctx.store, slot);
+    for (int i = 0; i < nbuf; ++i) {
+      const PassBufferDesc& b = desc.buffers[std::size_t(i)];
+      if (b.gather) {
+        views[i] = const_cast<FieldF*>(b.src)->view();
+      } else if (fetch && b.src) {
+        views[i] = ctx.dma->get_box(*b.src, buffer_box(t, i), arena, slot);
+      } else {
+        views[i] = ctx.dma->local_box(field_halo, buffer_box(t, i), arena);
+      }
+    }
+  }
+
+  void run_ops(std::span<const View<float>> views, const Tile* tile) const {
+    for (const PassOpDesc& op : desc.ops) {
+      if (op.kind == PassOpDesc::Kind::kMap) {
+        const Box2 region = tile ? grow_clip(tile->core, op.reach, grid) : box_of_size(grid);
+        op.map(op.params, views, region);
+        for (int j = 0; j < 4 && op.fill_buffers[std::size_t(j)] >= 0; ++j) {
+          const View<float>& v = views[std::size_t(op.fill_buffers[std::size_t(j)])];
+          fill_boundary(v.crop(region.grown(1).intersected(v.box())), grid,
+                        op.fills[std::size_t(j)]);
+        }
+      } else {
+        int cur = op.a, other = op.b;
+        for (int s = 1; s <= op.sweeps; ++s) {
+          const Box2 region =
+              tile ? TilePlan::sweep_region(*tile, grid, op.sweeps + op.extra_reach, s)
+                   : box_of_size(grid);
+          const View<float>& out = views[std::size_t(other)];
+          op.sweep(op.params, views[std::size_t(cur)], views[std::size_t(op.rhs)], out, region);
+          fill_boundary(out.crop(region.grown(1).intersected(out.box())), grid, op.fill);
+          std::swap(cur, other);
+        }
+      }
+    }
+  }
+
+  static void run_whole(const void* self) {
+    const auto& p = *static_cast<const PassProgram*>(self);
+    std::array<View<float>, kMaxBuffers> views;
+    for (int i = 0; i < p.nbuf; ++i) {
+      if (p.copy_from[std::size_t(i)])
+        copy_box<float>(p.copy_from[std::size_t(i)]->view(), p.whole[std::size_t(i)]->view(),
+                        p.whole[std::size_t(i)]->with_halo());
+      views[std::size_t(i)] = p.whole[std::size_t(i)]->view();
+    }
+    p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), nullptr);
+  }
+
+  static void fetch(const void* self, const Tile& t, int slot, WorkerContext& ctx) {
+    const auto& p = *static_cast<const PassProgram*>(self);
+    ctx.dma->wait(slot);  // the slot's previous puts have left the store
+    std::array<View<float>, kMaxBuffers> views;
+    p.layout(t, slot, ctx, views.data(), true);
+  }
+
+  static void compute(const void* self, const Tile& t, int slot, WorkerContext& ctx) {
+    const auto& p = *static_cast<const PassProgram*>(self);
+    std::array<View<float>, kMaxBuffers> views;
+    p.layout(t, slot, ctx, views.data(), false);
+    ctx.dma->wait(slot);
+    p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), &t);
+    const Box2 written = TilePlan::written_box(t, p.grid, p.field_halo);
+    for (int i = 0; i < p.nbuf; ++i)
+      if (FieldF* dst = p.desc.buffers[std::size_t(i)].dst)
+        ctx.dma->put_box(views[std::size_t(i)], *dst, written, slot);
+  }
+};
+
+FramePlan::FramePlan(const FramePlanOptions& options) : options_(options) {
+  ARDCELL_CHECK(options.grid.x > 0 && options.grid.y > 0, "FramePlan needs a non-empty grid");
+}
+
+FramePlan::~FramePlan() = default;
+
+int FramePlan::add_pass(PassDesc desc) {
+  ARDCELL_CHECK(int(passes_.size()) < kMaxPasses, "FramePlan: too many passes");
+  auto p = std::make_unique<PassProgram>();
+  p->grid = options_.grid;
+  p->field_halo = options_.field_halo;
+  p->nbuf = int(desc.buffers.size());
+  if (p->nbuf > kMaxBuffers) bad_pass(desc.name, "more than 16 buffers");
+  const auto valid = [&](int i) { return i >= 0 && i < p->nbuf; };
+  int max_sweeps = 1;
+  for (const PassOpDesc& op : desc.ops) {
+    if (op.kind == PassOpDesc::Kind::kMap) {
+      if (!op.map) bad_pass(desc.name, "map op without a kernel");
+      for (int j = 0; j < 4; ++j) {
+        const int f = op.fill_buffers[std::size_t(j)];
+        if (f >= 0 && !valid(f)) bad_pass(desc.name, "fill of a buffer that does not exist");
+        if (f >= 0) p->written[std::size_t(f)] = true;
+      }
+    } else {
+      if (!op.sweep || !valid(op.a) || !valid(op.b) || !valid(op.rhs) || op.sweeps < 1)
+        bad_pass(desc.name, "Jacobi op needs a kernel, buffers a, b, rhs and sweeps >= 1");
+      const auto& ba = desc.buffers[std::size_t(op.a)];
+      const auto& bb = desc.buffers[std::size_t(op.b)];
+      const auto& br = desc.buffers[std::size_t(op.rhs)];
+      const int k = op.sweeps + op.extra_reach;
+      if (ba.halo < k || bb.halo < k || br.halo < k - 1)
+        bad_pass(desc.name, "Jacobi buffers need halo >= sweeps (rhs: sweeps - 1)");
+      p->written[std::size_t(op.a)] = p->written[std::size_t(op.b)] = true;
+      max_sweeps = std::max(max_sweeps, op.sweeps);
+    }
+  }
+  for (const PassOpDesc& op : desc.ops)
+    if (op.kind == PassOpDesc::Kind::kMap)
+      for (int8_t w : op.writes) {
+        if (w >= 0 && !valid(w)) bad_pass(desc.name, "write to a buffer that does not exist");
+        if (w >= 0) p->written[std::size_t(w)] = true;
+      }
+  // Serial mapping of buffers onto whole fields.
+  int max_halo = 0;
+  std::vector<int> halos;
+  for (int i = 0; i < p->nbuf; ++i) {
+    const PassBufferDesc& b = desc.buffers[std::size_t(i)];
+    if (b.gather && (!b.src || b.dst)) bad_pass(desc.name, "a gather buffer is read-only");
+    if (!b.gather) {
+      halos.push_back(b.halo);
+      max_halo = std::max(max_halo, b.halo);
+    }
+    for (const FieldF* f : {b.src, static_cast<const FieldF*>(b.dst)})
+      if (f && (f->size() != options_.grid || f->halo() != options_.field_halo))
+        bad_pass(desc.name, "buffer field size or halo differs from the plan's grid");
+    const bool written = p->written[std::size_t(i)] || b.dst;
+    if (b.gather || (b.src && !written)) {
+      p->whole[std::size_t(i)] = const_cast<FieldF*>(b.src);
+    } else if (b.dst) {
+      p->whole[std::size_t(i)] = b.dst;
+      if (b.src && b.src != b.dst) p->copy_from[std::size_t(i)] = b.src;
+    } else {
+      p->scratch.push_back(std::make_unique<FieldF>(options_.grid, options_.field_halo));
+      p->whole[std::size_t(i)] = p->scratch.back().get();
+      p->copy_from[std::size_t(i)] = b.src;
+    }
+  }
+  TilePlanRequest r;
+  r.grid = options_.grid;
+  r.field_halo = options_.field_halo;
+  r.halo = max_halo;
+  r.buffer_halos = halos;
+  r.store_bytes = options_.local_store_bytes;
+  r.min_tiles = options_.workers > 1 ? 4 * options_.workers : 1;
+  r.max_width = options_.max_tile_width;
+  r.max_height = options_.max_tile_height;
+  p->plan = TilePlan::make(r);
+  p->desc = std::move(desc);
+  p->pass.name = p->desc.name.c_str();
+  p->pass.kernel_id = int(passes_.size());
+  p->pass.halo = max_halo;
+  p->pass.sweeps = max_sweeps;
+  p->pass.program = p.get();
+  p->pass.run_whole = &PassProgram::run_whole;
+  p->pass.fetch = &PassProgram::fetch;
+  p->pass.compute = &PassProgram::compute;
+  passes_.push_back(std::move(p));
+  return int(passes_.size()) - 1;
+}
+
+const Pass& FramePlan::pass(int i) const { return passes_.at(std::size_t(i))->pass; }
+const TilePlan& FramePlan::tiles(int i) const { return passes_.at(std::size_t(i))->plan; }
+std::string_view FramePlan::pass_name(int i) const { return passes_.at(std::size_t(i))->desc.name; }
+
+void FramePlan::run(Backend& backend) {
+  using Clock = std::chrono::steady_clock;
+  auto start = Clock::now();
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    const PassProgram& p = *passes_[i];
+    backend.dispatch(p.pass, p.plan.tiles());
+    if (p.desc.barrier_after || i + 1 == passes_.size()) {
+      backend.sync();
+      const auto now = Clock::now();
+      pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
+      start = now;
+    }
+  }
+  ++runs_;
+}
+
+void FramePlan::reset_stats() {
+  pass_ns_.fill(0);
+  runs_ = 0;
+}
+
+void FramePlan::print_stats(std::FILE* out) const {
+  std::int64_t total = 0;
+  for (std::size_t i = 0; i < passes_.size(); ++i) total += pass_ns_[i];
+  const double runs = runs_ > 0 ? double(runs_) : 1.0;
+  std::fprintf(out, "%-28s %6s %5s %6s %10s %6s\n", "pass", "tiles", "halo", "sweeps", "ms/frame",
+               "share");
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    const PassProgram& p = *passes_[i];
+    std::fprintf(out, "%-28s %6zu %5d %6d %10.3f %5.1f%%\n", p.desc.name.c_str(),
+                 p.plan.tiles().size(), p.pass.halo, p.pass.sweeps,
+                 double(pass_ns_[i]) * 1e-6 / runs,
+                 total > 0 ? 100.0 * double(pass_ns_[i]) / double(total) : 0.0);
+  }
+}
+
+}  // namespace ardcell

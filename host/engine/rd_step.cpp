@@ -1,0 +1,346 @@
+#include "host/engine/rd_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+
+#include "kernels/advect.h"
+#include "kernels/explicit_rd.h"
+#include "runtime/boundary.h"
+
+namespace ardcell {
+namespace {
+
+// splitmix64: the same initial pattern for a seed on every platform.
+struct SplitMix {
+  uint64_t state;
+  double uniform() {  // [0, 1)
+    uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return double(z >> 11) * (1.0 / 9007199254740992.0);
+  }
+};
+
+BoundaryFill chemical_fill(BoundaryKind kind, float value) {
+  switch (kind) {
+    case BoundaryKind::kPeriodic:
+      return BoundaryFill::periodic();
+    case BoundaryKind::kNeumann:
+      return BoundaryFill::copy();
+    case BoundaryKind::kDirichlet:
+      return BoundaryFill::fixed(value);
+  }
+  return BoundaryFill::copy();
+}
+
+}  // namespace
+
+std::string rd_config_problem(const SceneConfig& scene) {
+  const RdConfig& rd = scene.rd;
+  if (const char* why = reaction_params_problem(rd.reaction)) return std::string("rd.") + why;
+  if (const char* why = anisotropy_params_problem(rd.anisotropy)) return std::string("rd.") + why;
+  if (!(rd.diffusion_a >= 0 && rd.diffusion_b >= 0))
+    return "rd.diffusion_a and rd.diffusion_b must be >= 0";
+  if (!(rd.dt >= 0) || !std::isfinite(rd.dt)) return "rd.dt must be >= 0 (0: the scene's dt)";
+  if (!(rd.cell_size >= 0) || !std::isfinite(rd.cell_size))
+    return "rd.cell_size must be >= 0 (0: the scene's h)";
+  if (rd.steps_per_frame < 1 || rd.steps_per_frame > 1000)
+    return "rd.steps_per_frame must be 1 to 1000";
+  if (rd.scheme != RdScheme::kImplicit && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+    return "rd.scheme: the explicit schemes are isotropic; use scheme implicit with anisotropy";
+  if (rd.use_table) {
+    if (rd.table_resolution < 2 || rd.table_resolution > 4096)
+      return "rd.table_resolution must be 2 to 4096";
+    const ConcentrationBox r = rd.table_range_auto ? typical_range(rd.reaction) : rd.table_range;
+    if (!(r.a_hi > r.a_lo && r.b_hi > r.b_lo) || !std::isfinite(r.a_hi - r.a_lo) ||
+        !std::isfinite(r.b_hi - r.b_lo))
+      return "rd.table_range must be a finite, non-empty box";
+  }
+  if (!(rd.noise >= 0 && rd.noise <= 1)) return "rd.noise must be in [0, 1]";
+  if (scene.size.x < 3 || scene.size.y < 3) return "rd needs a grid of at least 3x3 cells";
+  return "";
+}
+
+struct RdStepper::SerialLane {
+  SerialBackend backend;
+  RowExecutor ex{backend};
+};
+
+template <class F>
+void RdStepper::for_bands(const F& f) const {
+  const Int2 n = scene_.size;
+  ex_->for_rows(n.y, n.x, [&](int y0, int y1, int worker) {
+    const Box2 rows{{0, y0}, {n.x, y1}};
+    if constexpr (std::is_invocable_v<const F&, Box2, int>)
+      f(rows, worker);
+    else
+      f(rows);
+  });
+}
+
+RdStepper::RdStepper(const SceneConfig& scene, RowExecutor& ex)
+    : scene_(scene), ex_(&ex), rd_(scene.rd) {
+  if (std::string why = rd_config_problem(scene); !why.empty()) throw std::invalid_argument(why);
+  const double scene_h = scene.domain_width / scene.size.x;
+  dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
+  h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_h;
+  if (rd_.scheme == RdScheme::kImplicit && rd_.diffuse) {
+    RowExecutor* on_a = &ex;
+    RowExecutor* on_b = &ex;
+    if (rd_.diffusion_solver.kind == SolverKind::kIccg) {
+      for (auto& lane : lanes_) lane = std::make_unique<SerialLane>();
+      on_a = &lanes_[0]->ex;
+      on_b = &lanes_[1]->ex;
+    }
+    diff_a_ =
+        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, *on_a);
+    diff_b_ =
+        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, *on_b);
+  }
+  if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit) {
+    const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
+    table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
+  }
+  conductivity_ = FieldF(scene.size, 1);
+  scratch_a_ = FieldF(scene.size, 1);
+  scratch_b_ = FieldF(scene.size, 1);
+  row_scratch_stride_ = (2 * std::size_t(scene.size.x + 2) + 16 + 15) / 16 * 16;
+  row_scratch_.assign(row_scratch_stride_ * std::size_t(ex.workers()), 0.0f);
+  ex.reserve_rows(scene.size.y);
+  if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
+      rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic)
+    parallel_gs9_ =
+        std::make_unique<ParallelGrayScott9>(scene.size, gray_scott9_params(), ex.workers());
+}
+
+GrayScott9Params RdStepper::gray_scott9_params() const {
+  const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
+  return {rd_.reaction.F, rd_.reaction.k, float(dt_), float(rd_.diffusion_a * base),
+          float(rd_.diffusion_b * base)};
+}
+
+RdStepper::~RdStepper() = default;
+
+namespace {
+bool same_reaction(const ReactionParams& a, const ReactionParams& b) {
+  return a.model == b.model && a.F == b.F && a.k == b.k && a.turing_s == b.turing_s &&
+         a.turing_beta == b.turing_beta && a.meinhardt_s == b.meinhardt_s &&
+         a.meinhardt_alpha == b.meinhardt_alpha && a.meinhardt_p1 == b.meinhardt_p1 &&
+         a.meinhardt_p2 == b.meinhardt_p2 && a.meinhardt_p3 == b.meinhardt_p3 &&
+         a.fhn_epsilon == b.fhn_epsilon && a.fhn_a0 == b.fhn_a0 && a.fhn_a1 == b.fhn_a1 &&
+         a.barkley_epsilon == b.barkley_epsilon && a.barkley_a == b.barkley_a &&
+         a.barkley_b == b.barkley_b;
+}
+}  // namespace
+
+void RdStepper::update_parameters(const SceneConfig& scene) {
+  const ReactionParams old_reaction = rd_.reaction;
+  const double old_dt = dt_;
+  rd_ = scene.rd;
+  scene_.rd = scene.rd;
+  scene_.dt = scene.dt;
+  dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
+  h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_.domain_width / scene_.size.x;
+  for (ImplicitDiffusion* d : {diff_a_.get(), diff_b_.get()})
+    if (d)
+      d->set_solver_limits(rd_.diffusion_solver.max_iterations, rd_.diffusion_solver.tolerance);
+  if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit &&
+      (dt_ != old_dt || !same_reaction(old_reaction, rd_.reaction))) {
+    const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
+    table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
+  }
+  if (parallel_gs9_) parallel_gs9_->set_params(gray_scott9_params());
+}
+
+void RdStepper::init_state(SimState& s) const {
+  const Int2 n = scene_.size;
+  if (s.A.empty() || s.A.size() != n) s.A = FieldF(n, 1);
+  if (s.B.empty() || s.B.size() != n) s.B = FieldF(n, 1);
+  if (s.theta0.empty() || s.theta0.size() != n) {
+    s.theta0 = FieldF(n, 1);
+    s.theta0.fill(rd_.anisotropy.theta0);
+  }
+  s.A.fill(rd_.background_a);
+  s.B.fill(rd_.background_b);
+  SplitMix rng{rd_.seed};
+  auto put = [&](int x, int y) {
+    s.A(x, y) = rd_.seed_a;
+    s.B(x, y) = rd_.seed_b;
+  };
+  switch (rd_.initial) {
+    case RdInitialPattern::kUniform:
+      break;
+    case RdInitialPattern::kCentreSquare: {
+      const int side = std::max(1, int(std::lround(rd_.seed_size * n.x)));
+      const int x0 = (n.x - side) / 2, y0 = (n.y - side) / 2;
+      for (int y = std::max(0, y0); y < std::min(n.y, y0 + side); ++y)
+        for (int x = std::max(0, x0); x < std::min(n.x, x0 + side); ++x) put(x, y);
+      break;
+    }
+    case RdInitialPattern::kSeedSquare:
+      for (int y = 0; y < rd_.seed_cells; ++y)
+        for (int x = 0; x < rd_.seed_cells; ++x) {
+          const int px = n.x / 2 + x - rd_.seed_cells / 2, py = n.y / 2 + y - rd_.seed_cells / 2;
+          if (px >= 0 && px < n.x && py >= 0 && py < n.y) put(px, py);
+        }
+      break;
+    case RdInitialPattern::kRandomSpots:
+      for (int k = 0; k < rd_.spots; ++k) {
+        const double cx = rng.uniform() * n.x, cy = rng.uniform() * n.y, r = rd_.seed_radius;
+        for (int y = std::max(0, int(cy - r)); y <= std::min(n.y - 1, int(cy + r)); ++y)
+          for (int x = std::max(0, int(cx - r)); x <= std::min(n.x - 1, int(cx + r)); ++x)
+            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) put(x, y);
+      }
+      break;
+    case RdInitialPattern::kStripe: {
+      // An excited band over the lower half and a refractory band behind it: a broken wave
+      // whose free end curls into a spiral (Barkley, FitzHugh-Nagumo).
+      const int w = std::max(1, int(std::lround(rd_.seed_size * n.x)));
+      for (int y = 0; y < n.y / 2; ++y)
+        for (int x = w; x < std::min(n.x, 2 * w); ++x) s.A(x, y) = rd_.seed_a;
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < std::min(n.x, w); ++x) s.B(x, y) = rd_.seed_b;
+      break;
+    }
+  }
+  if (rd_.noise > 0) {
+    const ConcentrationBox box = invariant_box(rd_.reaction);
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        const double ua = 2.0 * rng.uniform() - 1.0, ub = 2.0 * rng.uniform() - 1.0;
+        s.A(x, y) = float(std::clamp(s.A(x, y) * (1.0 + rd_.noise * ua), box.a_lo, box.a_hi));
+        s.B(x, y) = float(std::clamp(s.B(x, y) * (1.0 + rd_.noise * ub), box.b_lo, box.b_hi));
+      }
+  }
+}
+
+void RdStepper::fill_chemical_ghosts(SimState& s) {
+  fill_boundary(s.A.view(), scene_.size, chemical_fill(rd_.boundary, rd_.boundary_a));
+  fill_boundary(s.B.view(), scene_.size, chemical_fill(rd_.boundary, rd_.boundary_b));
+}
+
+void RdStepper::react(SimState& s) {
+  if (!table_.empty()) {
+    for_bands([&](Box2 rows) {
+      reaction_table_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), rows, table_.view());
+    });
+  } else {
+    for_bands([&](Box2 rows) {
+      reaction_implicit_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), rows, rd_.reaction,
+                             float(dt_));
+    });
+  }
+}
+
+void RdStepper::diffuse(SimState& s) {
+  const FieldF* k = nullptr;
+  double iso = 1.0;
+  if (rd_.anisotropy.kind == AnisotropyKind::kIsotropic) {
+    iso = rd_.anisotropy.isotropic_value;
+  } else {
+    fill_chemical_ghosts(s);
+    for_bands([&](Box2 rows) {
+      conductivity_tile(s.A.view(), s.theta0.view(), conductivity_.view(), rows, rd_.anisotropy);
+    });
+    k = &conductivity_;
+  }
+  const Field<uint8_t>* solid = s.obstacle.empty() ? nullptr : &s.obstacle;
+  diff_a_->set_solid(solid);
+  diff_b_->set_solid(solid);
+  const double base = dt_ / (h_ * h_) * iso;
+  SolveReport ra{}, rb{};
+  const auto solve_a = [&] {
+    ra = diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
+  };
+  const auto solve_b = [&] {
+    rb = diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
+                       {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
+  };
+  if (lanes_[0]) {
+    ex_->for_tasks(2, [&](int i) { i == 0 ? solve_a() : solve_b(); });
+  } else {
+    solve_a();
+    solve_b();
+  }
+  stats_.diffusion_iterations_a = ra.iterations;
+  stats_.diffusion_iterations_b = rb.iterations;
+  stats_.diffusion_residual_a = ra.relative_residual;
+  stats_.diffusion_residual_b = rb.relative_residual;
+}
+
+void RdStepper::explicit_step(SimState& s) {
+  fill_chemical_ghosts(s);
+  const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
+  const float da = rd_.diffuse ? float(rd_.diffusion_a * base) : 0.0f;
+  const float db = rd_.diffuse ? float(rd_.diffusion_b * base) : 0.0f;
+  if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
+      rd_.react) {
+    const GrayScott9Params p{rd_.reaction.F, rd_.reaction.k, float(dt_), da, db};
+    for_bands([&](Box2 rows, int worker) {
+      gray_scott9_explicit_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows,
+                                p, row_scratch_.data() + row_scratch_stride_ * std::size_t(worker));
+    });
+  } else {
+    const ExplicitRdParams p{rd_.reaction, rd_.react ? float(dt_) : 0.0f, da, db};
+    const bool nine = rd_.scheme == RdScheme::kExplicit9;
+    for_bands([&](Box2 rows) {
+      if (nine)
+        explicit_rd9_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows, p);
+      else
+        explicit_rd5_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows, p);
+    });
+  }
+  std::swap(s.A, scratch_a_);
+  std::swap(s.B, scratch_b_);
+}
+
+void RdStepper::parallel_gray_scott9_frame(SimState& s) {
+  ParallelGrayScott9& sim = *parallel_gs9_;
+  const std::size_t row_bytes = sizeof(float) * std::size_t(scene_.size.x);
+  for (int y = 0; y < scene_.size.y; ++y) {
+    std::memcpy(sim.a().row(y), s.A.row(y), row_bytes);
+    std::memcpy(sim.b().row(y), s.B.row(y), row_bytes);
+  }
+  sim.run(rd_.steps_per_frame);
+  for (int y = 0; y < scene_.size.y; ++y) {
+    std::memcpy(s.A.row(y), sim.a().row(y), row_bytes);
+    std::memcpy(s.B.row(y), sim.b().row(y), row_bytes);
+  }
+}
+
+void RdStepper::advect(SimState& s) {
+  fill_chemical_ghosts(s);
+  const double scene_h = scene_.domain_width / scene_.size.x;
+  const AdvectParams p{float(scene_.dt / scene_h), scene_.size,
+                       rd_.boundary == BoundaryKind::kPeriodic};
+  for_bands([&](Box2 rows) {
+    advect_scalar(s.A.view(), s.u.view(), s.v.view(), scratch_a_.view(), rows, p);
+    advect_scalar(s.B.view(), s.u.view(), s.v.view(), scratch_b_.view(), rows, p);
+  });
+  std::swap(s.A, scratch_a_);
+  std::swap(s.B, scratch_b_);
+}
+
+void RdStepper::step(SimState& s) {
+  ARDCELL_CHECK(!s.A.empty() && s.A.size() == scene_.size && s.B.size() == scene_.size,
+                "RD step needs A and B of the scene's size (RdStepper::init_state)");
+  if (parallel_gs9_) {
+    parallel_gray_scott9_frame(s);
+  } else {
+    for (int k = 0; k < rd_.steps_per_frame; ++k) {
+      if (rd_.scheme == RdScheme::kImplicit) {
+        if (rd_.react) react(s);
+        if (rd_.diffuse) diffuse(s);
+      } else {
+        explicit_step(s);
+      }
+    }
+  }
+  if (rd_.advect && !s.u.empty() && !s.v.empty() && s.u.size() == scene_.size) advect(s);
+}
+
+}  // namespace ardcell

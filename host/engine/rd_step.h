@@ -1,0 +1,89 @@
+#pragma once
+// One reaction-diffusion frame on a SimState, in the paper's order (seed 000, section 5):
+//   implicit reaction (Eqn 6, Newton per cell or the precomputed table)
+//   -> implicit anisotropic diffusion of A and B (Eqn 19; Eqn 13 when isotropic)
+//   -> semi-Lagrangian advection of A and B by the fluid velocity (Eqn 20), when the scene has
+//      a fluid (u, v allocated) and rd.advect is on.
+// The explicit schemes (RdScheme::kExplicit5/9) replace the first two stages by forward Euler.
+// rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
+// Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps on every core
+// with ParallelGrayScott9 (host/engine/rd_parallel_gray_scott.h), temporally blocked; the other
+// explicit cases step whole fields one step at a time. Every per-cell stage runs in bands of
+// rows on the engine's RowExecutor (same bits on any number of workers).
+// Nothing is allocated in step() once constructed.
+#include <memory>
+#include <string>
+
+#include "host/engine/rd_parallel_gray_scott.h"
+#include "host/config/scene_config.h"
+#include "host/config/sim_state.h"
+#include "kernels/aniso_diffusion.h"
+#include "kernels/reaction_table.h"
+
+namespace ardcell {
+
+// One line naming the first bad RD parameter of the scene, or "" when it can run.
+std::string rd_config_problem(const SceneConfig& scene);
+
+struct RdStepStats {
+  int diffusion_iterations_a = 0, diffusion_iterations_b = 0;
+  double diffusion_residual_a = 0, diffusion_residual_b = 0;
+};
+
+class RdStepper {
+ public:
+  // Throws std::invalid_argument with rd_config_problem()'s line on a bad configuration.
+  explicit RdStepper(const SceneConfig& scene, RowExecutor& ex = RowExecutor::serial());
+  ~RdStepper();
+
+  // Allocates A, B when absent (and theta0 when absent: filled with rd.anisotropy.theta0; a
+  // painted theta0 is kept) with halo 1 and writes the initial pattern. Deterministic for a
+  // given rd.seed.
+  void init_state(SimState& s) const;
+
+  // One frame. A, B must be allocated (init_state); u, v are used when allocated.
+  void step(SimState& s);
+
+  // Takes the RD parameters of `scene` (reaction parameters, diffusion rates, anisotropy,
+  // dt, cell size, steps per frame, solver iterations and tolerance, initial pattern for the
+  // next reset). The caller (Engine) has refused structural changes (size, model, scheme,
+  // boundary, react/diffuse, table settings) and checked rd_config_problem(). Allocates nothing,
+  // except that a reaction table is rebuilt when the reaction parameters or dt change.
+  void update_parameters(const SceneConfig& scene);
+
+  const RdStepStats& stats() const { return stats_; }
+  double rd_dt() const { return dt_; }
+  double rd_h() const { return h_; }
+
+ private:
+  void fill_chemical_ghosts(SimState& s);
+  void react(SimState& s);
+  void diffuse(SimState& s);
+  void explicit_step(SimState& s);
+  GrayScott9Params gray_scott9_params() const;
+  // A frame's steps of seed 001's scheme with parallel_gs9_: A and B are copied in and out.
+  void parallel_gray_scott9_frame(SimState& s);
+  void advect(SimState& s);
+
+  // Interior rows in bands on the executor: f(Box2 rows) or f(Box2 rows, worker).
+  template <class F>
+  void for_bands(const F& f) const;
+
+  SceneConfig scene_;
+  RowExecutor* ex_;
+  RdConfig rd_;
+  double dt_, h_;
+  // ICCG's triangular solves are sequential: A's and B's solves then run side by side as two
+  // tasks, each on a serial lane of its own (host/engine/rd_step.cpp).
+  struct SerialLane;
+  std::unique_ptr<SerialLane> lanes_[2];
+  std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
+  ReactionTable table_;
+  FieldF conductivity_, scratch_a_, scratch_b_;
+  std::vector<float> row_scratch_;  // per worker, row_scratch_stride_ floats each
+  std::size_t row_scratch_stride_ = 0;
+  std::unique_ptr<ParallelGrayScott9> parallel_gs9_;
+  RdStepStats stats_;
+};
+
+}  // namespace ardcell

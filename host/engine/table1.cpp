@@ -1,0 +1,570 @@
+#include "host/engine/table1.h"
+
+#include <cmath>
+#include <deque>
+
+#include "kernels/sources.h"
+#include "runtime/check.h"
+#include "runtime/thread/thread_backend.h"
+
+namespace ardcell {
+namespace {
+
+using Bufs = std::span<const View<float>>;
+// Stream: sweeps of A's (B's) diffusion per residency riding on a projection pass.
+constexpr int kRiderSweeps = 5;
+constexpr float kPi = 3.14159265358979f;
+
+// --- Kernel adapters: each names its buffers by index into the pass's buffer list. -------------
+
+struct SourceParams {
+  int component = 0;  // 0: u, 1: v, 2: dye
+  int8_t buf = 0;
+  Int2 grid{};
+  const std::int64_t* frame = nullptr;
+};
+
+// Four Gaussian splats at the quarter points; their forces turn slowly with the frame number.
+SplatParams splat(const SourceParams& p, int i) {
+  const float cx = (i == 0 || i == 3) ? 0.25f : 0.75f;
+  const float cy = (i < 2) ? 0.25f : 0.75f;
+  const float angle = 0.05f * float(*p.frame) + float(i) * 0.5f * kPi + 0.25f * kPi;
+  SplatParams s;
+  s.cx = cx * float(p.grid.x);
+  s.cy = cy * float(p.grid.y);
+  s.radius = std::max(1.0f, float(std::min(p.grid.x, p.grid.y)) / 32.0f);
+  const float force = 0.1f, dye = 0.1f;
+  s.amount = p.component == 0   ? force * std::cos(angle)
+             : p.component == 1 ? force * std::sin(angle)
+                                : dye;
+  return s;
+}
+
+void sources_kernel(const void* params, Bufs b, Box2 region) {
+  const auto& p = *static_cast<const SourceParams*>(params);
+  for (int i = 0; i < Table1Constants::kSplats; ++i)
+    add_splat(b[std::size_t(p.buf)], region, splat(p, i));
+}
+
+struct ReactParams {
+  GrayScottImplicitParams gs;
+  int8_t a = 0, b = 1;
+};
+void reaction_kernel(const void* params, Bufs b, Box2 region) {
+  const auto& p = *static_cast<const ReactParams*>(params);
+  gray_scott_implicit_tile(b[std::size_t(p.a)], b[std::size_t(p.b)], b[std::size_t(p.a)],
+                           b[std::size_t(p.b)], region, p.gs);
+}
+
+struct CopyParams {
+  int8_t from = 0, to = 1;
+};
+// Copies the whole box of `to` (a buffer of the same box as `from`): no fill needed after.
+void copy_kernel(const void* params, Bufs b, Box2 /*region*/) {
+  const auto& p = *static_cast<const CopyParams*>(params);
+  const View<float>& to = b[std::size_t(p.to)];
+  copy_box<float>(b[std::size_t(p.from)], to, to.box());
+}
+
+struct ZeroParams {
+  int8_t buf = 0;
+};
+void zero_kernel(const void* params, Bufs b, Box2 /*region*/) {
+  const View<float>& v = b[std::size_t(static_cast<const ZeroParams*>(params)->buf)];
+  for (int y = v.box().min.y; y < v.box().max.y; ++y)
+    for (int x = v.box().min.x; x < v.box().max.x; ++x) v(x, y) = 0.0f;
+}
+
+struct DivParams {
+  ProjectParams pp;
+  int8_t u = 0, v = 1, div = 2, p = -1;  // p >= 0: zeroed over region too (stream)
+};
+void divergence_kernel(const void* params, Bufs b, Box2 region) {
+  const auto& p = *static_cast<const DivParams*>(params);
+  pressure_rhs(b[std::size_t(p.u)], b[std::size_t(p.v)], b[std::size_t(p.div)], region, p.pp);
+  if (p.p >= 0) {
+    const View<float>& pv = b[std::size_t(p.p)];
+    for (int y = region.min.y; y < region.max.y; ++y)
+      for (int x = region.min.x; x < region.max.x; ++x) pv(x, y) = 0.0f;
+  }
+}
+
+struct GradParams {
+  ProjectParams pp;
+  int8_t p = 0, u = 1, v = 2;
+};
+void gradient_kernel(const void* params, Bufs b, Box2 region) {
+  const auto& p = *static_cast<const GradParams*>(params);
+  subtract_gradient(b[std::size_t(p.p)], b[std::size_t(p.u)], b[std::size_t(p.v)], region, p.pp);
+}
+
+// Semi-Lagrangian advection of up to kMaxAdvectFields fields by (u, v), one shared back-trace
+// (kernels/advect.h advect_fields): velocity self-advection is q0 = {u, v}.
+struct AdvectManyParams {
+  AdvectParams ap;
+  int8_t u = 0, v = 1;
+  int count = 0;
+  std::array<int8_t, kMaxAdvectFields> q0{}, q{};
+};
+void advect_many_kernel(const void* params, Bufs b, Box2 region) {
+  const auto& p = *static_cast<const AdvectManyParams*>(params);
+  std::array<View<const float>, kMaxAdvectFields> in;
+  std::array<View<float>, kMaxAdvectFields> out;
+  for (int i = 0; i < p.count; ++i) {
+    in[std::size_t(i)] = b[std::size_t(p.q0[std::size_t(i)])];
+    out[std::size_t(i)] = b[std::size_t(p.q[std::size_t(i)])];
+  }
+  advect_fields(b[std::size_t(p.u)], b[std::size_t(p.v)],
+                std::span<const View<const float>>(in.data(), std::size_t(p.count)),
+                std::span<const View<float>>(out.data(), std::size_t(p.count)), region, p.ap);
+}
+
+void jacobi_kernel(const void* params, View<const float> x, View<const float> rhs, View<float> out,
+                   Box2 region) {
+  stam_jacobi_sweep(rhs, x, out, region, *static_cast<const StamSweepParams*>(params));
+}
+
+int8_t add_buffer(PassDesc& d, const FieldF* src, FieldF* dst, int halo, bool gather = false) {
+  // Reserved up front: GCC 12 at -O3 warns (-Wstringop-overflow, a false positive) on the
+  // reallocating path of push_back here.
+  if (d.buffers.capacity() == 0) d.buffers.reserve(FramePlan::kMaxBuffers);
+  d.buffers.push_back(PassBufferDesc{src, dst, halo, gather});
+  return int8_t(d.buffers.size() - 1);
+}
+
+PassOpDesc map_op(MapKernel k, const void* params, int reach, std::initializer_list<int> writes,
+                  std::initializer_list<std::pair<int, BoundaryFill>> fills) {
+  PassOpDesc op;
+  op.kind = PassOpDesc::Kind::kMap;
+  op.map = k;
+  op.params = params;
+  op.reach = reach;
+  int i = 0;
+  for (int w : writes) op.writes[std::size_t(i++)] = int8_t(w);
+  i = 0;
+  for (const auto& [buf, fill] : fills) {
+    op.fill_buffers[std::size_t(i)] = int8_t(buf);
+    op.fills[std::size_t(i++)] = fill;
+  }
+  return op;
+}
+
+PassOpDesc jacobi_op(const StamSweepParams* p, int8_t a, int8_t b, int8_t rhs, int sweeps,
+                     int extra_reach, int stam_b) {
+  PassOpDesc op;
+  op.kind = PassOpDesc::Kind::kJacobi;
+  op.sweep = jacobi_kernel;
+  op.params = p;
+  op.a = a;
+  op.b = b;
+  op.rhs = rhs;
+  op.sweeps = sweeps;
+  op.extra_reach = extra_reach;
+  op.fill = BoundaryFill::stam(stam_b);
+  return op;
+}
+
+}  // namespace
+
+bool parse_table1_schedule(std::string_view name, Table1Schedule& out) {
+  if (name == "serial")
+    out = Table1Schedule::kSerial;
+  else if (name == "stream")
+    out = Table1Schedule::kStream;
+  else if (name == "blocked")
+    out = Table1Schedule::kBlocked;
+  else
+    return false;
+  return true;
+}
+
+std::string_view table1_schedule_name(Table1Schedule s) {
+  switch (s) {
+    case Table1Schedule::kSerial:
+      return "serial";
+    case Table1Schedule::kStream:
+      return "stream";
+    case Table1Schedule::kBlocked:
+      return "blocked";
+  }
+  return "?";
+}
+
+struct Table1Workload::Fields {
+  explicit Fields(Int2 g, bool rd) {
+    for (FieldF* f : {&u, &v, &dye, &u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div})
+      *f = FieldF(g, 1);
+    if (rd)
+      for (FieldF* f : {&A, &B, &A0, &B0, &tA, &tB}) *f = FieldF(g, 1);
+  }
+  FieldF u, v, dye, u0, v0, u1, v1, dye0, tu, tv, tdye, p0, p1, div;
+  FieldF A, B, A0, B0, tA, tB;
+};
+
+// Parameters the passes point at: kept at stable addresses for the plan's lifetime.
+struct Table1Workload::Params {
+  std::deque<std::shared_ptr<void>> keep_alive;
+  template <class T>
+  const T* keep(const T& value) {
+    auto owned = std::make_shared<T>(value);
+    keep_alive.push_back(owned);
+    return owned.get();
+  }
+  StamSweepParams viscosity, dye_diffusion, pressure, rd_a, rd_b;
+  ProjectParams project;
+  AdvectParams advect;
+};
+
+Table1Workload::Table1Workload(const Table1Options& options) : options_(options) {
+  grid_ = options.grid.x > 0 ? options.grid : Int2{options.n, options.n};
+  ARDCELL_CHECK(grid_.x >= 4 && grid_.y >= 4, "Table 1 grid must be at least 4 x 4");
+  ARDCELL_CHECK(
+      options.sweeps_per_residency >= 1 && options.sweeps_per_residency <= Table1Constants::kSweeps,
+      "sweeps per residency must be 1..20");
+  f_ = std::make_unique<Fields>(grid_, options.rd);
+  p_ = std::make_unique<Params>();
+  const float n = float(grid_.x);  // h = 1/N along x (square cells)
+  const float dt = Table1Constants::kDt;
+  const auto diffusion = [](float a) { return StamSweepParams{a, 1.0f / (1.0f + 4.0f * a)}; };
+  p_->viscosity = diffusion(dt * Table1Constants::kViscosity * n * n);
+  p_->dye_diffusion = diffusion(dt * Table1Constants::kDyeDiffusion * n * n);
+  p_->pressure = StamSweepParams{1.0f, 0.25f};
+  p_->rd_a = diffusion(Table1Constants::kRdStep * Table1Constants::kDiffA);
+  p_->rd_b = diffusion(Table1Constants::kRdStep * Table1Constants::kDiffB);
+  p_->project = ProjectParams{1.0f / n};
+  p_->advect = AdvectParams{dt * n, grid_, false};
+
+  if (options.backend) {
+    backend_ = options.backend;
+  } else if (options.schedule == Table1Schedule::kSerial) {
+    owned_backend_ = std::make_unique<SerialBackend>();
+    backend_ = owned_backend_.get();
+  } else {
+    ThreadBackendOptions t;
+    t.workers = options.workers;
+    t.local_store_bytes = options.local_store_bytes;
+    owned_backend_ = std::make_unique<ThreadBackend>(t);
+    backend_ = owned_backend_.get();
+  }
+  FramePlanOptions po;
+  po.grid = grid_;
+  po.field_halo = 1;
+  po.local_store_bytes = options.local_store_bytes;
+  po.workers = backend_->workers();
+  po.max_tile_width = options.max_tile_width;
+  po.max_tile_height = options.max_tile_height;
+  plan_ = std::make_unique<FramePlan>(po);
+  build();
+  reset();
+}
+
+Table1Workload::~Table1Workload() = default;
+
+const FieldF& Table1Workload::u() const { return f_->u; }
+const FieldF& Table1Workload::v() const { return f_->v; }
+const FieldF& Table1Workload::dye() const { return f_->dye; }
+const FieldF& Table1Workload::a() const { return f_->A; }
+const FieldF& Table1Workload::b() const { return f_->B; }
+
+double Table1Workload::bytes_per_frame() const {
+  const double cells = double(grid_.x) * grid_.y;
+  return cells * (Table1Constants::kFluidBytesPerCell +
+                  (options_.rd ? Table1Constants::kRdBytesPerCell : 0.0));
+}
+
+void Table1Workload::reset() {
+  Fields& f = *f_;
+  for (FieldF* x : {&f.u, &f.v, &f.dye, &f.u0, &f.v0, &f.u1, &f.v1, &f.dye0, &f.tu, &f.tv, &f.tdye,
+                    &f.p0, &f.p1, &f.div})
+    x->fill(0.0f);
+  if (options_.rd) {
+    // A = 1, B = 0, with four seeded squares (A = 0.5, B = 0.25) between the splats.
+    f.A.fill(1.0f);
+    f.B.fill(0.0f);
+    const int side = std::max(2, grid_.x / 16);
+    for (int s = 0; s < 4; ++s) {
+      const int cx = grid_.x * (s % 2 == 0 ? 3 : 5) / 8, cy = grid_.y * (s < 2 ? 3 : 5) / 8;
+      for (int y = cy - side / 2; y < cy + side / 2; ++y)
+        for (int x = cx - side / 2; x < cx + side / 2; ++x) {
+          f.A(x, y) = 0.5f;
+          f.B(x, y) = 0.25f;
+        }
+    }
+    for (FieldF* x : {&f.A0, &f.B0, &f.tA, &f.tB}) x->fill(0.0f);
+  }
+  frame_ = 0;
+}
+
+void Table1Workload::step() {
+  plan_->run(*backend_);
+  ++frame_;
+}
+
+// Sources (stream, serial, and blocked with several residencies per solve): u, v, dye in place,
+// with the RD reaction riding along on A and B.
+void Table1Workload::add_sources_pass(bool with_reaction) {
+  Fields& f = *f_;
+  PassDesc d;
+  d.name = with_reaction ? "sources+reaction" : "sources";
+  const int8_t bu = add_buffer(d, &f.u, &f.u, 0), bv = add_buffer(d, &f.v, &f.v, 0),
+               bd = add_buffer(d, &f.dye, &f.dye, 0);
+  int comp = 0;
+  for (int8_t buf : {bu, bv, bd}) {
+    const auto* sp = p_->keep(SourceParams{comp, buf, grid_, &frame_});
+    d.ops.push_back(map_op(sources_kernel, sp, 0, {buf},
+                           {{buf, BoundaryFill::stam(comp == 2 ? 0 : comp + 1)}}));
+    ++comp;
+  }
+  if (with_reaction) {
+    const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
+    const auto* rp = p_->keep(ReactParams{
+        {Table1Constants::kGrayScottF, Table1Constants::kGrayScottK, Table1Constants::kRdStep},
+        ba,
+        bb});
+    d.ops.push_back(map_op(reaction_kernel, rp, 0, {ba, bb},
+                           {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
+  }
+  plan_->add_pass(std::move(d));
+}
+
+// x -> out by 20 Jacobi sweeps of (c I - a nbrs) out = x, initial guess x, for each solve;
+// the solves share their passes. Stream: one pass per sweep, through out/tmp; blocked: one load
+// per `k` sweeps. With `with_sources` (blocked, one residency) the splats are added in store to
+// the loaded x first.
+void Table1Workload::add_diffusion(const char* name, std::span<const DiffusionSpec> solves,
+                                   bool with_sources) {
+  const int total = Table1Constants::kSweeps;
+  const int k = options_.schedule == Table1Schedule::kBlocked ? options_.sweeps_per_residency : 1;
+  const int passes = (total + k - 1) / k;
+  std::array<const FieldF*, 4> cur{};
+  for (std::size_t i = 0; i < solves.size(); ++i) cur[i] = solves[i].x;
+  for (int j = 1; j <= passes; ++j) {
+    const int sweeps = std::min(k, total - (j - 1) * k);
+    PassDesc d;
+    d.name = name;
+    for (std::size_t i = 0; i < solves.size(); ++i) {
+      const DiffusionSpec& sv = solves[i];
+      // The last pass writes `out`; earlier ones alternate so that this holds.
+      FieldF* next = ((passes - j) % 2 == 0) ? sv.out : sv.tmp;
+      append_residency(d, sv, cur[i], next, sweeps, j == 1 && sweeps == total, with_sources);
+      cur[i] = next;
+    }
+    plan_->add_pass(std::move(d));
+  }
+}
+
+// One residency of a solve in pass d: `sweeps` sweeps from the iterate `cur`, the result put in
+// `next`. `whole` (the solve's only residency): x is loaded once with halo `sweeps`, (the
+// sources added to it in store,) copied as the first iterate; otherwise the iterate is loaded
+// with halo `sweeps` and x with halo sweeps - 1.
+void Table1Workload::append_residency(PassDesc& d, const DiffusionSpec& sv, const FieldF* cur,
+                                      FieldF* next, int sweeps, bool whole, bool with_sources) {
+  if (whole) {
+    const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps);
+    const int8_t a = add_buffer(d, nullptr, sweeps % 2 == 0 ? next : nullptr, sweeps);
+    const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
+    if (with_sources) {
+      const int comp = sv.b == 1 ? 0 : sv.b == 2 ? 1 : 2;
+      const auto* sp = p_->keep(SourceParams{comp, rhs, grid_, &frame_});
+      d.ops.push_back(map_op(sources_kernel, sp, sweeps, {rhs}, {{rhs, BoundaryFill::stam(sv.b)}}));
+    }
+    d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
+  } else {
+    const int8_t a = add_buffer(d, cur, sweeps % 2 == 0 ? next : nullptr, sweeps);
+    const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
+    const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps - 1);
+    d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
+  }
+}
+
+// Divergence, 20-sweep pressure solve, gradient subtraction: (u, v) -> (u_out, v_out).
+// rd_rider: 1 = A's diffusion rides on the passes, 2 = B's, 0 = none.
+void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out,
+                                    FieldF& v_out, int rd_rider) {
+  Fields& f = *f_;
+  const int total = Table1Constants::kSweeps;
+  const bool blocked = options_.schedule == Table1Schedule::kBlocked;
+  const int k = blocked ? options_.sweeps_per_residency : 1;
+  std::string base(name);
+  if (blocked && k == total) {
+    // One pass: u, v loaded with halo k + 2; div over core + k, p zeroed, k sweeps exact to
+    // core + 1, gradient on the core.
+    PassDesc d;
+    d.name = base;
+    const int8_t bu = add_buffer(d, &u, &u_out, k + 1), bv = add_buffer(d, &v, &v_out, k + 1);
+    const int8_t bdiv = add_buffer(d, nullptr, nullptr, k);
+    const int8_t pa = add_buffer(d, nullptr, nullptr, k + 1),
+                 pb = add_buffer(d, nullptr, nullptr, k + 1);
+    d.ops.push_back(map_op(divergence_kernel, p_->keep(DivParams{p_->project, bu, bv, bdiv, -1}), k,
+                           {bdiv}, {{bdiv, BoundaryFill::stam(0)}}));
+    d.ops.push_back(map_op(zero_kernel, p_->keep(ZeroParams{pa}), 0, {pa}, {}));
+    d.ops.push_back(jacobi_op(&p_->pressure, pa, pb, bdiv, k, 1, 0));
+    const int8_t pres = k % 2 == 0 ? pa : pb;
+    d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, pres, bu, bv}), 0,
+                           {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+    plan_->add_pass(std::move(d));
+    return;
+  }
+  // Several passes of k sweeps (stream: k = 1). The first computes the divergence over its
+  // tiles grown by k (u, v read with halo k + 1), starts from p = 0 and runs the first k sweeps;
+  // it carries the RD rider. The last runs the last sweeps one cell further (extra reach 1) and
+  // subtracts the gradient in store. Pressure iterates alternate p0 / p1.
+  const int passes = (total + k - 1) / k;
+  FieldF* cur = nullptr;
+  const DiffusionSpec rider = rd_rider == 1 ? DiffusionSpec{&f.A, &f.A0, &f.tA, &p_->rd_a, 0}
+                                            : DiffusionSpec{&f.B, &f.B0, &f.tB, &p_->rd_b, 0};
+  const int rider_every = std::max(1, passes / ((total + kRiderSweeps - 1) / kRiderSweeps));
+  const FieldF* rider_cur = rider.x;
+  int rider_done = 0;
+  for (int j = 1; j <= passes; ++j) {
+    const int sweeps = std::min(k, total - (j - 1) * k);
+    const bool first = j == 1, last = j == passes;
+    FieldF* next = cur == &f.p0 ? &f.p1 : &f.p0;
+    const int reach = last ? 1 : 0;  // cells beyond the core the last sweep leaves exact
+    PassDesc d;
+    d.name = base + (first ? ":div+pressure" : last ? ":pressure+gradient" : ":pressure");
+    int8_t a, b, rhs;
+    if (first) {
+      const int8_t bu = add_buffer(d, &u, nullptr, sweeps + reach + 1),
+                   bv = add_buffer(d, &v, nullptr, sweeps + reach + 1);
+      rhs = add_buffer(d, nullptr, &f.div, sweeps + reach);
+      a = add_buffer(d, nullptr, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
+      b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
+      d.ops.push_back(map_op(divergence_kernel, p_->keep(DivParams{p_->project, bu, bv, rhs, -1}),
+                             sweeps + reach, {rhs}, {{rhs, BoundaryFill::stam(0)}}));
+      d.ops.push_back(map_op(zero_kernel, p_->keep(ZeroParams{a}), 0, {a}, {}));
+    } else {
+      a = add_buffer(d, cur, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
+      b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
+      rhs = add_buffer(d, &f.div, nullptr, sweeps + reach - 1);
+    }
+    d.ops.push_back(jacobi_op(&p_->pressure, a, b, rhs, sweeps, reach, 0));
+    if (last) {
+      const int8_t bu = add_buffer(d, &u, &u_out, 0), bv = add_buffer(d, &v, &v_out, 0);
+      const int8_t pres = sweeps % 2 == 0 ? a : b;
+      d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, pres, bu, bv}), 0,
+                             {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+    }
+    // The RD rider: the chemical's 20 sweeps in residencies of kRiderSweeps on every
+    // (kRiderSweeps)-th pass (a small halo keeps the ghost zone of a 256 KiB store's tiles
+    // small), through tmp, ending in out.
+    if (rd_rider != 0 && (j - 1) % rider_every == 0 && rider_done < total) {
+      const int rs = std::min(kRiderSweeps, total - rider_done);
+      const int left = (total - rider_done - rs + kRiderSweeps - 1) / kRiderSweeps;
+      FieldF* rider_next = left % 2 == 0 ? rider.out : rider.tmp;
+      append_residency(d, rider, rider_cur, rider_next, rs, false, false);
+      rider_cur = rider_next;
+      rider_done += rs;
+      d.name += rd_rider == 1 ? "+rdA" : "+rdB";
+    }
+    plan_->add_pass(std::move(d));
+    cur = next;
+  }
+  ARDCELL_CHECK(rd_rider == 0 || rider_done == total, "RD rider needs a pass per residency");
+}
+
+// Blocked schedule: both RD diffusions in one residency of A and B (reacted earlier, in the
+// velocity advection pass: the reaction is per cell, so in a halo-20 pass it would be computed
+// again on every halo cell).
+void Table1Workload::add_rd_diffusion_pass() {
+  Fields& f = *f_;
+  const int k = Table1Constants::kSweeps;
+  PassDesc d;
+  d.name = "rd:diffuse:AB";
+  const int8_t ra = add_buffer(d, &f.A, nullptr, k), rb = add_buffer(d, &f.B, nullptr, k);
+  for (int which = 0; which < 2; ++which) {
+    const int8_t rhs = which == 0 ? ra : rb;
+    const int8_t a = add_buffer(d, nullptr, which == 0 ? &f.A0 : &f.B0, k);
+    const int8_t b = add_buffer(d, nullptr, nullptr, k);
+    d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    d.ops.push_back(jacobi_op(which == 0 ? &p_->rd_a : &p_->rd_b, a, b, rhs, k, 0, 0));
+  }
+  plan_->add_pass(std::move(d));
+}
+
+void Table1Workload::build() {
+  Fields& f = *f_;
+  const bool rd = options_.rd;
+  const bool blocked = options_.schedule == Table1Schedule::kBlocked;
+  const bool one_residency = blocked && options_.sweeps_per_residency == Table1Constants::kSweeps;
+  // vel_step: sources, diffuse (u -> u0), project (u0 -> u1), advect (u1 -> u0), project
+  // (u0 -> u). dens_step: diffuse (dye -> dye0), advect (dye0 -> dye). RD: react, diffuse
+  // (A -> A0), advect (A0 -> A).
+  if (!one_residency) add_sources_pass(rd);
+  const DiffusionSpec du{&f.u, &f.u0, &f.tu, &p_->viscosity, 1};
+  const DiffusionSpec dv{&f.v, &f.v0, &f.tv, &p_->viscosity, 2};
+  const DiffusionSpec ddye{&f.dye, &f.dye0, &f.tdye, &p_->dye_diffusion, 0};
+  if (one_residency) {
+    // Each solve alone: three halo-20 buffers already fill a local store.
+    add_diffusion("diffuse:u", {&du, 1}, true);
+    add_diffusion("diffuse:v", {&dv, 1}, true);
+  } else {
+    // Sweep by sweep, u, v and the dye share each pass (same tiles, one barrier): the dye's
+    // diffusion reads only the dye, so dens_step's solve can run beside vel_step's.
+    const DiffusionSpec all[] = {du, dv, ddye};
+    add_diffusion("diffuse:uv+dye", all, false);
+  }
+  add_projection("project1", f.u0, f.v0, f.u1, f.v1, rd && !blocked ? 1 : 0);
+  {
+    PassDesc d;
+    d.name = "advect:uv";
+    const int8_t u1 = add_buffer(d, &f.u1, nullptr, 0, true),
+                 v1 = add_buffer(d, &f.v1, nullptr, 0, true);
+    const int8_t bu = add_buffer(d, nullptr, &f.u0, 0), bv = add_buffer(d, nullptr, &f.v0, 0);
+    d.ops.push_back(map_op(advect_many_kernel,
+                           p_->keep(AdvectManyParams{p_->advect, u1, v1, 2, {u1, v1}, {bu, bv}}), 0,
+                           {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+    if (rd && one_residency) {
+      // The reaction rides on this halo-0 pass (A and B in place).
+      const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
+      d.ops.push_back(
+          map_op(reaction_kernel,
+                 p_->keep(ReactParams{{Table1Constants::kGrayScottF, Table1Constants::kGrayScottK,
+                                       Table1Constants::kRdStep},
+                                      ba,
+                                      bb}),
+                 0, {ba, bb}, {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
+      d.name += "+react";
+    }
+    plan_->add_pass(std::move(d));
+  }
+  add_projection("project2", f.u0, f.v0, f.u, f.v, rd && !blocked ? 2 : 0);
+  if (one_residency) add_diffusion("diffuse:dye", {&ddye, 1}, true);
+  if (rd && blocked) {
+    if (one_residency) {
+      add_rd_diffusion_pass();
+    } else {
+      // Reacted in the sources pass; each chemical's 20 sweeps in residencies of k.
+      const DiffusionSpec rda[] = {{&f.A, &f.A0, &f.tA, &p_->rd_a, 0},
+                                   {&f.B, &f.B0, &f.tB, &p_->rd_b, 0}};
+      add_diffusion("rd:diffuse:AB", rda, false);
+    }
+  }
+  {
+    PassDesc d;
+    d.name = rd ? "advect:dye+A+B" : "advect:dye";
+    // The velocity is read where the back-trace lands (RK2 midpoint): in main memory, like q0.
+    const int8_t bu = add_buffer(d, &f.u, nullptr, 0, true),
+                 bv = add_buffer(d, &f.v, nullptr, 0, true);
+    // One back-trace for the dye and (RD) A and B.
+    AdvectManyParams ap{p_->advect, bu, bv, 1, {}, {}};
+    ap.q0[0] = add_buffer(d, &f.dye0, nullptr, 0, true);
+    ap.q[0] = add_buffer(d, nullptr, &f.dye, 0);
+    if (rd) {
+      ap.q0[1] = add_buffer(d, &f.A0, nullptr, 0, true);
+      ap.q[1] = add_buffer(d, nullptr, &f.A, 0);
+      ap.q0[2] = add_buffer(d, &f.B0, nullptr, 0, true);
+      ap.q[2] = add_buffer(d, nullptr, &f.B, 0);
+      ap.count = 3;
+    }
+    d.ops.push_back(map_op(advect_many_kernel, p_->keep(ap), 0,
+                           {ap.q[0], rd ? ap.q[1] : -1, rd ? ap.q[2] : -1},
+                           {{ap.q[0], BoundaryFill::stam(0)},
+                            {rd ? ap.q[1] : -1, BoundaryFill::stam(0)},
+                            {rd ? ap.q[2] : -1, BoundaryFill::stam(0)}}));
+    plan_->add_pass(std::move(d));
+  }
+}
+
+}  // namespace ardcell

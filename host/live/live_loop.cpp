@@ -1,0 +1,565 @@
+#include "host/live/live_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <condition_variable>
+#include <cstdarg>
+#include <cstring>
+#include <ctime>
+
+#include "host/live/attract_mode.h"
+#include "host/render/frame_render.h"
+
+namespace ardcell {
+
+LiveCommand LiveCommand::make(LiveCommandKind k, double value, int param) {
+  LiveCommand c;
+  c.kind = k;
+  c.value = value;
+  c.param = param;
+  return c;
+}
+
+LiveCommand LiveCommand::with_text(LiveCommandKind k, std::string_view text) {
+  LiveCommand c;
+  c.kind = k;
+  const size_t n = std::min(text.size(), c.text.size() - 1);
+  std::memcpy(c.text.data(), text.data(), n);
+  c.text[n] = '\0';
+  return c;
+}
+
+void CommandQueue::lock() {
+  while (busy_.test_and_set(std::memory_order_acquire)) {
+  }
+}
+
+bool CommandQueue::push(const LiveCommand& c) {
+  lock();
+  const bool ok = count_ < kCapacity;
+  if (ok) {
+    slots_[(head_ + count_) % kCapacity] = c;
+    ++count_;
+  }
+  unlock();
+  if (!ok) dropped_.fetch_add(1, std::memory_order_relaxed);
+  return ok;
+}
+
+bool CommandQueue::pop(LiveCommand& c) {
+  lock();
+  const bool ok = count_ > 0;
+  if (ok) {
+    c = slots_[head_];
+    head_ = (head_ + 1) % kCapacity;
+    --count_;
+  }
+  unlock();
+  return ok;
+}
+
+void render_state(const SimState& state, const OutputConfig& output, ImageRgb8& out) {
+  FrameField field = FrameField::kDye;
+  if (!parse_frame_field(output.show, field) || !frame_field_available(state, field)) {
+    // The first field the state has (an RD-only scene has no dye).
+    for (FrameField f : {FrameField::kDye, FrameField::kB, FrameField::kA, FrameField::kSpeed})
+      if (frame_field_available(state, f)) {
+        field = f;
+        break;
+      }
+  }
+  RenderSettings settings = default_render_settings(field);
+  Colormap map;
+  if (parse_colormap(output.colormap, map) && !colormap_is_diverging(settings.colormap))
+    settings.colormap = map;
+  render_frame(state, settings, out);
+}
+
+void crossfade_images(const ImageRgb8& from, double t, ImageRgb8& to) {
+  if (from.empty() || to.empty()) return;
+  const int w = std::clamp(int(std::lround(t * 256.0)), 0, 256);
+  for (int y = 0; y < to.height; ++y) {
+    const uint8_t* src = from.row(int(int64_t(y) * from.height / to.height));
+    uint8_t* dst = to.row(y);
+    for (int x = 0; x < to.width; ++x) {
+      const uint8_t* s = src + size_t(int64_t(x) * from.width / to.width) * 3;
+      for (int c = 0; c < 3; ++c)
+        dst[3 * x + c] = uint8_t((dst[3 * x + c] * w + s[c] * (256 - w) + 128) >> 8);
+    }
+  }
+}
+
+// The preset switch in flight: loaded and built on a worker thread.
+struct LiveLoop::Build {
+  std::thread thread;
+  std::atomic<bool> done{false};
+  std::string name;
+  Preset preset;
+  std::unique_ptr<LiveSimulation> sim;
+  Status status = Status::ok();
+  ~Build() {
+    if (thread.joinable()) thread.join();
+  }
+};
+
+// Frames go to the writer thread through preallocated slots; when every slot is full the loop
+// waits (and counts a stall) rather than leave a frame out of the recording.
+struct LiveLoop::Recorder {
+  std::unique_ptr<FrameWriter> writer;
+  std::vector<ImageRgb8> slots;
+  std::mutex mutex;
+  std::condition_variable cv;
+  size_t head = 0, count = 0;
+  bool closing = false;
+  Status status = Status::ok();
+  std::string path;
+  std::thread thread;
+  std::atomic<int64_t>* written = nullptr;
+
+  void run() {
+    for (;;) {
+      std::unique_lock lock(mutex);
+      cv.wait(lock, [&] { return count > 0 || closing; });
+      if (count == 0) break;
+      ImageRgb8& img = slots[head];
+      lock.unlock();
+      if (status) {
+        Status s = writer->write(img);
+        if (!s) status = std::move(s);
+      }
+      written->fetch_add(1);
+      lock.lock();
+      head = (head + 1) % slots.size();
+      --count;
+      cv.notify_all();
+    }
+    if (status) status = writer->finish();
+  }
+  // Copies the frame into a free slot; returns true when it had to wait.
+  bool push(const ImageRgb8& frame) {
+    std::unique_lock lock(mutex);
+    bool stalled = false;
+    while (count == slots.size()) {
+      stalled = true;
+      cv.wait(lock);
+    }
+    ImageRgb8& dst = slots[(head + count) % slots.size()];
+    if (dst.rgb.size() == frame.rgb.size()) {
+      dst.width = frame.width;
+      dst.height = frame.height;
+      std::memcpy(dst.rgb.data(), frame.rgb.data(), frame.rgb.size());
+    } else {
+      dst = frame;  // only when the size changed (a preset switch), not in steady state
+    }
+    ++count;
+    cv.notify_all();
+    return stalled;
+  }
+  Status close() {
+    {
+      std::lock_guard lock(mutex);
+      closing = true;
+    }
+    cv.notify_all();
+    if (thread.joinable()) thread.join();
+    return status;
+  }
+};
+
+LiveLoop::LiveLoop(LiveOptions options, SimulationFactory factory, LiveDisplay& display)
+    : options_(std::move(options)),
+      factory_(std::move(factory)),
+      display_(display),
+      clock_(options_.fps, options_.time ? *options_.time : MonotonicTime::instance()),
+      quality_(QualityBounds{}) {
+  message_.reserve(256);
+}
+
+LiveLoop::~LiveLoop() {
+  if (recorder_) (void)recorder_->close();
+  build_.reset();
+}
+
+std::string LiveLoop::last_message() const {
+  std::lock_guard lock(message_mutex_);
+  return message_;
+}
+
+void LiveLoop::notice(const char* fmt, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  if (options_.log) std::fprintf(options_.log, "live: %s\n", buf);
+  {
+    std::lock_guard lock(message_mutex_);
+    message_.assign(buf);
+  }
+  std::snprintf(hud_.message.data(), hud_.message.size(), "%s", buf);
+  hud_.message_until_frame = frame_ + 180;
+}
+
+Status LiveLoop::start(std::string_view name) {
+  Preset p;
+  Status s = load_preset(name, p);
+  if (!s) return s;
+  try {
+    sim_ = factory_(p);
+  } catch (const std::exception& e) {
+    return Status::error(std::string(name) + ": cannot build the scene: " + e.what());
+  }
+  if (!sim_) return Status::error(std::string(name) + ": cannot build the scene");
+  preset_ = p;
+  applied_ = p.scene;
+  quality_.set_bounds(bounds_for(p));
+  quality_.restore_full();
+  apply_level();
+  for (size_t i = 0; i < options_.playlist.size(); ++i)
+    if (options_.playlist[i] == name) playlist_index_ = int(i);
+  image_.resize(sim_->state().size.x, sim_->state().size.y);
+  hud_.preset.fill(0);
+  std::snprintf(hud_.preset.data(), hud_.preset.size(), "%s", preset_.scene.name.c_str());
+  std::snprintf(hud_.backend.data(), hud_.backend.size(), "%.*s", int(sim_->backend().size()),
+                sim_->backend().data());
+  hud_.frame = 0;
+  if (!options_.record_path.empty()) start_recording(options_.record_path);
+  return Status::ok();
+}
+
+QualityBounds LiveLoop::bounds_for(const Preset& preset) const {
+  QualityBounds b = preset.quality;
+  b.adaptive = b.adaptive && options_.adaptive;
+  b.min_rd_scale = std::max(b.min_rd_scale, sim_ ? sim_->lowest_rd_scale() : 1.0);
+  return b;
+}
+
+void LiveLoop::apply_level() {
+  apply_quality(preset_, quality_.level(), applied_);
+  sim_->apply(applied_);
+  sim_->set_rd_scale(quality_.level().rd_scale);
+}
+
+void LiveLoop::request_preset(std::string name) {
+  if (builder_busy_) {
+    notice("preset %s: a switch is already in progress", name.c_str());
+    return;
+  }
+  build_ = std::make_unique<Build>();
+  build_->name = std::move(name);
+  builder_busy_ = true;
+  Build* b = build_.get();
+  SimulationFactory factory = factory_;
+  b->thread = std::thread([b, factory] {
+    b->status = load_preset(b->name, b->preset);
+    if (b->status) {
+      try {
+        b->sim = factory(b->preset);
+        if (!b->sim) b->status = Status::error(b->name + ": cannot build the scene");
+      } catch (const std::exception& e) {
+        b->status = Status::error(b->name + ": cannot build the scene: " + e.what());
+      }
+    }
+    b->done.store(true, std::memory_order_release);
+  });
+}
+
+void LiveLoop::wait_for_switch() {
+  while (builder_busy_) {
+    if (build_ && build_->thread.joinable()) build_->thread.join();
+    poll_build();
+  }
+}
+
+void LiveLoop::poll_build() {
+  if (!builder_busy_ || !build_->done.load(std::memory_order_acquire)) return;
+  if (build_->thread.joinable()) build_->thread.join();
+  builder_busy_ = false;
+  if (!build_->status) {
+    // A bad preset never takes the running one down: keep it, say why.
+    ++preset_errors_;
+    notice("keeping %s: %s", preset_.scene.name.c_str(), build_->status.message().c_str());
+    build_.reset();
+    return;
+  }
+  std::unique_ptr<Build> b = std::move(build_);
+  begin_switch(std::move(b->sim), std::move(b->preset));
+}
+
+void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
+  fade_frames_ = std::max(0, options_.crossfade_frames);
+  fade_frame_ = 0;
+  fade_from_ = preset_;
+  fade_to_ = next;
+  if (presets_share_structure(preset_, next) && fade_frames_ > 0) {
+    // Same grid and models: keep the running simulation and glide its parameters across.
+    image_fade_ = false;
+  } else {
+    image_fade_ = fade_frames_ > 0;
+    fade_image_ = image_;  // frozen last image of the old preset
+    sim_ = std::move(sim);
+    preset_ = next;
+    image_.resize(sim_->state().size.x, sim_->state().size.y);
+  }
+  quality_.set_bounds(bounds_for(next));
+  quality_.restore_full();
+  if (fade_frames_ == 0) preset_ = next;
+  applied_ = preset_.scene;
+  apply_level();
+  hud_.preset.fill(0);
+  std::snprintf(hud_.preset.data(), hud_.preset.size(), "%s", next.scene.name.c_str());
+  std::snprintf(hud_.backend.data(), hud_.backend.size(), "%.*s", int(sim_->backend().size()),
+                sim_->backend().data());
+  notice("preset %s", next.scene.name.c_str());
+}
+
+void LiveLoop::start_recording(std::string path) {
+  if (recorder_) return;
+  if (!options_.recorder) {
+    notice("recording is not available in this build");
+    return;
+  }
+  if (path.empty()) {
+    char buf[64];
+    const std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&t, &tm);
+    std::strftime(buf, sizeof buf, "ardcell-%Y%m%d-%H%M%S.y4m", &tm);
+    path = options_.screenshot_dir + "/" + buf;
+  }
+  Status s = Status::ok();
+  const double fps = options_.fps > 0 ? options_.fps : 60.0;
+  auto writer = options_.recorder(path, Int2{image_.width, image_.height}, fps, s);
+  if (!writer) {
+    notice("record %s: %s", path.c_str(), s.message().c_str());
+    return;
+  }
+  auto r = std::make_unique<Recorder>();
+  r->writer = std::move(writer);
+  r->path = path;
+  r->written = &recorded_frames_;
+  r->slots.resize(size_t(std::max(2, options_.record_slots)));
+  for (ImageRgb8& slot : r->slots) slot.resize(image_.width, image_.height);
+  Recorder* raw = r.get();
+  r->thread = std::thread([raw] { raw->run(); });
+  recorder_ = std::move(r);
+  hud_.recording = true;
+  notice("recording to %s", path.c_str());
+}
+
+void LiveLoop::stop_recording() {
+  if (!recorder_) return;
+  const Status s = recorder_->close();
+  const std::string path = recorder_->path;
+  recorder_.reset();
+  hud_.recording = false;
+  if (s)
+    notice("recorded %s", path.c_str());
+  else
+    notice("record %s: %s", path.c_str(), s.message().c_str());
+}
+
+void LiveLoop::take_screenshot(std::string path) {
+  if (!options_.screenshotter) {
+    notice("screenshots are not available in this build");
+    return;
+  }
+  if (path.empty()) {
+    char buf[64];
+    const std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&t, &tm);
+    std::strftime(buf, sizeof buf, "ardcell-%Y%m%d-%H%M%S", &tm);
+    path =
+        options_.screenshot_dir + "/" + buf + "-" + std::to_string(screenshot_counter_++) + ".png";
+  }
+  Status s = Status::ok();
+  auto writer = options_.screenshotter(path, Int2{image_.width, image_.height}, 0, s);
+  if (writer) s = writer->write(image_);
+  if (writer && s) s = writer->finish();
+  if (s)
+    notice("screenshot %s", path.c_str());
+  else
+    notice("screenshot %s: %s", path.c_str(), s.message().c_str());
+}
+
+void LiveLoop::handle(const LiveCommand& c) {
+  const auto& names = options_.playlist;
+  switch (c.kind) {
+    case LiveCommandKind::kQuit:
+      quit_ = true;
+      break;
+    case LiveCommandKind::kNextPreset:
+    case LiveCommandKind::kPrevPreset:
+      if (names.empty()) {
+        notice("no preset playlist");
+        break;
+      }
+      playlist_index_ = (playlist_index_ + (c.kind == LiveCommandKind::kNextPreset ? 1 : -1) +
+                         int(names.size())) %
+                        int(names.size());
+      request_preset(names[size_t(playlist_index_)]);
+      break;
+    case LiveCommandKind::kSelectPreset:
+      request_preset(c.text.data());
+      break;
+    case LiveCommandKind::kReset:
+      sim_->reset();
+      break;
+    case LiveCommandKind::kTogglePause:
+      paused_ = !paused_;
+      break;
+    case LiveCommandKind::kSetPause:
+      paused_ = c.value != 0;
+      break;
+    case LiveCommandKind::kSetParam: {
+      const auto params = preset_params();
+      if (c.param < 0 || size_t(c.param) >= params.size()) break;
+      const ParamSpec& spec = params[size_t(c.param)];
+      if (spec.structural) {
+        notice("%.*s: changes the grid or models; switch presets instead", int(spec.key.size()),
+               spec.key.data());
+        break;
+      }
+      char why[160] = "";
+      Preset& target = fading() && !image_fade_ ? fade_to_ : preset_;
+      if (!(c.value >= spec.min && c.value <= spec.max) || !spec.set) {
+        std::snprintf(why, sizeof why, "%.*s: out of range", int(spec.key.size()), spec.key.data());
+        notice("%s", why);
+        break;
+      }
+      (void)set_param(target, spec, c.value);
+      if (spec.key.starts_with("quality.")) quality_.set_bounds(bounds_for(preset_));
+      applied_ = preset_.scene;
+      apply_level();
+      break;
+    }
+    case LiveCommandKind::kSetMode: {
+      const ParamSpec* mode = find_param("input.mode");
+      if (mode) (void)set_param(preset_, *mode, c.value);
+      break;
+    }
+    case LiveCommandKind::kNextMode: {
+      const ParamSpec* mode = find_param("input.mode");
+      if (!mode) break;
+      const double next = std::fmod(get_param(preset_, *mode) + 1, mode->max + 1);
+      (void)set_param(preset_, *mode, next);
+      notice("mode %s", preset_.input.mode.c_str());
+      break;
+    }
+    case LiveCommandKind::kScreenshot:
+      take_screenshot(c.text.data());
+      break;
+    case LiveCommandKind::kRecordStart:
+      start_recording(c.text.data());
+      break;
+    case LiveCommandKind::kRecordStop:
+      stop_recording();
+      break;
+    case LiveCommandKind::kToggleRecord:
+      if (recorder_)
+        stop_recording();
+      else
+        start_recording(options_.record_path);
+      break;
+    case LiveCommandKind::kToggleHud:
+      options_.hud = !options_.hud;
+      break;
+    case LiveCommandKind::kInputActivity:
+      break;
+  }
+}
+
+bool LiveLoop::run_frame() {
+  if (quit_) return false;
+  clock_.begin_frame();
+  if (take_report_request()) clock_.print_report(options_.log ? options_.log : stderr);
+
+  // Input: window events, commands from every source, strokes.
+  display_.poll(input_, commands_);
+  bool activity = false;
+  LiveCommand c;
+  while (commands_.pop(c)) {
+    if (c.kind == LiveCommandKind::kInputActivity) activity = true;
+    handle(c);
+  }
+  const double now = double(clock_.frame_begin_ns()) * 1e-9;
+  size_t n = input_.pop_many(samples_);
+  n += remote_input_.pop_many(std::span(samples_).subspan(n));
+  activity = activity || n > 0;
+  if (attract_) n += attract_->update(now, activity, std::span(samples_).subspan(n));
+  hud_.attract = attract_ && attract_->active();
+  if (n > 0) {
+    sim_->paint(std::span<const StrokeSample>(samples_.data(), n), preset_.input);
+    painted_samples_ += int64_t(n);
+  }
+  clock_.mark(FrameStage::kInput);
+
+  // Simulate (a parameter fade advances first, so the step uses the blended values).
+  poll_build();
+  if (fading() && !image_fade_) {
+    ++fade_frame_;
+    blend_params(fade_from_, fade_to_, double(fade_frame_) / fade_frames_, preset_);
+    if (!fading()) preset_ = fade_to_;
+    applied_ = preset_.scene;
+    apply_level();
+  }
+  if (!paused_) sim_->step();
+  clock_.mark(FrameStage::kSimulate);
+
+  render_state(sim_->state(), preset_.scene.output, image_);
+  if (fading() && image_fade_) {
+    ++fade_frame_;
+    crossfade_images(fade_image_, double(fade_frame_) / fade_frames_, image_);
+  }
+  clock_.mark(FrameStage::kRender);
+
+  hud_.fps = clock_.recent_fps();
+  hud_.p50_ms = double(clock_.recent_percentile_ns(0.5)) * 1e-6;
+  hud_.p99_ms = double(clock_.recent_percentile_ns(0.99)) * 1e-6;
+  hud_.misses = clock_.misses();
+  hud_.frame = frame_;
+  hud_.sweeps = quality_.level().sweeps;
+  hud_.rd_scale = quality_.level().rd_scale;
+  hud_.paused = paused_;
+  if (frame_ > hud_.message_until_frame) hud_.message[0] = '\0';
+  display_.present(image_, options_.hud ? &hud_ : nullptr);
+  clock_.mark(FrameStage::kPresent);
+
+  if (recorder_) {
+    if (recorder_->push(image_)) ++record_stalls_;
+  }
+  clock_.mark(FrameStage::kRecord);
+
+  ++frame_;
+  const int64_t work = clock_.elapsed_in_frame_ns();
+  if (quality_.update(work, clock_.period_ns())) apply_level();
+  clock_.end_frame_and_wait();
+  heartbeat_.fetch_add(1, std::memory_order_relaxed);
+  if (options_.max_frames > 0 && frame_ >= options_.max_frames) quit_ = true;
+  return !quit_;
+}
+
+Status LiveLoop::run() {
+  if (!sim_) return Status::error("live: no preset started");
+  while (run_frame()) {
+  }
+  if (!options_.exit_screenshot.empty()) {
+    ImageRgb8 shot;
+    if (!display_.read_back(shot)) shot = image_;
+    Status s = Status::ok();
+    auto writer =
+        options_.screenshotter
+            ? options_.screenshotter(options_.exit_screenshot, Int2{shot.width, shot.height}, 0, s)
+            : nullptr;
+    if (writer) s = writer->write(shot);
+    if (writer && s) s = writer->finish();
+    if (!writer && s) s = Status::error("screenshots are not available in this build");
+    if (!s) return Status::error(options_.exit_screenshot + ": " + s.message());
+  }
+  stop_recording();
+  if (options_.log) clock_.print_report(options_.log);
+  return Status::ok();
+}
+
+}  // namespace ardcell

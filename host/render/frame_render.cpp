@@ -1,0 +1,209 @@
+#include "host/render/frame_render.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ardcell {
+namespace {
+
+// Reads one field's value at a cell. Vorticity and speed are derived from u and v with
+// one-sided differences at the border so that no halo value is ever read.
+class Sampler {
+ public:
+  Sampler(const SimState& s, FrameField f) : s_(s), f_(f) {}
+  float operator()(int x, int y) const {
+    switch (f_) {
+      case FrameField::kDye:
+        return s_.dye(x, y);
+      case FrameField::kPressure:
+        return s_.p(x, y);
+      case FrameField::kA:
+        return s_.A(x, y);
+      case FrameField::kB:
+        return s_.B(x, y);
+      case FrameField::kSpeed:
+        return std::hypot(s_.u(x, y), s_.v(x, y));
+      case FrameField::kVorticity: {
+        const int nx = s_.size.x, ny = s_.size.y;
+        const int xl = std::max(x - 1, 0), xr = std::min(x + 1, nx - 1);
+        const int yl = std::max(y - 1, 0), yr = std::min(y + 1, ny - 1);
+        const double h = s_.h > 0 ? s_.h : 1.0;
+        const double dvdx = xr > xl ? (double(s_.v(xr, y)) - s_.v(xl, y)) / ((xr - xl) * h) : 0;
+        const double dudy = yr > yl ? (double(s_.u(x, yr)) - s_.u(x, yl)) / ((yr - yl) * h) : 0;
+        return float(dvdx - dudy);
+      }
+    }
+    return 0.0f;
+  }
+
+ private:
+  const SimState& s_;
+  FrameField f_;
+};
+
+bool is_finite(float v) { return std::isfinite(v); }
+
+}  // namespace
+
+bool parse_frame_field(std::string_view name, FrameField& out) {
+  if (name == "dye")
+    out = FrameField::kDye;
+  else if (name == "speed")
+    out = FrameField::kSpeed;
+  else if (name == "vorticity")
+    out = FrameField::kVorticity;
+  else if (name == "pressure")
+    out = FrameField::kPressure;
+  else if (name == "A")
+    out = FrameField::kA;
+  else if (name == "B")
+    out = FrameField::kB;
+  else
+    return false;
+  return true;
+}
+
+std::string_view frame_field_name(FrameField field) {
+  switch (field) {
+    case FrameField::kDye:
+      return "dye";
+    case FrameField::kSpeed:
+      return "speed";
+    case FrameField::kVorticity:
+      return "vorticity";
+    case FrameField::kPressure:
+      return "pressure";
+    case FrameField::kA:
+      return "A";
+    case FrameField::kB:
+      return "B";
+  }
+  return "dye";
+}
+
+std::string_view frame_field_names() { return "dye|speed|vorticity|pressure|A|B"; }
+
+bool frame_field_available(const SimState& s, FrameField field) {
+  auto sized = [&](const FieldF& f) { return !f.empty() && f.size() == s.size; };
+  switch (field) {
+    case FrameField::kDye:
+      return sized(s.dye);
+    case FrameField::kPressure:
+      return sized(s.p);
+    case FrameField::kA:
+      return sized(s.A);
+    case FrameField::kB:
+      return sized(s.B);
+    case FrameField::kSpeed:
+    case FrameField::kVorticity:
+      return sized(s.u) && sized(s.v);
+  }
+  return false;
+}
+
+float frame_field_value(const SimState& state, FrameField field, int x, int y) {
+  return Sampler(state, field)(x, y);
+}
+
+RenderSettings default_render_settings(FrameField field) {
+  RenderSettings r;
+  r.field = field;
+  switch (field) {
+    case FrameField::kDye:
+    case FrameField::kA:
+    case FrameField::kB:
+      r.colormap = Colormap::kViridis;
+      r.range = RangeMode::kFixed;
+      r.lo = 0.0f;
+      r.hi = 1.0f;
+      break;
+    case FrameField::kSpeed:
+      r.colormap = Colormap::kMagma;
+      r.range = RangeMode::kAutoFromZero;
+      break;
+    case FrameField::kVorticity:
+      r.colormap = Colormap::kRdBu;
+      r.range = RangeMode::kAutoSymmetric;
+      break;
+    case FrameField::kPressure:
+      r.colormap = Colormap::kViridis;
+      r.range = RangeMode::kAuto;
+      break;
+  }
+  return r;
+}
+
+RenderStats render_frame(const SimState& state, const RenderSettings& settings, ImageRgb8& image) {
+  ARDCELL_CHECK(image.width == state.size.x && image.height == state.size.y &&
+                    image.rgb.size() == std::size_t(image.width) * image.height * 3,
+                "render_frame: image must be sized to the grid");
+  ARDCELL_CHECK(frame_field_available(state, settings.field),
+                "render_frame: the state does not hold the field to draw");
+  const int nx = state.size.x, ny = state.size.y;
+  const Sampler sample(state, settings.field);
+  const bool has_obstacle = !state.obstacle.empty() && state.obstacle.size() == state.size;
+  auto solid = [&](int x, int y) { return has_obstacle && state.obstacle(x, y) != 0; };
+
+  RenderStats stats;
+  float lo = settings.lo, hi = settings.hi;
+  if (settings.range != RangeMode::kFixed) {
+    float mn = INFINITY, mx = -INFINITY, amax = 0.0f;
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        if (solid(x, y)) continue;
+        const float v = sample(x, y);
+        if (!is_finite(v)) continue;
+        mn = std::min(mn, v);
+        mx = std::max(mx, v);
+        amax = std::max(amax, std::fabs(v));
+      }
+    if (mn > mx) mn = mx = 0.0f;  // nothing finite
+    switch (settings.range) {
+      case RangeMode::kAuto:
+        lo = mn;
+        hi = mx;
+        break;
+      case RangeMode::kAutoFromZero:
+        lo = 0.0f;
+        hi = std::max(mx, 0.0f);
+        break;
+      case RangeMode::kAutoSymmetric:
+        lo = -amax;
+        hi = amax;
+        break;
+      case RangeMode::kFixed:
+        break;
+    }
+  }
+  stats.lo = lo;
+  stats.hi = hi;
+  const bool flat = !(hi > lo) || !std::isfinite(hi - lo);
+  const float flat_t = settings.range == RangeMode::kAutoSymmetric ? 0.5f : 0.0f;
+  const float scale = flat ? 0.0f : 1.0f / (hi - lo);
+
+  const std::array<Rgb8, 256>& lut = colormap_lut(settings.colormap);
+  for (int py = 0; py < ny; ++py) {
+    const int y = ny - 1 - py;
+    uint8_t* out = image.row(py);
+    for (int x = 0; x < nx; ++x, out += 3) {
+      Rgb8 c;
+      if (solid(x, y)) {
+        c = kObstacleRgb;
+      } else {
+        const float v = sample(x, y);
+        if (!is_finite(v)) {
+          ++stats.non_finite;
+          c = kNonFiniteRgb;
+        } else {
+          c = colormap_at(lut, flat ? flat_t : (v - lo) * scale);
+        }
+      }
+      out[0] = c.r;
+      out[1] = c.g;
+      out[2] = c.b;
+    }
+  }
+  return stats;
+}
+
+}  // namespace ardcell

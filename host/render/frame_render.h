@@ -1,0 +1,57 @@
+#pragma once
+// Field -> RGB8 image for frames (PNG, video, the live display). One pixel per cell, the
+// grid's y axis pointing up (row 0 of the image is the top row y = ny - 1). Non-finite values
+// are drawn in kNonFiniteRgb and counted, obstacle cells in kObstacleRgb. render_frame writes
+// into a caller-owned image and allocates nothing.
+#include <cstdint>
+#include <string_view>
+
+#include "host/render/colormap.h"
+#include "host/render/image.h"
+#include "host/config/sim_state.h"
+
+namespace ardcell {
+
+enum class FrameField : uint8_t { kDye, kSpeed, kVorticity, kPressure, kA, kB };
+
+// "dye", "speed", "vorticity", "pressure", "A", "B"; false when unknown.
+bool parse_frame_field(std::string_view name, FrameField& out);
+std::string_view frame_field_name(FrameField field);
+std::string_view frame_field_names();  // "dye|speed|vorticity|pressure|A|B"
+// Whether `state` holds what the field is drawn from (speed and vorticity need u and v).
+bool frame_field_available(const SimState& state, FrameField field);
+
+// How values map to [0, 1] before the colormap.
+enum class RangeMode : uint8_t {
+  kFixed,          // [lo, hi] as given
+  kAuto,           // [min, max] of the finite values of this frame
+  kAutoFromZero,   // [0, max] (magnitudes such as speed)
+  kAutoSymmetric,  // [-m, m] with m = max |value| (signed fields: 0 at the map's centre)
+};
+
+struct RenderSettings {
+  FrameField field = FrameField::kDye;
+  Colormap colormap = Colormap::kViridis;
+  RangeMode range = RangeMode::kFixed;
+  float lo = 0.0f, hi = 1.0f;  // for kFixed
+};
+
+// The usual settings for a field: dye, A and B fixed [0, 1]; speed [0, max]; vorticity
+// symmetric with the diverging map; pressure [min, max].
+RenderSettings default_render_settings(FrameField field);
+
+inline constexpr Rgb8 kObstacleRgb{96, 96, 96};
+
+struct RenderStats {
+  float lo = 0, hi = 0;    // the value range that was mapped to the colormap's ends
+  int64_t non_finite = 0;  // cells that were NaN or +-inf
+};
+
+// The value drawn at cell (x, y) (speed and vorticity derived from u, v; vorticity by
+// central differences, one-sided at the border, so no halo cell is read).
+float frame_field_value(const SimState& state, FrameField field, int x, int y);
+
+// Renders `state` into `image`, which must already be state.size wide and high.
+RenderStats render_frame(const SimState& state, const RenderSettings& settings, ImageRgb8& image);
+
+}  // namespace ardcell

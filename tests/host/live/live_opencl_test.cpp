@@ -1,0 +1,236 @@
+// The live loop over OpenClLiveSimulations (PoCL in CI) against the same loop over the CPU
+// EngineSimulation: reaction-diffusion-only presets set to fixed-sweep solvers (tolerance 0), a
+// parameter change, strokes and preset switches under the running loop, one preset the device
+// refuses (it runs on the CPU with one line saying why). Norm as tests/host/
+// opencl_rd_engine_test.cpp: max |cl - cpu| / max |cpu| over the interior of the field shown,
+// <= 1e-5 every frame (isotropic scenes: that test measures 0 to 8e-6 over 100 frames).
+#if defined(ARDCELL_WITH_OPENCL)
+#include "host/live/live_opencl.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "host/live/live_engine.h"
+#include "host/scenes/preset.h"
+#include "tests/support/field_compare.h"
+#include "tests/support/opencl_test_device.h"
+
+namespace ardcell {
+namespace {
+
+constexpr double kTolerance = 1e-5;
+
+using Device = TestOpenClDevice;
+Device* device() { return test_opencl_device(); }
+
+class NoDisplay final : public LiveDisplay {
+ public:
+  void poll(StrokeRing&, CommandQueue&) override {}
+  void present(const ImageRgb8&, const HudInfo*) override {}
+};
+
+struct Fixture {
+  std::filesystem::path dir;
+  Fixture() {
+    dir = std::filesystem::temp_directory_path() /
+          ("ardcell_live_opencl_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+  }
+  ~Fixture() { std::filesystem::remove_all(dir); }
+  // A built-in preset at an awkward small grid (same cell size), edited, written as TOML.
+  std::string preset(const std::string& builtin, Int2 grid,
+                     const std::function<void(Preset&)>& edit) {
+    Preset p;
+    EXPECT_TRUE(load_preset(builtin, p).is_ok()) << builtin;
+    p.scene.domain_width = p.scene.domain_width / p.scene.size.x * grid.x;
+    p.scene.size = grid;
+    p.quality.adaptive = false;
+    edit(p);
+    const std::filesystem::path path = dir / (builtin + ".toml");
+    std::ofstream(path) << preset_to_toml(p);
+    return path.string();
+  }
+};
+
+LiveOptions options() {
+  LiveOptions o;
+  o.fps = 0;  // unpaced
+  o.adaptive = false;
+  o.crossfade_frames = 4;
+  o.log = nullptr;
+  return o;
+}
+
+const FieldF& shown(const LiveLoop& loop) {
+  const SimState& s = loop.simulation().state();
+  return loop.preset().scene.output.show == "B" ? s.B : s.A;
+}
+
+bool finite(const FieldF& f) {
+  for (int y = 0; y < f.ny(); ++y)
+    for (int x = 0; x < f.nx(); ++x)
+      if (!std::isfinite(f(x, y))) return false;
+  return true;
+}
+
+StrokeSample pen(float x, float y, bool down) {
+  StrokeSample s;
+  s.x = x;
+  s.y = y;
+  s.pressure = 0.8f;
+  s.buttons = down ? uint32_t(kButtonTip) : 0u;
+  s.in_range = true;
+  return s;
+}
+
+TEST(LiveOpenCl, SwitchesParametersAndPresetsUnderTheLoopLikeTheCpu) {
+  Device* dev = device();
+  if (!dev) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  Fixture fx;
+  const Int2 grid{29, 23};
+  const std::string pearson = fx.preset("pearson", grid, [](Preset& p) {
+    p.scene.rd.diffusion_solver = {SolverKind::kJacobi, 8, 0.0};
+  });
+  const std::string turing = fx.preset("turing-spots", grid, [](Preset& p) {
+    p.scene.rd.diffusion_solver = {SolverKind::kRedBlackGaussSeidel, 4, 0.0};
+  });
+  const std::string fluid = fx.preset("cavity-gray-scott", {16, 16}, [](Preset& p) {
+    p.scene.fluid.pressure_solver.max_iterations = 2;
+    p.scene.rd.diffusion_solver.max_iterations = 3;
+  });
+
+  const int builds = dev->ctx->build_count();
+  std::FILE* log = std::tmpfile();
+  ASSERT_NE(log, nullptr);
+  OpenClLiveSimulations sims(*dev->cl, log);
+  NoDisplay cl_display, cpu_display;
+  LiveLoop on_device(options(), sims.factory(), cl_display);
+  LiveLoop on_cpu(options(), make_engine_simulation, cpu_display);
+  ASSERT_TRUE(on_device.start(pearson).is_ok());
+  ASSERT_TRUE(on_cpu.start(pearson).is_ok());
+  EXPECT_EQ(on_device.simulation().backend(), "opencl (" + sims.device_name() + ")");
+  EXPECT_EQ(on_device.simulation().lowest_rd_scale(), 1.0);
+
+  double worst = 0;
+  int64_t compared = 0;
+  auto frames = [&](int n, const char* what) {
+    for (int i = 0; i < n; ++i) {
+      on_device.run_frame();
+      on_cpu.run_frame();
+      ASSERT_TRUE(finite(shown(on_device))) << what << " frame " << i;
+      const double e = max_relative_error(shown(on_device), shown(on_cpu));
+      EXPECT_LE(e, kTolerance) << what << " frame " << i;
+      worst = std::max(worst, e);
+      ++compared;
+    }
+  };
+  auto both = [&](const LiveCommand& c) {
+    on_device.commands().push(c);
+    on_cpu.commands().push(c);
+  };
+  // The switch is built on each loop's worker: it lands in the frame that queued it or, once
+  // built, in the next one; either way each loop steps its new simulation exactly once here.
+  auto select = [&](const std::string& path) {
+    both(LiveCommand::with_text(LiveCommandKind::kSelectPreset, path));
+    for (LiveLoop* loop : {&on_device, &on_cpu}) {
+      loop->run_frame();
+      if (loop->switch_pending()) {
+        loop->wait_for_switch();
+        loop->run_frame();
+      }
+    }
+  };
+
+  frames(8, "pearson");
+  // A slider (non-structural: kernel arguments only), faded in over the crossfade.
+  const ParamSpec* feed = find_param("rd.reaction.f");
+  ASSERT_NE(feed, nullptr);
+  both(LiveCommand::make(LiveCommandKind::kSetParam, 0.03, int(feed - preset_params().data())));
+  frames(8, "pearson, F changed");
+  EXPECT_DOUBLE_EQ(on_device.preset().scene.rd.reaction.F, 0.03f);
+  // A stroke: painted on the host mirror, uploaded.
+  for (int i = 0; i <= 6; ++i) {
+    const StrokeSample s = pen(0.2f + 0.1f * float(i), 0.5f, i < 6);
+    on_device.input().push(s);
+    on_cpu.input().push(s);
+  }
+  frames(6, "pearson, painted");
+  // A structural switch (other model and solver): a new engine on the same kernels.
+  select(turing);
+  frames(10, "turing-spots");
+  EXPECT_NE(on_device.simulation().backend().find("opencl ("), std::string_view::npos);
+  // A preset the device refuses runs on the CPU, with one line naming why.
+  select(fluid);
+  frames(3, "cavity-gray-scott (CPU on both)");
+  EXPECT_EQ(on_device.simulation().backend(), "threads");
+  EXPECT_EQ(sims.cpu_fallbacks(), 1);
+  const std::string line = sims.last_fallback();
+  EXPECT_EQ(line.rfind("ardcell live: preset 'cavity-gray-scott' cannot run on OpenCL: ", 0), 0u)
+      << line;
+  EXPECT_NE(line.find("; running it on the CPU"), std::string::npos) << line;
+  std::fflush(log);
+  EXPECT_EQ(std::ftell(log), long(line.size() + 1));  // exactly that line was logged
+  std::fclose(log);
+  // And back onto the device.
+  select(pearson);
+  frames(6, "pearson again");
+  EXPECT_NE(on_device.simulation().backend().find("opencl ("), std::string_view::npos);
+
+  EXPECT_EQ(dev->ctx->build_count(), builds);  // no program built by any switch
+  EXPECT_EQ(on_device.preset_errors(), 0);
+  std::printf("live OpenCL vs CPU: %lld frames, worst relative error %.2e\n",
+              static_cast<long long>(compared), worst);
+}
+
+// An orient stroke (theta0, spread by fast marching, and seed dabs of A and B) reaches the
+// device: the anisotropic space cookie follows the CPU's over the first 2 frames (see the top
+// of opencl_rd_engine_test for why 2) and differs clearly from the unpainted preset.
+TEST(LiveOpenCl, OrientStrokeReachesTheDevice) {
+  Device* dev = device();
+  if (!dev) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  Fixture fx;
+  const std::string cookie = fx.preset("space-cookie-5", {25, 19}, [](Preset& p) {
+    p.scene.rd.diffusion_solver = {SolverKind::kJacobi, 8, 0.0};
+    p.input.mode = "orient";
+  });
+  OpenClLiveSimulations sims(*dev->cl, nullptr);
+  NoDisplay d1, d2;
+  LiveLoop on_device(options(), sims.factory(), d1);
+  LiveLoop on_cpu(options(), make_engine_simulation, d2);
+  ASSERT_TRUE(on_device.start(cookie).is_ok());
+  ASSERT_TRUE(on_cpu.start(cookie).is_ok());
+  for (int i = 0; i <= 8; ++i) {
+    const StrokeSample s = pen(0.5f + 0.04f * float(i), 0.2f + 0.07f * float(i), i < 8);
+    on_device.input().push(s);
+    on_cpu.input().push(s);
+  }
+  on_device.run_frame();
+  on_cpu.run_frame();
+  const SimState& cl = on_device.simulation().state();
+  const SimState& cpu = on_cpu.simulation().state();
+  EXPECT_EQ(max_relative_error(cl.theta0, cpu.theta0), 0.0);
+  double spread = 0;
+  for (int y = 0; y < cpu.size.y; ++y)
+    for (int x = 0; x < cpu.size.x; ++x)
+      spread = std::max(spread, std::abs(double(cpu.theta0(x, y))));
+  EXPECT_GT(spread, 0.1);  // the stroke did orient the grid
+  EXPECT_LE(max_relative_error(shown(on_device), shown(on_cpu)), kTolerance);
+  // The same preset unpainted: the stroke changed the device's frame clearly.
+  LiveLoop plain(options(), make_engine_simulation, d2);
+  ASSERT_TRUE(plain.start(cookie).is_ok());
+  plain.run_frame();
+  EXPECT_GT(max_relative_error(shown(on_device), shown(plain)), 0.1);
+  on_device.run_frame();
+  on_cpu.run_frame();
+  EXPECT_LE(max_relative_error(shown(on_device), shown(on_cpu)), kTolerance);
+}
+
+}  // namespace
+}  // namespace ardcell
+#endif
