@@ -16,7 +16,7 @@ class JacobiSolver final : public LinearSolver {
     ex.reserve_rows(size.y);
   }
 
-  void prepare(const StencilOperator& op) override { null_space_.analyse(op); }
+  void prepare(const StencilOperator& op) override { null_space_.analyse(op, *ex_); }
 
   SolveReport solve(const StencilOperator& op, const FieldF& b, FieldF& x) override {
     ARDCELL_CHECK(b.size() == op.size && x.size() == op.size && other_.size() == op.size,

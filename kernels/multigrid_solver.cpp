@@ -80,7 +80,7 @@ class MultigridSolver final : public LinearSolver {
 
   void prepare(const StencilOperator& op) override {
     ARDCELL_CHECK(op.size == size_, "multigrid: size mismatch");
-    null_space_.analyse(op);
+    null_space_.analyse(op, *ex_);
     const StencilOperator* fine = &op;
     for (Level& level : levels_) {
       coarsen(*fine, level.op);

@@ -130,25 +130,34 @@ double norm2_squared(const FieldF& f, RowExecutor& ex) {
   });
 }
 
-void NullSpace::analyse(const StencilOperator& op) {
+void NullSpace::analyse(const StencilOperator& op, RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
   ARDCELL_CHECK(in_null_.size() == op.size, "NullSpace: size mismatch");
-  count_ = 0;
-  bool others_decoupled = true;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const double faces =
-          double(op.wx(i, j)) + op.wx(i + 1, j) + double(op.wy(i, j)) + op.wy(i, j + 1);
-      const double row_sum = double(op.diag(i, j)) - faces;
-      const bool zero =
-          std::abs(row_sum) <= 1e-6 * std::abs(double(op.diag(i, j))) && op.diag(i, j) > 0.0f;
-      in_null_(i, j) = zero ? 1 : 0;
-      if (zero) {
-        ++count_;
-      } else if (faces != 0.0) {
-        others_decoupled = false;
+  double* coupled = ex.rows_scratch(ny, 0);  // per row: 1 when a coupled cell is outside Z
+  const double count = ex.sum_rows(ny, nx, [&](int y0, int y1, double* partials) {
+    for (int j = y0; j < y1; ++j) {
+      double row_count = 0.0;
+      bool row_coupled = false;
+      for (int i = 0; i < nx; ++i) {
+        const double faces =
+            double(op.wx(i, j)) + op.wx(i + 1, j) + double(op.wy(i, j)) + op.wy(i, j + 1);
+        const double row_sum = double(op.diag(i, j)) - faces;
+        const bool zero =
+            std::abs(row_sum) <= 1e-6 * std::abs(double(op.diag(i, j))) && op.diag(i, j) > 0.0f;
+        in_null_(i, j) = zero ? 1 : 0;
+        if (zero) {
+          row_count += 1.0;
+        } else if (faces != 0.0) {
+          row_coupled = true;
+        }
       }
+      partials[j] = row_count;
+      coupled[j] = row_coupled ? 1.0 : 0.0;
     }
+  });
+  count_ = int64_t(count);
+  bool others_decoupled = true;
+  for (int j = 0; j < ny; ++j) others_decoupled = others_decoupled && coupled[j] == 0.0;
   singular_ = count_ > 0 && others_decoupled;
 }
 

@@ -37,7 +37,7 @@ double norm2_squared(const FieldF& f, RowExecutor& ex = RowExecutor::serial());
 class NullSpace {
  public:
   explicit NullSpace(Int2 size) : in_null_(size, 0) {}
-  void analyse(const StencilOperator& op);
+  void analyse(const StencilOperator& op, RowExecutor& ex = RowExecutor::serial());
   bool singular() const { return singular_; }
   const Field<uint8_t>& mask() const { return in_null_; }  // 1 = cell of Z
   int64_t count() const { return count_; }

@@ -21,6 +21,8 @@ RowExecutor& RowExecutor::serial() {
 
 void RowExecutor::reserve_rows(int rows) {
   if (partials_.size() < std::size_t(rows)) partials_.resize(std::size_t(rows));
+  if (slots_.size() < std::size_t(rows) * kMaxRowSlots)
+    slots_.resize(std::size_t(rows) * kMaxRowSlots);
 }
 
 double* RowExecutor::rows_scratch(int rows, int slot) {

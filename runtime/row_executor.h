@@ -79,7 +79,8 @@ class RowExecutor {
     return total;
   }
 
-  // Grows the per-row partials to at least `rows` (call at set-up so frames do not allocate).
+  // Grows the per-row partials and row slots to at least `rows` (call at set-up so frames do not
+  // allocate).
   void reserve_rows(int rows);
   // Scratch of kMaxRowSlots doubles per row for reductions that need several partials per row
   // (sum, min and max): slot k of row y is at rows_scratch(rows, k)[y].

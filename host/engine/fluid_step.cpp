@@ -219,7 +219,6 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
   ops_->solver_p = LinearSolver::make(config_.pressure_solver, size, ex);
   ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size, ex);
   ex.reserve_rows(size.y);
-  (void)ex.rows_scratch(size.y, RowExecutor::kMaxRowSlots - 1);
 
   // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces.
   reassemble_stencil_operator(ops_->pressure, 0.0, 1.0, nullptr);

@@ -65,11 +65,6 @@ std::string rd_config_problem(const SceneConfig& scene) {
   return "";
 }
 
-struct RdStepper::SerialLane {
-  SerialBackend backend;
-  RowExecutor ex{backend};
-};
-
 template <class F>
 void RdStepper::for_bands(const F& f) const {
   const Int2 n = scene_.size;
@@ -89,17 +84,10 @@ RdStepper::RdStepper(const SceneConfig& scene, RowExecutor& ex)
   dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
   h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_h;
   if (rd_.scheme == RdScheme::kImplicit && rd_.diffuse) {
-    RowExecutor* on_a = &ex;
-    RowExecutor* on_b = &ex;
-    if (rd_.diffusion_solver.kind == SolverKind::kIccg) {
-      for (auto& lane : lanes_) lane = std::make_unique<SerialLane>();
-      on_a = &lanes_[0]->ex;
-      on_b = &lanes_[1]->ex;
-    }
     diff_a_ =
-        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, *on_a);
+        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, ex);
     diff_b_ =
-        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, *on_b);
+        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, ex);
   }
   if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit) {
     const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
@@ -252,20 +240,11 @@ void RdStepper::diffuse(SimState& s) {
   diff_a_->set_solid(solid);
   diff_b_->set_solid(solid);
   const double base = dt_ / (h_ * h_) * iso;
-  SolveReport ra{}, rb{};
-  const auto solve_a = [&] {
-    ra = diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
-  };
-  const auto solve_b = [&] {
-    rb = diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
-                       {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
-  };
-  if (lanes_[0]) {
-    ex_->for_tasks(2, [&](int i) { i == 0 ? solve_a() : solve_b(); });
-  } else {
-    solve_a();
-    solve_b();
-  }
+  const SolveReport ra =
+      diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
+  const SolveReport rb =
+      diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
+                    {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
   stats_.diffusion_iterations_a = ra.iterations;
   stats_.diffusion_iterations_b = rb.iterations;
   stats_.diffusion_residual_a = ra.relative_residual;

@@ -73,10 +73,6 @@ class RdStepper {
   RowExecutor* ex_;
   RdConfig rd_;
   double dt_, h_;
-  // ICCG's triangular solves are sequential: A's and B's solves then run side by side as two
-  // tasks, each on a serial lane of its own (host/engine/rd_step.cpp).
-  struct SerialLane;
-  std::unique_ptr<SerialLane> lanes_[2];
   std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
