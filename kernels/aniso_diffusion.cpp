@@ -15,19 +15,24 @@ ImplicitDiffusion::ImplicitDiffusion(Int2 size, BoundaryKind boundary, const Sol
 
 ImplicitDiffusion::~ImplicitDiffusion() = default;
 
+void ImplicitDiffusion::copy_rows(const FieldF& from, FieldF& to) const {
+  ex_->for_rows(size_.y, size_.x, [&](int y0, int y1) {
+    copy_box<float>(from.view(), to.view(), Box2{{0, y0}, {size_.x, y1}});
+  });
+}
+
 SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
                                     const DiffusionStep& s) {
   ARDCELL_CHECK(field.size() == size_, "diffusion: field size differs from the solver's");
   const double scale = s.crank_nicolson ? 0.5 * s.rate_dt_over_h2 : s.rate_dt_over_h2;
   const bool isotropic = conductivity == nullptr;
   if (!isotropic || !last_isotropic_ || scale != last_scale_ || solid_) {
-    reassemble_stencil_operator(op_, 1.0, scale, conductivity);
+    reassemble_stencil_operator(op_, 1.0, scale, conductivity, *ex_);
     if (solid_) isolate_solid_cells(op_, *solid_, 0.0);
     solver_->prepare(op_);
     last_scale_ = scale;
     last_isotropic_ = isotropic;
   }
-  const Box2 interior = field.interior();
   if (s.crank_nicolson) {
     // (1 + s/2 L) A = 2 A - (1 - s/2 L) A.
     apply_stencil_operator(op_, field, tmp_);
@@ -40,7 +45,7 @@ SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
       }
     });
   } else {
-    copy_box<float>(field.view(), rhs_.view(), interior);
+    copy_rows(field, rhs_);
   }
   if (boundary_ == BoundaryKind::kDirichlet && s.boundary_value != 0.0f) {
     // The fixed ghost's flux s k g moves to the right-hand side (both halves of CN included).
@@ -58,9 +63,9 @@ SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
       add(x, size_.y - 1);
     }
   }
-  copy_box<float>(field.view(), x_.view(), interior);
+  copy_rows(field, x_);
   const SolveReport report = solver_->solve(op_, rhs_, x_);
-  copy_box<float>(x_.view(), field.view(), interior);
+  copy_rows(x_, field);
   return report;
 }
 

@@ -42,6 +42,7 @@ class ImplicitDiffusion {
   BoundaryKind boundary() const { return boundary_; }
 
  private:
+  void copy_rows(const FieldF& from, FieldF& to) const;  // interiors, in bands of rows
   Int2 size_;
   RowExecutor* ex_;
   BoundaryKind boundary_;

@@ -12,54 +12,61 @@ inline double conductivity_at(const FieldF* k, int x, int y) {
   return k ? double((*k)(x, y)) : 1.0;
 }
 
-void fill_coefficients(StencilOperator& op, double identity, double scale, const FieldF* k) {
+void fill_coefficients(StencilOperator& op, double identity, double scale, const FieldF* k,
+                       RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
   if (k) {
     ARDCELL_CHECK(k->size() == op.size, "conductivity must have the operator's size");
   }
   // Faces in x: wx(i, j) between cells (i-1, j) and (i, j).
-  for (int j = 0; j < ny; ++j) {
-    float* w = op.wx.row(j);
-    for (int i = 1; i < nx; ++i)
-      w[i] = float(scale * 0.5 * (conductivity_at(k, i - 1, j) + conductivity_at(k, i, j)));
-    float edge = 0.0f;
-    if (op.boundary_x == BoundaryKind::kPeriodic && nx > 0)
-      edge = float(scale * 0.5 * (conductivity_at(k, nx - 1, j) + conductivity_at(k, 0, j)));
-    w[0] = edge;
-    w[nx] = edge;
-  }
-  for (int j = 0; j <= ny; ++j) {
-    float* w = op.wy.row(j);
-    for (int i = 0; i < nx; ++i) {
-      if (j > 0 && j < ny) {
-        w[i] = float(scale * 0.5 * (conductivity_at(k, i, j - 1) + conductivity_at(k, i, j)));
-      } else if (op.boundary_y == BoundaryKind::kPeriodic && ny > 0) {
-        w[i] = float(scale * 0.5 * (conductivity_at(k, i, ny - 1) + conductivity_at(k, i, 0)));
-      } else {
-        w[i] = 0.0f;
+  ex.for_rows(ny, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      float* w = op.wx.row(j);
+      for (int i = 1; i < nx; ++i)
+        w[i] = float(scale * 0.5 * (conductivity_at(k, i - 1, j) + conductivity_at(k, i, j)));
+      float edge = 0.0f;
+      if (op.boundary_x == BoundaryKind::kPeriodic && nx > 0)
+        edge = float(scale * 0.5 * (conductivity_at(k, nx - 1, j) + conductivity_at(k, 0, j)));
+      w[0] = edge;
+      w[nx] = edge;
+    }
+  });
+  ex.for_rows(ny + 1, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      float* w = op.wy.row(j);
+      for (int i = 0; i < nx; ++i) {
+        if (j > 0 && j < ny) {
+          w[i] = float(scale * 0.5 * (conductivity_at(k, i, j - 1) + conductivity_at(k, i, j)));
+        } else if (op.boundary_y == BoundaryKind::kPeriodic && ny > 0) {
+          w[i] = float(scale * 0.5 * (conductivity_at(k, i, ny - 1) + conductivity_at(k, i, 0)));
+        } else {
+          w[i] = 0.0f;
+        }
       }
     }
-  }
-  for (int j = 0; j < ny; ++j) {
-    float* d = op.diag.row(j);
-    const float* wx = op.wx.row(j);
-    const float* wyb = op.wy.row(j);
-    const float* wya = op.wy.row(j + 1);
-    for (int i = 0; i < nx; ++i) {
-      double sum = identity + double(wx[i]) + double(wx[i + 1]) + double(wyb[i]) + double(wya[i]);
-      // Dirichlet: the ghost is fixed, so the boundary face keeps its weight on the diagonal
-      // but couples to nothing (its value goes into b).
-      if (op.boundary_x == BoundaryKind::kDirichlet) {
-        if (i == 0) sum += scale * conductivity_at(k, i, j);
-        if (i == nx - 1) sum += scale * conductivity_at(k, i, j);
+  });
+  ex.for_rows(ny, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      float* d = op.diag.row(j);
+      const float* wx = op.wx.row(j);
+      const float* wyb = op.wy.row(j);
+      const float* wya = op.wy.row(j + 1);
+      for (int i = 0; i < nx; ++i) {
+        double sum = identity + double(wx[i]) + double(wx[i + 1]) + double(wyb[i]) + double(wya[i]);
+        // Dirichlet: the ghost is fixed, so the boundary face keeps its weight on the diagonal
+        // but couples to nothing (its value goes into b).
+        if (op.boundary_x == BoundaryKind::kDirichlet) {
+          if (i == 0) sum += scale * conductivity_at(k, i, j);
+          if (i == nx - 1) sum += scale * conductivity_at(k, i, j);
+        }
+        if (op.boundary_y == BoundaryKind::kDirichlet) {
+          if (j == 0) sum += scale * conductivity_at(k, i, j);
+          if (j == ny - 1) sum += scale * conductivity_at(k, i, j);
+        }
+        d[i] = float(sum);
       }
-      if (op.boundary_y == BoundaryKind::kDirichlet) {
-        if (j == 0) sum += scale * conductivity_at(k, i, j);
-        if (j == ny - 1) sum += scale * conductivity_at(k, i, j);
-      }
-      d[i] = float(sum);
     }
-  }
+  });
 }
 
 }  // namespace
@@ -74,13 +81,13 @@ StencilOperator assemble_stencil_operator(Int2 size, double identity, double sca
                      FieldF(Int2{size.x, size.y + 1}, 1),
                      boundary_x,
                      boundary_y};
-  fill_coefficients(op, identity, scale, conductivity);
+  fill_coefficients(op, identity, scale, conductivity, RowExecutor::serial());
   return op;
 }
 
 void reassemble_stencil_operator(StencilOperator& op, double identity, double scale,
-                                 const FieldF* conductivity) {
-  fill_coefficients(op, identity, scale, conductivity);
+                                 const FieldF* conductivity, RowExecutor& ex) {
+  fill_coefficients(op, identity, scale, conductivity, ex);
 }
 
 void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y) {

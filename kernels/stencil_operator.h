@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "runtime/field.h"
+#include "runtime/row_executor.h"
 
 namespace ardcell {
 
@@ -45,7 +46,8 @@ StencilOperator assemble_stencil_operator(Int2 size, double identity, double sca
 // Re-assembles in place (same size and boundaries) without allocating: for operators whose
 // coefficients change every frame (anisotropic diffusion).
 void reassemble_stencil_operator(StencilOperator& op, double identity, double scale,
-                                 const FieldF* conductivity);
+                                 const FieldF* conductivity,
+                                 RowExecutor& ex = RowExecutor::serial());
 
 // y = A x over the interior (x's halo is not read; boundaries are in A).
 void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y);

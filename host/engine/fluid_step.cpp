@@ -141,8 +141,14 @@ void restore_mass(FieldF& f, double missing, float lo, float hi, RowExecutor& ex
   });
 }
 
-void copy_all(const FieldF& from, FieldF& to) {
-  std::memcpy(to.raw(), from.raw(), to.raw_size() * sizeof(float));
+// The whole allocation (halo included), in bands of rows of storage.
+void copy_all(const FieldF& from, FieldF& to, RowExecutor& ex) {
+  const int rows = from.ny() + 2 * from.halo();
+  const std::size_t stride = std::size_t(from.stride());
+  ex.for_rows(rows, int(stride), [&](int y0, int y1) {
+    std::memcpy(to.raw() + stride * std::size_t(y0), from.raw() + stride * std::size_t(y0),
+                stride * std::size_t(y1 - y0) * sizeof(float));
+  });
 }
 
 }  // namespace
@@ -258,7 +264,7 @@ void FluidStep::prepare(double dt) {
   const double s_visc = dt * config_.viscosity / (h_ * h_);
   auto setup = [&](StencilOperator& op, LinearSolver& solver, const BoundaryFill& fill, double s,
                    bool no_slip_obstacle) {
-    reassemble_stencil_operator(op, 1.0, s, nullptr);
+    reassemble_stencil_operator(op, 1.0, s, nullptr, *ex_);
     fold_boundary(op, fill, s);
     if (!solid_.empty()) isolate_solid_cells(op, solid_, no_slip_obstacle ? 2.0 : 0.0);
     solver.prepare(op);
@@ -337,7 +343,7 @@ void FluidStep::diffuse_velocity(SimState& state) {
   const double s = state.dt * config_.viscosity / (h_ * h_);
   auto solve = [&](FieldF& x, const StencilOperator& op, LinearSolver& solver,
                    const BoundaryFill& fill) {
-    copy_all(x, scratch_b_);
+    copy_all(x, scratch_b_, *ex_);
     add_boundary_rhs(scratch_b_, fill, s);
     zero_solid(scratch_b_, solid_, *ex_);
     return solver.solve(op, scratch_b_, x);
@@ -384,8 +390,8 @@ SolveReport FluidStep::project(SimState& state) {
 
 void FluidStep::advect(SimState& state) {
   fill_velocity(state);
-  copy_all(state.u, scratch_u_);
-  copy_all(state.v, scratch_v_);
+  copy_all(state.u, scratch_u_, *ex_);
+  copy_all(state.v, scratch_v_, *ex_);
   const bool periodic = fill_u_.left.rule == EdgeRule::kPeriodic;
   const AdvectParams params{float(state.dt / h_), size_, periodic};
   for_bands([&](Box2 rows) {
@@ -396,7 +402,7 @@ void FluidStep::advect(SimState& state) {
 
 void FluidStep::diffuse_dye(SimState& state) {
   if (!(config_.dye_diffusion > 0.0)) return;
-  copy_all(state.dye, scratch_b_);
+  copy_all(state.dye, scratch_b_, *ex_);
   zero_solid(scratch_b_, solid_, *ex_);
   report_.dye = ops_->solver_dye->solve(ops_->dye, scratch_b_, state.dye);
 }
@@ -416,7 +422,7 @@ void FluidStep::step(SimState& state) {
     for_bands([&](Box2 rows) {
       fill_obstacle(state.dye.view(), solid_.view(), rows, ObstacleRule::kCopy);
     });
-  copy_all(state.dye, scratch_b_);
+  copy_all(state.dye, scratch_b_, *ex_);
   const bool closed =
       config_.kind == FluidSceneKind::kCavity || config_.kind == FluidSceneKind::kInk;
   const bool fix_mass = config_.conserve_dye && closed;
