@@ -7,7 +7,8 @@
 // Environment: ARDCELL_BENCH_SIZES (e.g. "128,256") restricts the sizes; ARDCELL_BENCH_SERIAL_MAX
 // (default 1024) is the largest size run on the slow serial schedule;
 // ARDCELL_BENCH_STORE_KIB sets the local store per worker of the stream and blocked schedules
-// (default: one L2 of this machine, runtime/local_store.h; 256 is the Cell SPE's);
+// (default: one L2 of this machine per double-buffer slot, runtime/local_store.h; 256 is the
+// Cell SPE's);
 // ARDCELL_BENCH_SWEEPS the blocked schedule's sweeps per residency (default 20: one load per
 // solve). Counter store_kib reports the local store used.
 #include <benchmark/benchmark.h>

@@ -155,7 +155,7 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       ->capture_default_str();
   t1->add_option("--store-kib", o->store_kib,
                  "Local store per worker of the stream and blocked schedules, KiB (default: one "
-                 "L2 of this machine; 256 is the Cell's)")
+                 "L2 of this machine per double-buffer slot; 256 is the Cell's)")
       ->capture_default_str();
   t1->add_option("--out", o->out, "Folder for table1.md, table1.csv, table1.png")
       ->capture_default_str();

@@ -14,11 +14,11 @@
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
+#include "host/engine/table1.h"
 #include "host/io/atomic_file.h"
+#include "host/io/state_io.h"
 #include "host/run/offline_run.h"
 #include "host/scenes/preset.h"
-#include "host/io/state_io.h"
-#include "host/engine/table1.h"
 #include "runtime/opencl/backend_choice.h"
 #if defined(ARDCELL_WITH_OPENCL)
 #include "host/engine/opencl_rd_engine.h"
@@ -458,8 +458,8 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
 }
 
 #if defined(ARDCELL_WITH_OPENCL)
-// A reaction-diffusion-only scene on an OpenCL device (host/engine/opencl_rd_engine.h): the fields stay
-// on the device; a written frame (and the saved state) downloads A and B.
+// A reaction-diffusion-only scene on an OpenCL device (host/engine/opencl_rd_engine.h): the fields
+// stay on the device; a written frame (and the saved state) downloads A and B.
 class OpenClRdStepper final : public OfflineStepper {
  public:
   // Null, with the one line to print, when the scene or the device cannot run it: the caller
@@ -745,7 +745,8 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--workers", a.workers, "threads back end workers (default: one per core)");
   a.store_kib_opt = run->add_option(
       "--store-kib", a.store_kib,
-      "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2)");
+      "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2 "
+      "per double-buffer slot)");
   run->add_flag("--stats", a.stats,
                 "print per-frame times (mean, p50, p99) and, for table1 scenes, per-pass timings");
   run->callback([args, &ctx] {

@@ -71,7 +71,8 @@ std::size_t machine_local_store_bytes() {
   static const std::size_t bytes = [] {
     const std::size_t l2 = l2_per_core();
     if (l2 == 0) return kSpeLocalStoreBytes;
-    const std::size_t clamped = std::clamp<std::size_t>(l2, 64 << 10, 16 << 20);
+    // Each of the two double-buffer slots one L2: the tile computing stays in the core's cache.
+    const std::size_t clamped = std::clamp<std::size_t>(2 * l2, 64 << 10, 16 << 20);
     return clamped / (2 * kRowAlignBytes) * (2 * kRowAlignBytes);
   }();
   return bytes;
