@@ -280,15 +280,19 @@ void RdStepper::explicit_step(SimState& s) {
 void RdStepper::parallel_gray_scott9_frame(SimState& s) {
   ParallelGrayScott9& sim = *parallel_gs9_;
   const std::size_t row_bytes = sizeof(float) * std::size_t(scene_.size.x);
-  for (int y = 0; y < scene_.size.y; ++y) {
-    std::memcpy(sim.a().row(y), s.A.row(y), row_bytes);
-    std::memcpy(sim.b().row(y), s.B.row(y), row_bytes);
-  }
+  ex_->for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      std::memcpy(sim.a().row(y), s.A.row(y), row_bytes);
+      std::memcpy(sim.b().row(y), s.B.row(y), row_bytes);
+    }
+  });
   sim.run(rd_.steps_per_frame);
-  for (int y = 0; y < scene_.size.y; ++y) {
-    std::memcpy(s.A.row(y), sim.a().row(y), row_bytes);
-    std::memcpy(s.B.row(y), sim.b().row(y), row_bytes);
-  }
+  ex_->for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      std::memcpy(s.A.row(y), sim.a().row(y), row_bytes);
+      std::memcpy(s.B.row(y), sim.b().row(y), row_bytes);
+    }
+  });
 }
 
 void RdStepper::advect(SimState& s) {
