@@ -25,7 +25,7 @@ namespace {
 
 std::vector<std::string> bench_presets() {
   const char* s = std::getenv("ARDCELL_BENCH_PRESETS");
-  return s ? split_list(s) : preset_names();
+  return s ? split_commas(s) : preset_names();
 }
 
 SceneConfig scene_at(const std::string& name, int n) {
