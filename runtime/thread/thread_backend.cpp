@@ -182,19 +182,21 @@ void ThreadBackend::run_share(Worker& w, std::uint64_t d) {
     }
     return count;
   };
+  // Nothing of *pass may be read before a claim succeeds: the pass of a dispatch this worker
+  // woke too late for may be gone.
+  std::size_t i = claim();
+  if (i >= count) return;
   std::size_t finished = 0;
   if (!pass->fetch) {
     // In place: nothing to fetch ahead, so a tile is claimed only when the worker can start it
     // (a look-ahead claim would take the last tiles of the others' shares from idle workers).
-    for (std::size_t i = claim(); i < count; i = claim()) {
+    for (; i < count; i = claim()) {
       pass->compute(pass->program, tiles[i], 0, w.ctx);
       ++finished;
     }
     slot.done.fetch_add(finished, std::memory_order_release);
     return;
   }
-  std::size_t i = claim();
-  if (i >= count) return;
   pass->fetch(pass->program, tiles[i], 0, w.ctx);
   for (int buffer = 0;; buffer ^= 1) {
     const std::size_t j = claim();
