@@ -61,13 +61,22 @@ struct LiveArgs {
   bool list = false;
   std::string backend = "auto";
   int cl_device = -1;
+  int workers = 0;
   CLI::Option* cl_device_opt = nullptr;
+  CLI::Option* workers_opt = nullptr;
 };
 
 // --backend / --cl-device: what to run the presets on. "" when valid, else the usage line.
 std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& opencl_asked) {
-  if (!parse_backend_kind(a.backend, kind) || kind == BackendKind::kSerial)
-    return "--backend '" + a.backend + "': expected auto, threads or opencl";
+  if (!parse_backend_kind(a.backend, kind))
+    return "--backend '" + a.backend + "': expected auto, threads, serial or opencl";
+  if (a.workers_opt && a.workers_opt->count()) {
+    if (a.workers < 1 || a.workers > 256)
+      return "--workers " + std::to_string(a.workers) + ": expected 1..256";
+    if (kind == BackendKind::kSerial)
+      return "--workers applies to the threads back end (expected no --workers with --backend "
+             "serial)";
+  }
   const bool device_given = a.cl_device_opt && a.cl_device_opt->count() > 0;
   if (device_given && a.cl_device < 0)
     return "--cl-device " + std::to_string(a.cl_device) +
@@ -196,7 +205,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   };
 
   // Declared before the loop: the simulations it makes must outlive it.
-  SimulationFactory factory = make_engine_simulation;
+  EngineOptions engine_options;
+  if (backend == BackendKind::kSerial) engine_options.backend = EngineOptions::Backend::kSerial;
+  if (a.workers_opt->count()) engine_options.workers = a.workers;
+  SimulationFactory factory = engine_simulations(engine_options);
 #if defined(ARDCELL_WITH_OPENCL)
   std::unique_ptr<OpenClLiveSimulations> device;
   if (opencl_asked) device = open_opencl(backend, a.cl_device, ctx.err);
@@ -207,9 +219,8 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #endif
   LiveLoop loop(o, factory, *display);
   if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
-  if (opencl_asked)
-    std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
-                 loop.simulation().backend().data());
+  std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
+               loop.simulation().backend().data());
   install_report_signal();
 
   std::unique_ptr<AttractMode> attract;
@@ -320,8 +331,11 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   live->add_flag("--keys", args->keys, "List every preset key and exit");
   live->add_flag("--list", args->list, "List preset names and exit");
   live->add_option("--backend", args->backend,
-                   "auto | threads | opencl: opencl runs reaction-diffusion-only presets on an "
-                   "OpenCL device (the others on the CPU); auto keeps the CPU");
+                   "auto | threads | serial | opencl: threads (and auto) run every preset on "
+                   "every core, serial on one; opencl runs reaction-diffusion-only presets on an "
+                   "OpenCL device (the others on threads)");
+  args->workers_opt = live->add_option("--workers", args->workers,
+                                       "threads back end workers (default: one per core)");
   args->cl_device_opt =
       live->add_option("--cl-device", args->cl_device, "OpenCL device index (see ardcell devices)");
   live->callback([args, &ctx] { ctx.exit_code = run_live(*args, ctx); });

@@ -144,8 +144,9 @@ void paint_live_samples(Painter& painter, const PaintConfig& base,
   }
 }
 
-EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& paint_base)
-    : engine_(preset.scene),
+EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& paint_base,
+                                   const EngineOptions& options)
+    : engine_(preset.scene, options),
       paint_base_(paint_base),
       painter_(preset.scene.size, live_paint_config(paint_base, preset.input, preset.scene.size)) {
   const SceneConfig& scene = engine_.config();
@@ -305,6 +306,12 @@ void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputM
 
 std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset) {
   return std::make_unique<EngineSimulation>(preset, paint_config_for(preset.scene));
+}
+
+SimulationFactory engine_simulations(const EngineOptions& options) {
+  return [options](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
+    return std::make_unique<EngineSimulation>(preset, paint_config_for(preset.scene), options);
+  };
 }
 
 }  // namespace ardcell

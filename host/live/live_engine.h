@@ -37,7 +37,8 @@ void paint_live_samples(Painter& painter, const PaintConfig& base,
 
 class EngineSimulation final : public LiveSimulation {
  public:
-  EngineSimulation(const Preset& preset, const PaintConfig& paint_base);
+  EngineSimulation(const Preset& preset, const PaintConfig& paint_base,
+                   const EngineOptions& options = {});
   ~EngineSimulation() override;
 
   void step() override;
@@ -74,5 +75,7 @@ class EngineSimulation final : public LiveSimulation {
 // What `ardcell live` runs: an EngineSimulation whose painter starts from the scene's defaults
 // (paint_config_for, as `ardcell run --strokes` does).
 std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset);
+// The same on a chosen back end (`ardcell live --backend serial|threads --workers N`).
+SimulationFactory engine_simulations(const EngineOptions& options);
 
 }  // namespace ardcell

@@ -39,6 +39,22 @@ TEST(LiveCli, RendersFramesToAWindowAndWritesTheScreenshot) {
   std::filesystem::remove_all(dir);
 }
 
+// The engine's back end is chosen on the command line and named in one line at the start.
+TEST(LiveCli, RunsOnTheBackEndAsked) {
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+    GTEST_SKIP() << "no X or Wayland display";
+  for (const auto& [args, line] :
+       {std::pair{"--backend serial", "ardcell live: backend serial\n"},
+        std::pair{"--backend threads --workers 2", "ardcell live: backend threads\n"},
+        std::pair{"", "ardcell live: backend threads\n"}}) {
+    const Result r =
+        run(std::string("live cavity-gray-scott --frames 3 --fps 0 --scale 1 ") + args);
+    EXPECT_EQ(r.code, 0) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(line), std::string::npos) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("frames 3, deadline misses "), std::string::npos) << r.output;
+  }
+}
+
 TEST(LiveCli, BadPresetIsOneLineAndExitCodeTwo) {
   const Result r = run("live no-such-preset --frames 1");
   EXPECT_EQ(r.code, 2);
@@ -48,8 +64,8 @@ TEST(LiveCli, BadPresetIsOneLineAndExitCodeTwo) {
 }
 
 TEST(LiveCli, BadBackendArgumentsAreOneLineAndExitCodeTwo) {
-  for (const char* args :
-       {"--backend gpu", "--backend serial", "--cl-device -1", "--backend threads --cl-device 0"}) {
+  for (const char* args : {"--backend gpu", "--backend serial --workers 2", "--workers 0",
+                           "--cl-device -1", "--backend threads --cl-device 0"}) {
     const Result r = run(std::string("live cavity --frames 1 ") + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
     EXPECT_EQ(r.output.rfind("ardcell live: --", 0), 0u) << args << ": " << r.output;
