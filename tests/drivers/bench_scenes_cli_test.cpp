@@ -1,0 +1,56 @@
+// `ardcell bench scenes` through the real binary: a tiny run prints the Markdown table and writes
+// scenes.md and scenes.csv with one row per preset and size, each with both back ends' FPS and
+// their ratio; bad sizes, presets and times exit 2 with one line and write nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/drivers/binary_run_fixture.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+using BenchScenesCliTest = BinaryRunTest;
+
+bool scenes_bench_built() {
+  return fs::exists(fs::path(ARDCELL_BINARY).parent_path() / "scenes_bench");
+}
+
+TEST_F(BenchScenesCliTest, TinyRunWritesOneRowPerPresetAndSize) {
+  if (!scenes_bench_built()) GTEST_SKIP() << "scenes_bench not built (ARDCELL_BUILD_BENCH=OFF)";
+  const BinaryRunResult r =
+      run("bench scenes --sizes 24,32 --presets turing-spots,cavity --min-time 0.01 --out res");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| preset | N | serial FPS | threads FPS | threads / serial | workers |"),
+            std::string::npos)
+      << r.out;
+  const std::string csv = slurp(work() / "res" / "scenes.csv");
+  EXPECT_EQ(slurp(work() / "res" / "scenes.md"), r.out);
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "preset,n,serial_fps,threads_fps,speedup,workers");
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line.substr(0, line.find(',', line.find(',') + 1)));
+  EXPECT_EQ(rows, (std::vector<std::string>{"turing-spots,24", "turing-spots,32", "cavity,24",
+                                            "cavity,32"}))
+      << csv;
+  EXPECT_FALSE(fs::exists(work() / "res" / ".scenes_bench.json")) << "the raw report stays";
+}
+
+TEST_F(BenchScenesCliTest, BadInputExitsTwoWithOneLine) {
+  for (const char* args : {"--sizes 8", "--sizes 64x", "--presets no-such-preset", "--min-time 0",
+                           "--bench-binary /nonexistent/scenes_bench"}) {
+    const BinaryRunResult r = run(std::string("bench scenes --out res ") + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(work() / "res" / "scenes.csv")) << args;
+  }
+}
+
+}  // namespace
+}  // namespace ardcell
