@@ -14,8 +14,9 @@ RowExecutor::RowExecutor(Backend& backend) : backend_(&backend) {
 }
 
 RowExecutor& RowExecutor::serial() {
-  static SerialBackend backend;
-  static RowExecutor executor(backend);
+  // One per thread: its reduction partials are scratch, and two threads may reduce at once.
+  static thread_local SerialBackend backend;
+  static thread_local RowExecutor executor(backend);
   return executor;
 }
 

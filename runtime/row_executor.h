@@ -33,7 +33,8 @@ class RowExecutor {
   RowExecutor(const RowExecutor&) = delete;
   RowExecutor& operator=(const RowExecutor&) = delete;
 
-  // The serial executor (whole grid on the calling thread): the default of every solver.
+  // The serial executor (whole grid on the calling thread, one per thread): the default of
+  // every solver.
   static RowExecutor& serial();
 
   Backend& backend() const { return *backend_; }
