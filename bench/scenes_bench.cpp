@@ -1,5 +1,5 @@
-// Every embedded preset through the engine users run (host/engine/engine.h, the path of `ardcell run`
-// and `ardcell live`), per back end and grid size:
+// Every embedded preset through the engine users run (host/engine/engine.h, the path of `ardcell
+// run` and `ardcell live`), per back end and grid size:
 //   Scenes/<preset>/<serial|threads>/<N>   one iteration = one frame; counters fps, cells_per_s
 //   SceneSpeedup/<preset>/<N>             serial and threads frames alternating in the same
 //                                          iteration; counters serial_ms, threads_ms, speedup

@@ -21,8 +21,8 @@
 #include <thread>
 #include <vector>
 
-#include "host/live/live_loop.h"
 #include "host/config/status.h"
+#include "host/live/live_loop.h"
 
 namespace ardcell {
 

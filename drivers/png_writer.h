@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <string>
 
+#include "host/config/status.h"
 #include "host/render/frame_sink.h"
 #include "host/render/image.h"
-#include "host/config/status.h"
 
 namespace ardcell {
 

@@ -11,8 +11,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "host/paint/paint.h"
 #include "host/config/scene_config.h"
+#include "host/paint/paint.h"
 #include "host/paint/stroke.h"
 #include "host/paint/stroke_playback.h"
 

@@ -1,9 +1,9 @@
 #pragma once
 // LocalStore: a worker's fixed arena, as an SPE's local store (256 KiB on the Cell; by default
-// here two of a core's L2 caches, one per double-buffer slot: machine_local_store_bytes). Allocated once when the
-// worker starts; a tile program lays its buffers out in it with a bump cursor, reset per tile.
-// It is split into two halves (slots) for double buffering: tile i+1 is fetched into one slot
-// while tile i computes in the other.
+// here two of a core's L2 caches, one per double-buffer slot: machine_local_store_bytes). Allocated
+// once when the worker starts; a tile program lays its buffers out in it with a bump cursor, reset
+// per tile. It is split into two halves (slots) for double buffering: tile i+1 is fetched into one
+// slot while tile i computes in the other.
 #include <cstddef>
 #include <cstdint>
 #include <memory>

@@ -1,7 +1,8 @@
 #pragma once
 // Parameters of the stable-fluids half of a scene (Stam 1999). Plain data: presets (TOML), the
-// CLI and saved states all map onto these fields. Owned by the fluid solver (host/engine/fluid_step.h).
-// Positions and lengths are in domain units (the domain is domain_width wide, y grows upward).
+// CLI and saved states all map onto these fields. Owned by the fluid solver
+// (host/engine/fluid_step.h). Positions and lengths are in domain units (the domain is domain_width
+// wide, y grows upward).
 #include <algorithm>
 #include <cmath>
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 // A scene is plain data: grid, time step, the fluid and RD parameters, initial conditions and
-// how frames look. Built-in scenes (host/scenes/scene_registry.h) and TOML presets both produce one;
-// the Engine (host/engine/engine.h) runs one.
+// how frames look. Built-in scenes (host/scenes/scene_registry.h) and TOML presets both produce
+// one; the Engine (host/engine/engine.h) runs one.
 #include <cstdint>
 #include <string>
 

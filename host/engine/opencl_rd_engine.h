@@ -1,8 +1,8 @@
 #pragma once
 // A reaction-diffusion-only scene (no fluid) run on an OpenCL device, frame for frame what the
-// CPU Engine's RD step does (host/engine/rd_step.h): per RD step the implicit reaction (Eqn 6, Newton
-// per cell or the precomputed table), then implicit (anisotropic, Eqns 13 / 17-19) diffusion of
-// A and B with the scene's boundary kind and per-cell theta0. A, B, theta0, the conductivity,
+// CPU Engine's RD step does (host/engine/rd_step.h): per RD step the implicit reaction (Eqn 6,
+// Newton per cell or the precomputed table), then implicit (anisotropic, Eqns 13 / 17-19) diffusion
+// of A and B with the scene's boundary kind and per-cell theta0. A, B, theta0, the conductivity,
 // the solver scratch and the reaction table live on the device across frames: step() only
 // enqueues kernels; A and B come back on request (download_state), theta0 goes up when painted.
 //
@@ -14,9 +14,9 @@
 #include <memory>
 #include <string>
 
-#include "host/engine/engine.h"
 #include "host/config/scene_config.h"
 #include "host/config/status.h"
+#include "host/engine/engine.h"
 #include "kernels/cl/opencl_diffusion.h"
 #include "kernels/cl/opencl_kernels.h"
 

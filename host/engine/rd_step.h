@@ -14,9 +14,9 @@
 #include <memory>
 #include <string>
 
-#include "host/engine/rd_parallel_gray_scott.h"
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
+#include "host/engine/rd_parallel_gray_scott.h"
 #include "kernels/aniso_diffusion.h"
 #include "kernels/reaction_table.h"
 

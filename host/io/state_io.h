@@ -18,10 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "host/scenes/preset.h"
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
 #include "host/config/status.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 

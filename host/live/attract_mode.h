@@ -1,8 +1,8 @@
 #pragma once
-// AttractMode: when nobody has drawn for `idle_seconds`, plays recorded strokes (host/paint/stroke_io.h
-// .jsonl files from a folder) one after the other, so a kiosk shows something alive. Any real
-// input ends it at once (the replayed pen is lifted in the same frame). Recordings are loaded
-// up front; update() never allocates.
+// AttractMode: when nobody has drawn for `idle_seconds`, plays recorded strokes
+// (host/paint/stroke_io.h .jsonl files from a folder) one after the other, so a kiosk shows
+// something alive. Any real input ends it at once (the replayed pen is lifted in the same frame).
+// Recordings are loaded up front; update() never allocates.
 #include <cstdint>
 #include <memory>
 #include <span>

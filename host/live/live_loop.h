@@ -19,13 +19,13 @@
 #include <thread>
 #include <vector>
 
-#include "host/scenes/adaptive_quality.h"
-#include "host/live/frame_clock.h"
-#include "host/render/image.h"
-#include "host/scenes/preset.h"
 #include "host/config/sim_state.h"
 #include "host/config/status.h"
+#include "host/live/frame_clock.h"
 #include "host/paint/stroke.h"
+#include "host/render/image.h"
+#include "host/scenes/adaptive_quality.h"
+#include "host/scenes/preset.h"
 
 namespace ardcell {
 

@@ -3,10 +3,10 @@
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
 
-#include "host/live/live_engine.h"
 #include "host/engine/opencl_rd_engine.h"
-#include "host/paint/paint.h"
 #include "host/engine/rd_step.h"
+#include "host/live/live_engine.h"
+#include "host/paint/paint.h"
 
 namespace ardcell {
 

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <string_view>
 
+#include "host/config/sim_state.h"
 #include "host/render/colormap.h"
 #include "host/render/image.h"
-#include "host/config/sim_state.h"
 
 namespace ardcell {
 

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "host/render/image.h"
 #include "host/config/status.h"
+#include "host/render/image.h"
 
 namespace ardcell {
 

@@ -10,12 +10,12 @@
 #include <span>
 #include <string>
 
-#include "host/engine/engine.h"
-#include "host/render/frame_render.h"
-#include "host/render/frame_sink.h"
 #include "host/config/scene_config.h"
 #include "host/config/status.h"
+#include "host/engine/engine.h"
 #include "host/paint/stroke_playback.h"
+#include "host/render/frame_render.h"
+#include "host/render/frame_sink.h"
 
 namespace ardcell {
 

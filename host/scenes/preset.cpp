@@ -9,8 +9,8 @@
 #include <sstream>
 #include <type_traits>
 
-#include "host/render/colormap.h"
 #include "host/paint/paint.h"
+#include "host/render/colormap.h"
 #include "host/scenes/scene_registry.h"
 
 namespace ardcell {

@@ -17,17 +17,17 @@
 //   [quality]  adaptive = true  min_sweeps = 4  max_sweeps = 20  min_rd_scale = 0.5
 //   [input]    mode = "deposit"  brush_radius = 0.03  strength = 1.0
 // Every key is optional; a missing key keeps the SceneConfig default. Every SceneConfig member
-// has a key (tests/host/scenes/preset_keys_test.cpp); the README's "Live display, presets and kiosk"
-// section lists them all (generated, `ardcell live --keys`).
+// has a key (tests/host/scenes/preset_keys_test.cpp); the README's "Live display, presets and
+// kiosk" section lists them all (generated, `ardcell live --keys`).
 #include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "host/scenes/adaptive_quality.h"
 #include "host/config/scene_config.h"
 #include "host/config/status.h"
+#include "host/scenes/adaptive_quality.h"
 
 namespace ardcell {
 

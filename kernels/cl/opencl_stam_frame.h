@@ -1,6 +1,6 @@
 #pragma once
-// The Table 1 frame (host/engine/table1.h: Stam's stable fluid, optionally with Gray-Scott RD riding
-// on it) on an OpenCL device, with every field resident in device memory across frames: a
+// The Table 1 frame (host/engine/table1.h: Stam's stable fluid, optionally with Gray-Scott RD
+// riding on it) on an OpenCL device, with every field resident in device memory across frames: a
 // frame enqueues kernels only (no allocation, no read-back); download() reads a field when one
 // is asked for. The stages and their order are those of Table1Workload's serial schedule, so
 // the fields agree with it (tests/host/opencl_table1_test.cpp):

@@ -8,8 +8,8 @@
 #include <new>
 
 #include "host/engine/engine.h"
-#include "host/scenes/preset.h"
 #include "host/engine/table1.h"
+#include "host/scenes/preset.h"
 
 #include "tests/support/alloc_counter.h"
 

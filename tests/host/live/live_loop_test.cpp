@@ -33,9 +33,9 @@ int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile
 }
 #endif
 
+#include "host/engine/rd_step.h"
 #include "host/live/attract_mode.h"
 #include "host/live/live_engine.h"
-#include "host/engine/rd_step.h"
 #include "host/paint/stroke_playback.h"
 #include "kernels/reaction.h"
 

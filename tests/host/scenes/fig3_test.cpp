@@ -17,8 +17,8 @@
 
 #include "host/engine/engine.h"
 #include "host/paint/paint.h"
-#include "host/scenes/scene_registry.h"
 #include "host/paint/stroke_io.h"
+#include "host/scenes/scene_registry.h"
 
 namespace ardcell {
 namespace {
