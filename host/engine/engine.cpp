@@ -12,7 +12,7 @@ namespace ardcell {
 
 // The solvers of one scene, built once in the constructor.
 struct Engine::Solvers {
-  std::unique_ptr<FluidStep> fluid;
+  std::unique_ptr<FluidStep> fluid;  // when the scene has a fluid
   std::unique_ptr<RdStepper> rd;  // when config.rd.enabled (host/engine/rd_step.h)
 };
 
@@ -43,8 +43,10 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.size = config_.size;
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
-  solvers_->fluid = make_fluid_step(config_, *executor_);
-  if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->allocate(state_);
+  if (config_.fluid.kind != FluidSceneKind::kNone) {
+    solvers_->fluid = make_fluid_step(config_, *executor_);
+    solvers_->fluid->allocate(state_);
+  }
   if (config_.rd.enabled) {
     // Throws std::invalid_argument with one line naming a bad RD parameter.
     solvers_->rd = std::make_unique<RdStepper>(config_, *executor_);
@@ -62,7 +64,7 @@ void Engine::reset() {
   state_.time = 0.0;
   state_.step = 0;
   state_.dt = config_.dt;
-  if (config_.fluid.kind != FluidSceneKind::kNone) solvers_->fluid->reset(state_);
+  if (solvers_->fluid) solvers_->fluid->reset(state_);
   if (solvers_->rd) solvers_->rd->init_state(state_);
 }
 
@@ -127,7 +129,7 @@ Status Engine::update_parameters(const SceneConfig& next) {
   f.viscosity_solver = next.fluid.viscosity_solver;
   f.pressure_solver = next.fluid.pressure_solver;
   config_.rd = next.rd;
-  solvers_->fluid->update_parameters(config_.fluid);
+  if (solvers_->fluid) solvers_->fluid->update_parameters(config_.fluid);
   if (solvers_->rd) solvers_->rd->update_parameters(config_);
   state_.dt = config_.dt;
   return Status::ok();
@@ -135,7 +137,7 @@ Status Engine::update_parameters(const SceneConfig& next) {
 
 void Engine::step() {
   // Fluid first: the RD is advected by this frame's velocity.
-  solvers_->fluid->step(state_);
+  if (solvers_->fluid) solvers_->fluid->step(state_);
   // RD: implicit reaction -> anisotropic diffusion -> advection by this frame's u, v.
   if (solvers_->rd) solvers_->rd->step(state_);
   state_.time += state_.dt;
@@ -143,7 +145,7 @@ void Engine::step() {
 }
 
 void Engine::step_without_rd() {
-  solvers_->fluid->step(state_);
+  if (solvers_->fluid) solvers_->fluid->step(state_);
   state_.time += state_.dt;
   ++state_.step;
 }

@@ -24,27 +24,10 @@ struct ThreadBackend::Worker {
   LocalStore store;
   Dma dma;
   WorkerContext ctx;
+  Mailbox<Command, 64> inbox;
+  Mailbox<int, 64> outbox;
   std::thread thread;
 };
-
-namespace {
-
-constexpr std::uint64_t kClaimMask = (std::uint64_t(1) << 24) - 1;
-
-// Waits, spinning, then yielding, until `done` holds `target`.
-void wait_for(const std::atomic<std::size_t>& done, std::size_t target) {
-  for (int spin = 0; done.load(std::memory_order_acquire) != target; ++spin) {
-    if (spin < kSpin) {
-#if defined(__x86_64__) || defined(__i386__)
-      __builtin_ia32_pause();
-#endif
-    } else {
-      std::this_thread::yield();
-    }
-  }
-}
-
-}  // namespace
 
 ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
     : store_bytes_(options.local_store_bytes), host_is_worker_(options.host_is_worker) {
@@ -52,10 +35,8 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
   if (n <= 0) n = std::max(1u, std::thread::hardware_concurrency());
   const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
   workers_.reserve(std::size_t(n));
-  for (Slot& slot : slots_) {
-    slot.claims = std::make_unique<std::atomic<std::uint64_t>[]>(std::size_t(n));
-    for (int i = 0; i < n; ++i) slot.claims[std::size_t(i)].store(0, std::memory_order_relaxed);
-  }
+  claims_ =
+      std::make_unique<std::atomic<std::size_t>[]>(std::size_t(kMaxOutstanding) * std::size_t(n));
   for (int i = 0; i < n; ++i) {
     auto w = std::make_unique<Worker>(i, store_bytes_);
     w->index = i;
@@ -76,7 +57,7 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
   }
   for (auto& w : workers_) {
     if (host_is_worker_ && w->index == 0) continue;
-    w->thread = std::thread(run_worker, std::ref(*this), std::ref(*w));
+    w->thread = std::thread(run_worker, std::ref(*w));
     if (options.pin) {
       cpu_set_t set;
       CPU_ZERO(&set);
@@ -89,9 +70,8 @@ ThreadBackend::ThreadBackend(const ThreadBackendOptions& options)
 
 ThreadBackend::~ThreadBackend() {
   sync();
-  stop_.store(true, std::memory_order_release);
-  issued_.fetch_add(1, std::memory_order_release);  // wakes the sleepers; they see stop_
-  issued_.notify_all();
+  for (auto& w : workers_)
+    if (w->thread.joinable()) w->inbox.push(Command{});
   for (auto& w : workers_)
     if (w->thread.joinable()) w->thread.join();
   if (host_pinned_) (void)pthread_setaffinity_np(pthread_self(), sizeof(host_mask_), &host_mask_);
@@ -99,31 +79,23 @@ ThreadBackend::~ThreadBackend() {
 
 void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {
   ARDCELL_CHECK(pass.compute != nullptr, "threads back end needs a tile program (compute)");
-  const std::uint64_t d = issued_.load(std::memory_order_relaxed);
-  ARDCELL_CHECK(d - synced_ < kMaxOutstanding, "threads back end: too many passes before sync");
-  ARDCELL_CHECK(tiles.size() <= kClaimMask, "threads back end: too many tiles in one pass");
-  Slot& slot = slots_[d % kMaxOutstanding];
-  slot.pass.store(&pass, std::memory_order_relaxed);
-  slot.tiles.store(tiles.data(), std::memory_order_relaxed);
-  slot.count.store(tiles.size(), std::memory_order_relaxed);
-  slot.done.store(0, std::memory_order_relaxed);
-  // Tagging the claim counters with this dispatch retires the slot's previous one: a worker
-  // still holding it fails every claim from now on.
-  const std::uint64_t tag = (d + 1) << kClaimBits;
+  ARDCELL_CHECK(outstanding_ < kMaxOutstanding, "threads back end: too many passes before sync");
+  std::atomic<std::size_t>* next = &claims_[std::size_t(outstanding_) * workers_.size()];
   for (std::size_t s = 0; s < workers_.size(); ++s)
-    slot.claims[s].store(tag, std::memory_order_relaxed);
-  issued_.store(d + 1, std::memory_order_release);
-  issued_.notify_all();
+    next[s].store(0, std::memory_order_relaxed);  // published to the workers by the push
+  const Command cmd{&pass, tiles.data(), tiles.size(), next};
+  for (auto& w : workers_)
+    if (w->thread.joinable()) w->inbox.push(cmd);
+  if (host_is_worker_) host_queue_[std::size_t(outstanding_)] = cmd;
+  ++outstanding_;
 }
 
 void ThreadBackend::sync() {
-  const std::uint64_t issued = issued_.load(std::memory_order_relaxed);
-  for (std::uint64_t d = synced_; d < issued; ++d) {
-    if (host_is_worker_) run_share(*workers_[0], d);
-    const Slot& slot = slots_[d % kMaxOutstanding];
-    wait_for(slot.done, slot.count.load(std::memory_order_relaxed));
-  }
-  synced_ = issued;
+  if (host_is_worker_)
+    for (int i = 0; i < outstanding_; ++i) run_share(*workers_[0], host_queue_[std::size_t(i)]);
+  for (; outstanding_ > 0; --outstanding_)
+    for (auto& w : workers_)
+      if (w->thread.joinable()) (void)w->outbox.pop(kSpin, kYields);
 }
 
 std::uint64_t ThreadBackend::dma_bytes() const {
@@ -132,82 +104,49 @@ std::uint64_t ThreadBackend::dma_bytes() const {
   return total;
 }
 
-void ThreadBackend::run_worker(ThreadBackend& b, Worker& w) {
-  std::uint64_t seen = 0;
+void ThreadBackend::run_worker(Worker& w) {
   for (;;) {
-    std::uint64_t issued = b.issued_.load(std::memory_order_acquire);
-    for (int spin = 0; issued == seen; ++spin) {
-      if (spin < kSpin) {
-#if defined(__x86_64__) || defined(__i386__)
-        __builtin_ia32_pause();
-#endif
-      } else if (spin < kSpin + kYields) {
-        std::this_thread::yield();
-      } else {
-        b.issued_.wait(seen, std::memory_order_acquire);
-      }
-      issued = b.issued_.load(std::memory_order_acquire);
-    }
-    if (b.stop_.load(std::memory_order_acquire)) return;
-    // Dispatches older than the slots are done: the host reused their slot.
-    if (issued - seen > kMaxOutstanding) seen = issued - kMaxOutstanding;
-    for (; seen < issued; ++seen) b.run_share(w, seen);
+    const Command cmd = w.inbox.pop(kSpin, kYields);
+    if (cmd.pass == nullptr) return;
+    run_share(w, cmd);
+    w.outbox.push(w.index);
   }
 }
 
 // Worker w runs the contiguous w-th share of the tiles first (the cells it wrote in the last pass
-// are in its own caches), then helps with the other shares. Double-buffered: the next tile is
-// claimed and fetched into the other slot before the current one computes. The tiles it
-// finished count as done once its puts have completed.
-void ThreadBackend::run_share(Worker& w, std::uint64_t d) {
-  Slot& slot = slots_[d % kMaxOutstanding];
-  const std::uint64_t tag = (d + 1) << kClaimBits;
+// are in its own caches), then helps with the other shares: every share has a claim counter, so
+// a descheduled worker's tiles go to the others. Double-buffered: the next tile is claimed and
+// fetched into the other slot before the current one computes.
+void ThreadBackend::run_share(Worker& w, const Command& cmd) {
+  const Pass& pass = *cmd.pass;
   const std::size_t n = std::size_t(w.count);
-  // Read before any claim; a claim that succeeds proves the slot still held dispatch d (the host
-  // reuses a slot only once all of its tiles were claimed and done).
-  const Pass* pass = slot.pass.load(std::memory_order_relaxed);
-  const Tile* tiles = slot.tiles.load(std::memory_order_relaxed);
-  const std::size_t count = slot.count.load(std::memory_order_relaxed);
   std::size_t share = 0;  // shares visited so far, starting with the worker's own
   const auto claim = [&]() -> std::size_t {
     for (; share < n; ++share) {
       const std::size_t s = (std::size_t(w.index) + share) % n;
-      const std::size_t begin = count * s / n, end = count * (s + 1) / n;
-      std::uint64_t v = slot.claims[s].load(std::memory_order_acquire);
-      while ((v & ~kClaimMask) == tag && begin + (v & kClaimMask) < end) {
-        if (slot.claims[s].compare_exchange_weak(v, v + 1, std::memory_order_acq_rel))
-          return begin + std::size_t(v & kClaimMask);
-      }
-      if ((v & ~kClaimMask) != tag) return count;  // a later dispatch owns the slot
+      const std::size_t begin = cmd.count * s / n, end = cmd.count * (s + 1) / n;
+      const std::size_t i = begin + cmd.next[s].fetch_add(1, std::memory_order_relaxed);
+      if (i < end) return i;
     }
-    return count;
+    return cmd.count;
   };
-  // Nothing of *pass may be read before a claim succeeds: the pass of a dispatch this worker
-  // woke too late for may be gone.
   std::size_t i = claim();
-  if (i >= count) return;
-  std::size_t finished = 0;
-  if (!pass->fetch) {
+  if (i >= cmd.count) return;
+  if (!pass.fetch) {
     // In place: nothing to fetch ahead, so a tile is claimed only when the worker can start it
     // (a look-ahead claim would take the last tiles of the others' shares from idle workers).
-    for (; i < count; i = claim()) {
-      pass->compute(pass->program, tiles[i], 0, w.ctx);
-      ++finished;
-    }
-    slot.done.fetch_add(finished, std::memory_order_release);
+    for (; i < cmd.count; i = claim()) pass.compute(pass.program, cmd.tiles[i], 0, w.ctx);
     return;
   }
-  pass->fetch(pass->program, tiles[i], 0, w.ctx);
-  for (int buffer = 0;; buffer ^= 1) {
+  pass.fetch(pass.program, cmd.tiles[i], 0, w.ctx);
+  for (int slot = 0;; slot ^= 1) {
     const std::size_t j = claim();
-    if (j < count) pass->fetch(pass->program, tiles[j], buffer ^ 1, w.ctx);
-    pass->compute(pass->program, tiles[i], buffer, w.ctx);
-    ++finished;
-    if (j >= count) break;
+    if (j < cmd.count) pass.fetch(pass.program, cmd.tiles[j], slot ^ 1, w.ctx);
+    pass.compute(pass.program, cmd.tiles[i], slot, w.ctx);
+    if (j >= cmd.count) break;
     i = j;
   }
   w.dma.wait_all();
-  slot.done.fetch_add(finished, std::memory_order_release);
 }
 
 }  // namespace ardcell

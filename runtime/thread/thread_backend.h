@@ -1,17 +1,13 @@
 #pragma once
 // The threads back end: one worker per accelerator queue (an SPE each), pinned to a core, each
-// with its own LocalStore and Dma (worker 0 may be the host thread itself, see host_is_worker).
-//
-// dispatch() fills one of kMaxOutstanding slots and publishes it by bumping a dispatch counter
-// that idle workers wait on (spin, then yield, then a futex sleep). Worker w runs the contiguous
-// w-th share of the slot's tiles, then helps with the others' (each share has a claim counter,
-// so a descheduled worker's tiles go to the others; a tile's result does not depend on who
-// computes it), with the double-buffered tile program: the next tile is claimed and fetched
-// before the current one computes. sync() runs the host's share and waits only for tiles that
-// were claimed: it never waits for a worker that has not started, so a pass costs no more than
-// its work when another process holds a core (a kiosk's browser, a parallel test run). A
-// worker that wakes late finds the claim counters tagged with a newer dispatch and skips.
-// Nothing on this path allocates or locks.
+// with its own LocalStore and Dma, fed through a Mailbox (worker 0 may be the host thread
+// itself, see host_is_worker). dispatch() posts the pass to
+// every worker's inbound mailbox; worker w runs the contiguous w-th share of the tiles, then
+// helps with the others' (each share has an atomic claim counter, so a descheduled worker's
+// tiles go to the others; a tile's result does not depend on who computes it), with the
+// double-buffered tile program: the next tile is claimed and fetched before the current one
+// computes. sync() collects one completion per worker
+// per dispatch from the outbound mailboxes. Nothing on this path allocates or locks.
 #include <sched.h>
 
 #include <array>
@@ -25,6 +21,7 @@
 #include "runtime/backend.h"
 #include "runtime/dma.h"
 #include "runtime/local_store.h"
+#include "runtime/mailbox.h"
 
 namespace ardcell {
 
@@ -57,31 +54,27 @@ class ThreadBackend final : public Backend {
   std::size_t local_store_bytes() const { return store_bytes_; }
 
  private:
-  static constexpr int kMaxOutstanding = 64;
-  // A claim counter: the dispatch it belongs to (high bits) and the tiles of its share claimed so
-  // far (low kClaimBits bits).
-  static constexpr int kClaimBits = 24;
-  struct Slot {
-    std::atomic<const Pass*> pass{nullptr};
-    std::atomic<const Tile*> tiles{nullptr};
-    std::atomic<std::size_t> count{0};
-    std::atomic<std::size_t> done{0};                      // tiles finished (puts completed)
-    std::unique_ptr<std::atomic<std::uint64_t>[]> claims;  // one per share
+  struct Command {
+    const Pass* pass = nullptr;  // null: stop
+    const Tile* tiles = nullptr;
+    std::size_t count = 0;
+    std::atomic<std::size_t>* next = nullptr;  // per share: tiles of it claimed so far
   };
   struct Worker;
-  static void run_worker(ThreadBackend& backend, Worker& w);
-  // Worker w's part of dispatch `d` (0-based): its share, then the others' unclaimed tiles.
-  void run_share(Worker& w, std::uint64_t d);
+  static void run_worker(Worker& w);
 
   std::size_t store_bytes_;
+  static void run_share(Worker& w, const Command& cmd);
+
   std::vector<std::unique_ptr<Worker>> workers_;
   bool host_is_worker_ = true;
   bool host_pinned_ = false;  // the host thread was pinned to core 0; host_mask_ is its old mask
   cpu_set_t host_mask_{};
-  std::array<Slot, kMaxOutstanding> slots_;
-  std::atomic<std::uint64_t> issued_{0};  // dispatches published
-  std::uint64_t synced_ = 0;              // dispatches sync() has completed
-  std::atomic<bool> stop_{false};
+  static constexpr int kMaxOutstanding = 64;
+  std::array<Command, kMaxOutstanding> host_queue_{};  // worker 0's share when the host runs it
+  // Claim counters, one per share (worker) per dispatch between two syncs.
+  std::unique_ptr<std::atomic<std::size_t>[]> claims_;
+  int outstanding_ = 0;  // dispatches not yet collected by sync()
 };
 
 }  // namespace ardcell

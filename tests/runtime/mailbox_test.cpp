@@ -1,0 +1,40 @@
+#include "runtime/mailbox.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <thread>
+
+namespace ardcell {
+namespace {
+
+TEST(Mailbox, FifoAndFullAndEmpty) {
+  Mailbox<int, 4> box;
+  EXPECT_FALSE(box.try_pop().has_value());
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(box.try_push(i));
+  EXPECT_FALSE(box.try_push(99));
+  EXPECT_EQ(box.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(box.pop(), i);
+  EXPECT_FALSE(box.try_pop().has_value());
+}
+
+TEST(Mailbox, TwoThreadsPassEveryMessageInOrder) {
+  Mailbox<std::uint32_t, 8> box;
+  constexpr std::uint32_t kCount = 50000;
+  std::uint64_t sum = 0;
+  bool ordered = true;
+  std::thread consumer([&] {
+    for (std::uint32_t i = 0; i < kCount; ++i) {
+      const std::uint32_t v = box.pop();
+      ordered = ordered && v == i;
+      sum += v;
+    }
+  });
+  for (std::uint32_t i = 0; i < kCount; ++i) box.push(i);
+  consumer.join();
+  EXPECT_TRUE(ordered);
+  EXPECT_EQ(sum, std::uint64_t(kCount) * (kCount - 1) / 2);
+}
+
+}  // namespace
+}  // namespace ardcell
