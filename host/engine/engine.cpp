@@ -13,7 +13,7 @@ namespace ardcell {
 // The solvers of one scene, built once in the constructor.
 struct Engine::Solvers {
   std::unique_ptr<FluidStep> fluid;  // when the scene has a fluid
-  std::unique_ptr<RdStepper> rd;  // when config.rd.enabled (host/engine/rd_step.h)
+  std::unique_ptr<RdStepper> rd;     // when config.rd.enabled (host/engine/rd_step.h)
 };
 
 namespace {
