@@ -30,4 +30,12 @@ void add_splat(View<float> f, Box2 region, const SplatParams& splat) {
   }
 }
 
+void set_inflow_stripes(View<float> dye, Int2 size, int stripes) {
+  // Dye enters with the inflow in vertical stripes (the top row is refreshed each frame).
+  const int top = size.y - 1;
+  const int bands = 2 * stripes;
+  float* row = dye.row(top);
+  for (int i = 0; i < size.x; ++i) row[i] = (i * bands / size.x) % 2 ? 1.0f : 0.0f;
+}
+
 }  // namespace ardcell

@@ -18,4 +18,10 @@ struct SplatParams {
 // Adds a Gaussian splat to f over region (cells beyond 3 radii get nothing).
 void add_splat(View<float> f, Box2 region, const SplatParams& splat);
 
+// The obstacle scene's inflow dye: `stripes` dyed vertical stripes entering through the top
+// row, y = size.y - 1: dye(i, top) = 1 in the odd ones of 2 * stripes equal bands, else 0
+// (integer arithmetic: (i * 2 stripes / size.x) % 2). Writes that row only, refreshed each
+// frame (host/engine/fluid_step.cpp's add_forces_and_sources).
+void set_inflow_stripes(View<float> dye, Int2 size, int stripes);
+
 }  // namespace ardcell

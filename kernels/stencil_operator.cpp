@@ -136,6 +136,37 @@ void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight
   }
 }
 
+namespace {
+
+// Weight of a ghost rule on the boundary cell's diagonal, per unit face weight: the fixed ghost
+// sits one cell away (1), the mirrored one puts the value on the face half a cell away (2).
+double rule_factor(const EdgeFill& e) {
+  switch (e.rule) {
+    case EdgeRule::kFixed:
+      return 1.0;
+    case EdgeRule::kMirror:
+      return 2.0;
+    default:
+      return 0.0;
+  }
+}
+
+}  // namespace
+
+// b += the boundary values' share (factor * scale * value) on the boundary cells.
+void add_boundary_values(View<float> b, Int2 size, const BoundaryFill& fill, double scale) {
+  const int nx = size.x, ny = size.y;
+  auto add = [&](const EdgeFill& e, int x0, int y0, int dx, int dy, int count) {
+    const float amount = float(rule_factor(e) * scale * e.value);
+    if (amount == 0.0f) return;
+    for (int k = 0; k < count; ++k) b(x0 + k * dx, y0 + k * dy) += amount;
+  };
+  add(fill.left, 0, 0, 0, 1, ny);
+  add(fill.right, nx - 1, 0, 0, 1, ny);
+  add(fill.bottom, 0, 0, 1, 0, nx);
+  add(fill.top, 0, ny - 1, 1, 0, nx);
+}
+
 void isolate_solid_cells(StencilOperator& op, const Field<uint8_t>& solid, double wall_factor) {
   ARDCELL_CHECK(solid.size() == op.size, "solid mask must have the operator's size");
   const int nx = op.size.x, ny = op.size.y;

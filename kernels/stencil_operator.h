@@ -15,6 +15,7 @@
 //   dirichlet - ghost value fixed: the boundary face weight moves to diag, the fixed value to b.
 #include <cstdint>
 
+#include "runtime/boundary.h"
 #include "runtime/field.h"
 #include "runtime/row_executor.h"
 
@@ -61,6 +62,14 @@ enum class BoundarySide : uint8_t { kLeft, kRight, kBottom, kTop };
 // ghost mirrored, as Stam's negated normal velocity and no-slip walls). The boundary value
 // itself goes into b (weight * value) by the caller.
 void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight);
+
+// The right-hand side's share of those folded ghost rules: b += the boundary values' share
+// (factor * scale * value) on the boundary cells of a domain of `size` cells, for each side
+// whose rule is kFixed (factor 1: the ghost sits one cell away) or kMirror (factor 2: the value
+// sits on the face half a cell away); other rules add nothing. Sides in the order left, right,
+// bottom, top, so a corner cell gets both of its sides' shares, in that order. The amount is
+// rounded to float once per side. (host/engine/fluid_step.cpp's add_boundary_rhs.)
+void add_boundary_values(View<float> b, Int2 size, const BoundaryFill& fill, double scale);
 
 // Cuts the faces of the solid cells (solid(i, j) != 0) out of the operator: a fluid neighbour
 // keeps wall_factor times the cut face weight on its diagonal (0: Neumann, zero flux through the

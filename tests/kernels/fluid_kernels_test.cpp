@@ -9,6 +9,7 @@
 #include "kernels/project.h"
 #include "kernels/sources.h"
 #include "kernels/stam_sweeps.h"
+#include "kernels/stencil_operator.h"
 #include "runtime/boundary.h"
 
 namespace ardcell {
@@ -305,6 +306,43 @@ TEST(Sources, SplatAndAddScaled) {
   add_scaled(s.view(), f.view(), Box2{{0, 0}, {1, 1}}, 0.25f);
   EXPECT_FLOAT_EQ(f(0, 0), 0.5f);
   EXPECT_EQ(f(1, 0), 0.0f);
+}
+
+TEST(Sources, InflowStripesByHand) {
+  FieldF dye({10, 4}, 1);
+  dye.fill(0.5f);
+  set_inflow_stripes(dye.view(), {10, 4}, 2);  // 4 bands over 10 cells: i * 4 / 10
+  const float want[10] = {0, 0, 0, 1, 1, 0, 0, 0, 1, 1};
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(dye(i, 3), want[i]) << i;
+  EXPECT_EQ(dye(-1, 3), 0.5f);  // the ghosts and the rows below are left alone
+  EXPECT_EQ(dye(10, 3), 0.5f);
+  EXPECT_EQ(dye(4, 2), 0.5f);
+}
+
+// fluid_step's boundary right-hand side: factor * scale * value on each kFixed (1) or kMirror
+// (2) side, rounded to float per side, corners getting both of their sides.
+TEST(StencilOperator, AddBoundaryValuesByHand) {
+  const Int2 n{4, 3};
+  FieldF b(n, 1);
+  b.fill(1.0f);
+  BoundaryFill fill = BoundaryFill::copy();   // bottom: copy, adds nothing
+  fill.left = {EdgeRule::kFixed, 0.5f};       // 1 * 2 * 0.5 = 1
+  fill.right = {EdgeRule::kMirror, 0.25f};    // 2 * 2 * 0.25 = 1
+  fill.top = {EdgeRule::kMirror, -1.0f};      // 2 * 2 * -1 = -4
+  fill.bottom = {EdgeRule::kPeriodic, 9.0f};  // no share
+  add_boundary_values(b.view(), n, fill, 2.0);
+  const float want[3][4] = {{2, 1, 1, 2}, {2, 1, 1, 2}, {-2, -3, -3, -2}};  // rows y = 0, 1, 2
+  for (int y = 0; y < n.y; ++y)
+    for (int x = 0; x < n.x; ++x) EXPECT_EQ(b(x, y), want[y][x]) << x << "," << y;
+  EXPECT_EQ(b(-1, 0), 1.0f);  // ghosts untouched
+  EXPECT_EQ(b(0, 3), 1.0f);
+
+  // One cell wide: left and right both land on column 0; the amount is rounded once per side.
+  FieldF c({1, 2}, 1);
+  add_boundary_values(c.view(), {1, 2}, BoundaryFill::fixed(0.1f), 1.0 / 3.0);
+  const float side = float(1.0 * (1.0 / 3.0) * double(0.1f));
+  EXPECT_EQ(c(0, 0), ((0.0f + side) + side) + side);  // left, right, bottom
+  EXPECT_EQ(c(0, 1), ((0.0f + side) + side) + side);  // left, right, top
 }
 
 }  // namespace
