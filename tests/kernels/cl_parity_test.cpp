@@ -1,10 +1,5 @@
-// Every OpenCL twin (kernels/cl/*.cl) against its C++ serial kernel on PoCL, at awkward sizes
-// (not multiples of the tile or of a work-group) and over awkward regions.
-//
-// Norm: normwise relative error in the max norm over the written region,
-//   err = max_cells |cl - cpp| / max(max_cells |cpp|, 1e-30),
-// required <= 1e-5. Cells outside the region (halo and padding included) must be untouched:
-// exact equality.
+// Every OpenCL twin (kernels/cl/*.cl) against its C++ serial kernel on PoCL (norms and helpers:
+// tests/support/cl_parity.h; the frame's later twins: cl_frame_parity_test.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,65 +20,12 @@
 #include "kernels/stencil_operator.h"
 #include "kernels/stencil_sweeps.h"
 #include "runtime/boundary.h"
+#include "tests/support/cl_parity.h"
 
 namespace ardcell {
 namespace {
 
-constexpr double kTolerance = 1e-5;
-
-struct Fixture {
-  std::unique_ptr<OpenClContext> ctx;
-  std::unique_ptr<OpenClKernels> cl;
-};
-
-Fixture& device() {
-  static Fixture f = [] {
-    Fixture fx;
-    std::string error;
-    fx.ctx = OpenClContext::open(0, &error);
-    if (fx.ctx) fx.cl = OpenClKernels::create(*fx.ctx, &error);
-    if (!fx.cl) ADD_FAILURE() << error;
-    return fx;
-  }();
-  return f;
-}
-
-void fill_random(FieldF& f, float lo, float hi, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> d(lo, hi);
-  for (std::size_t i = 0; i < f.raw_size(); ++i) f.raw()[i] = d(rng);
-}
-
-// mean + amplitude * sin(2 pi (x / nx + phase)) cos(2 pi (y / ny) + phase), halo included.
-void fill_smooth(FieldF& f, float mean, float amplitude, float phase) {
-  const double two_pi = 6.283185307179586;
-  for (int y = -f.halo(); y < f.ny() + f.halo(); ++y)
-    for (int x = -f.halo(); x < f.nx() + f.halo(); ++x)
-      f(x, y) = float(mean + amplitude * std::sin(two_pi * (double(x) / f.nx() + phase)) *
-                                 std::cos(two_pi * double(y) / f.ny() + phase));
-}
-
-// Normwise relative max-norm error over `region`.
-double region_error(const FieldF& cl, const FieldF& cpp, Box2 region) {
-  double diff = 0, ref = 0;
-  for (int y = region.min.y; y < region.max.y; ++y)
-    for (int x = region.min.x; x < region.max.x; ++x) {
-      diff = std::max(diff, std::abs(double(cl(x, y)) - double(cpp(x, y))));
-      ref = std::max(ref, std::abs(double(cpp(x, y))));
-    }
-  return diff / std::max(ref, 1e-30);
-}
-
-// region_error; also checks every cell outside `region` is bit-identical to `before`.
-double relative_error(const FieldF& cl, const FieldF& cpp, const FieldF& before, Box2 region) {
-  for (int y = -cl.halo(); y < cl.ny() + cl.halo(); ++y)
-    for (int x = -cl.halo(); x < cl.nx() + cl.halo(); ++x)
-      if (!region.contains(Int2{x, y}) && cl(x, y) != before(x, y)) {
-        ADD_FAILURE() << "cell (" << x << ", " << y << ") outside " << region << " was written";
-        return 1.0;
-      }
-  return region_error(cl, cpp, region);
-}
+using namespace cl_parity;  // NOLINT: the shared helpers of every parity test
 
 struct ReactionCase {
   ReactionParams params;
@@ -158,12 +100,6 @@ TEST(ClParity, ParameterChangesAreArgumentsNotRebuilds) {
 
 // ---- Fluid kernels and boundary fills -------------------------------------------------------
 
-const Int2 kSizes[] = {{37, 23}, {127, 93}, {129, 65}, {5, 3}};
-
-std::vector<Box2> regions_of(Int2 size) {
-  return {box_of_size(size), Box2{{1, size.y / 3}, {size.x - 1, size.y}}};
-}
-
 // Runs `body` with big tiles (a few per work-group) and with small ones (many per work-group,
 // so the double-buffered walk and partial edge tiles are exercised).
 template <class Body>
@@ -178,20 +114,6 @@ void for_each_tiling(OpenClKernels& cl, Body&& body) {
   }
   cl.tiling() = saved;
 }
-
-struct Dev {
-  OpenClContext& ctx;
-  DeviceField up(const FieldF& f) {
-    DeviceField d = ctx.allocate_like(f);
-    ctx.upload(f, d);
-    return d;
-  }
-  FieldF down(const DeviceField& d) {
-    FieldF f(d.size, d.halo);
-    ctx.download(d, f);
-    return f;
-  }
-};
 
 std::vector<std::pair<const char*, BoundaryFill>> every_boundary() {
   BoundaryFill mixed = BoundaryFill::copy();
