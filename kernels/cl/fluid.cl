@@ -1,8 +1,11 @@
 // Twins of the fluid tile kernels (Stam 1999): kernels/stam_sweeps.h (Jacobi sweep, red-black
 // half sweep; reads x with halo 1), kernels/project.h (pressure right-hand side and gradient
 // subtraction; halo 1), kernels/advect.h (semi-Lagrangian back-trace, Eqn 20; a gather from
-// global memory, as the frame plan's gather buffers), kernels/sources.h (halo 0), and
-// runtime/boundary.h's fill_boundary (edges, then corners). Arithmetic in the C++ order.
+// global memory, as the frame plan's gather buffers; the MAC face velocities and the advection
+// they carry, kernels/project.h face_velocities and advect.h advect_scalar_mac),
+// kernels/sources.h (halo 0), runtime/boundary.h's fill_boundary (edges, then corners) and
+// fill_obstacle (halo 1), and the boundary right-hand side of the fluid solves
+// (kernels/stencil_operator.h add_boundary_values). Arithmetic in the C++ order.
 
 // ---- Boundary fills (runtime/boundary.h). rules: 0 copy, 1 fixed, 2 mirror, 3 periodic;
 // .s0 left (x = -1), .s1 right (x = nx), .s2 bottom (y = -1), .s3 top (y = ny).
@@ -47,6 +50,66 @@ __kernel void fill_boundary(__global float* f, int stride, int origin, int nx, i
     CELL(nx, ny) = 0.5f * (CELL(nx - 1, ny) + CELL(nx, ny - 1));
   }
 #undef CELL
+}
+
+// Twin of kernels/stencil_operator.h add_boundary_values (fluid_step's boundary right-hand
+// side): b += amounts.sN on the boundary cells of side N (left, right, bottom, top), amounts
+// computed on the host as float(factor * scale * value), 0 for a side that adds nothing. Each
+// cell adds its sides in the C++ order (left, right, bottom, top), so corners, and the cells
+// of a one-cell-wide domain, round as the C++. Halo 0. One work-group walks the boundary cells:
+// column x = 0, column x = nx - 1 (when nx > 1), then rows y = 0 and y = ny - 1 without their
+// end cells.
+inline void add_side_values(__global float* c, int stride, int nx, int ny, float4 amounts, int i,
+                            int j) {
+  float r = c[j * stride + i];
+  if (i == 0 && amounts.s0 != 0.0f) r += amounts.s0;
+  if (i == nx - 1 && amounts.s1 != 0.0f) r += amounts.s1;
+  if (j == 0 && amounts.s2 != 0.0f) r += amounts.s2;
+  if (j == ny - 1 && amounts.s3 != 0.0f) r += amounts.s3;
+  c[j * stride + i] = r;
+}
+
+__kernel void add_boundary_values(__global float* b, int stride, int origin, int nx, int ny,
+                                  float4 amounts) {
+  const int lid = get_local_id(0), ls = get_local_size(0);
+  __global float* c = b + origin;
+  const int columns = nx > 1 ? 2 : 1;
+  const int rows = ny > 1 ? 2 : 1;
+  const int inner = max(nx - 2, 0);
+  const int n = columns * ny + rows * inner;
+  for (int k = lid; k < n; k += ls) {
+    if (k < columns * ny) {
+      add_side_values(c, stride, nx, ny, amounts, k < ny ? 0 : nx - 1, k % ny);
+    } else {
+      const int m = k - columns * ny;
+      add_side_values(c, stride, nx, ny, amounts, 1 + m % inner, m < inner ? 0 : ny - 1);
+    }
+  }
+}
+
+// ---- Obstacles (runtime/boundary.h fill_obstacle): every solid cell of reg (solid != 0: the
+// mask as floats, 1 solid, 0 fluid, with the field's layout) set from its fluid 4-neighbours,
+// rule 0 their mean (kCopy), 1 minus it (kNoSlip), 2 zero (kZero); no fluid neighbour gives 0.
+// Reads f and solid over reg grown by 1. Only solid cells are written and only fluid ones read,
+// so the work-items are independent. One work-item per cell.
+__kernel void fill_obstacle(__global float* f, __global const float* solid, int stride,
+                            int origin, int4 reg, int rule) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  if (solid[g] == 0.0f) return;
+  if (rule == 2) {
+    f[g] = 0.0f;
+    return;
+  }
+  float sum = 0.0f;
+  int count = 0;
+  if (solid[g - 1] == 0.0f) sum += f[g - 1], ++count;
+  if (solid[g + 1] == 0.0f) sum += f[g + 1], ++count;
+  if (solid[g - stride] == 0.0f) sum += f[g - stride], ++count;
+  if (solid[g + stride] == 0.0f) sum += f[g + stride], ++count;
+  const float mean = count ? sum / (float)count : 0.0f;
+  f[g] = rule == 1 ? -mean : mean;
 }
 
 // ---- Tiled stencil kernels: SPE-style walk (common.cl). lim is the fields' interior + halo box.
@@ -181,6 +244,25 @@ __kernel void subtract_gradient(__global const float* pr, __global float* u, __g
   }
 }
 
+// Twin of kernels/project.h face_velocities (top_faces = true): the MAC face velocities of
+// the projection from the velocity before subtract_gradient and the solved pressure,
+//   uf(i, j) = (u(i-1, j) + u(i, j)) / 2 - (p(i, j) - p(i-1, j)) / h,  i in [x0, x1], j in [y0, y1)
+//   vf(i, j) = (v(i, j-1) + v(i, j)) / 2 - (p(i, j) - p(i, j-1)) / h,  i in [x0, x1), j in [y0, y1]
+// u, v, p share one layout (read over reg grown by 1, ghosts filled); uf and vf have their own
+// (fields of nx + 1 by ny and nx by ny + 1). One work-item per point (i, j) of
+// [x0, x1] x [y0, y1], writing the faces that exist there. inv_h = 1 / h in float, as the C++.
+__kernel void face_velocities(__global const float* u, __global const float* v,
+                              __global const float* pr, int stride, int origin,
+                              __global float* uf, int us, int uo, __global float* vf, int vs,
+                              int vo, int4 reg, float inv_h) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x > reg.s2 || y > reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  if (y < reg.s3) uf[uo + y * us + x] = 0.5f * (u[g - 1] + u[g]) - (pr[g] - pr[g - 1]) * inv_h;
+  if (x < reg.s2)
+    vf[vo + y * vs + x] = 0.5f * (v[g - stride] + v[g]) - (pr[g] - pr[g - stride]) * inv_h;
+}
+
 // ---- Semi-Lagrangian advection (kernels/advect.cpp): q0 is read where the back-trace lands.
 // view: the box of q0 that may be read (the whole field: interior + halo).
 typedef struct {
@@ -296,6 +378,56 @@ __kernel void advect_velocity(__global const float* u0, __global const float* v0
   v[g] = bilinear(v0, stride, origin, i0, j0, s1, t1);
 }
 
+// ---- Advection by the MAC face velocities (kernels/advect.h advect_scalar_mac): the departure
+// point by the midpoint rule, with the velocity at the midpoint interpolated bilinearly from the
+// faces (uf(i, j) sits at x = i - 0.5, vf(i, j) at y = j - 0.5). Limits of a face component's
+// axis (FaceSampler in kernels/advect.cpp): its faces run over [0, faces - 1], clamped to the
+// view; periodic wraps with the cell grid's period over a whole field.
+inline axis_t face_axis(int view_min, int view_max, int faces, int periodic, int period) {
+  axis_t a = axis_limits(view_min, view_max, faces - 1, periodic);
+  if (!periodic) {
+    a.lo = max(0.0f, (float)view_min);
+    a.hi = min((float)(faces - 1), (float)(view_max - 1));
+  } else {
+    a.wrap = a.wrap && view_min <= -1 && view_max >= period + 1;
+    a.period = (float)period;
+  }
+  return a;
+}
+
+// q = q0 carried by (uf, vf) over reg. q0 and q share one layout (q0 read over its whole
+// allocation: view); uf, vf have their own (uview, vview: their whole allocations). Reads uf,
+// vf and q0 over reg grown by ceil(k |u|max) + 1. One work-item per cell.
+__kernel void advect_scalar_mac(__global const float* q0, __global float* q, int stride,
+                                int origin, __global const float* uf, int us, int uo,
+                                __global const float* vf, int vs, int vo, int4 reg, int4 view,
+                                int4 uview, int4 vview, int2 domain, int periodic, float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int nx = domain.s0, ny = domain.s1;
+  const axis_t uax = face_axis(uview.s0, uview.s2, nx + 1, periodic, nx);
+  const axis_t uay = face_axis(uview.s1, uview.s3, ny, periodic, ny);
+  const axis_t vax = face_axis(vview.s0, vview.s2, nx, periodic, nx);
+  const axis_t vay = face_axis(vview.s1, vview.s3, ny + 1, periodic, ny);
+  const axis_t ax = axis_limits(view.s0, view.s2, nx, periodic);
+  const axis_t ay = axis_limits(view.s1, view.s3, ny, periodic);
+  __global const float* ul = uf + uo + y * us;
+  const float ux = 0.5f * (ul[x] + ul[x + 1]);
+  const float vy = 0.5f * (vf[vo + y * vs + x] + vf[vo + (y + 1) * vs + x]);
+  const float mx = (float)x - 0.5f * k * ux, my = (float)y - 0.5f * k * vy;
+  int i0, j0;
+  float s1, t1;
+  locate(uax, mx + 0.5f, &i0, &s1);
+  locate(uay, my + 0.0f, &j0, &t1);
+  const float um = bilinear(uf, us, uo, i0, j0, s1, t1);
+  locate(vax, mx + 0.0f, &i0, &s1);
+  locate(vay, my + 0.5f, &j0, &t1);
+  const float vm = bilinear(vf, vs, vo, i0, j0, s1, t1);
+  locate(ax, (float)x - k * um, &i0, &s1);
+  locate(ay, (float)y - k * vm, &j0, &t1);
+  q[global_index(stride, origin, x, y)] = bilinear(q0, stride, origin, i0, j0, s1, t1);
+}
+
 // ---- Sources (kernels/sources.h), halo 0.
 __kernel void add_scaled(__global const float* s, __global float* x, int stride, int origin,
                          int4 reg, float scale) {
@@ -313,6 +445,17 @@ __kernel void add_splat(__global float* f, int stride, int origin, int4 reg, flo
   const float dy2 = ((float)y - cy) * ((float)y - cy);
   const float dx = (float)x - cx;
   f[global_index(stride, origin, x, y)] += amount * exp(-(dx * dx + dy2) * inv_r2);
+}
+
+// Twin of kernels/sources.h set_inflow_stripes: row y = ny - 1 of dye set to 1 in the odd ones
+// of 2 * stripes equal bands, else 0 (integer arithmetic, as the C++). Halo 0; one work-item
+// per cell of the row.
+__kernel void set_inflow_stripes(__global float* dye, int stride, int origin, int nx, int ny,
+                                 int stripes) {
+  const int i = get_global_id(0);
+  if (i >= nx) return;
+  const int bands = 2 * stripes;
+  dye[global_index(stride, origin, i, ny - 1)] = (i * bands / nx) % 2 ? 1.0f : 0.0f;
 }
 
 // ---- Ghost-zone temporal blocking (the blocked schedule): k Jacobi sweeps per residency.

@@ -26,6 +26,43 @@ cl_program build_program(OpenClContext& ctx, std::string* error) {
   return ctx.program(OpenClKernels::kProgramKey, sources, "-cl-std=CL1.2", error);
 }
 
+// Whether the device compiles common.cl's `real` as double: it reports cl_khr_fp64 (the
+// extension macro common.cl tests).
+bool has_fp64(cl_device_id device) {
+  std::size_t bytes = 0;
+  if (clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, nullptr, &bytes) != CL_SUCCESS) return false;
+  std::string extensions(bytes, '\0');
+  if (clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, bytes, extensions.data(), nullptr) !=
+      CL_SUCCESS)
+    return false;
+  return extensions.find("cl_khr_fp64") != std::string::npos;
+}
+
+// A model's parameters as reaction.cl's p0..p4 (see its table).
+void reaction_args(const ReactionParams& p, float q[5]) {
+  std::fill(q, q + 5, 0.0f);
+  switch (p.model) {
+    case ReactionModel::kGrayScott:
+      q[0] = p.F, q[1] = p.k;
+      break;
+    case ReactionModel::kTuring:
+      q[0] = p.turing_s, q[1] = p.turing_beta;
+      break;
+    case ReactionModel::kMeinhardt:
+      q[0] = p.meinhardt_s, q[1] = p.meinhardt_alpha, q[2] = p.meinhardt_p1;
+      q[3] = p.meinhardt_p2, q[4] = p.meinhardt_p3;
+      break;
+    case ReactionModel::kFitzHughNagumo:
+      q[0] = p.fhn_epsilon, q[1] = p.fhn_a0, q[2] = p.fhn_a1;
+      q[3] = float(invariant_box(p).a_hi);  // the bracket half-width M
+      break;
+    case ReactionModel::kBarkley:
+    case ReactionModel::kBarkleyTurbulent:
+      q[0] = p.barkley_epsilon, q[1] = p.barkley_a, q[2] = p.barkley_b;
+      break;
+  }
+}
+
 int tiles_of(Box2 region, int tw, int th) {
   return ((region.width() + tw - 1) / tw) * ((region.height() + th - 1) / th);
 }
@@ -42,6 +79,7 @@ std::unique_ptr<OpenClKernels> OpenClKernels::create(OpenClContext& ctx, std::st
   if (!program) return nullptr;
   auto kernels = std::unique_ptr<OpenClKernels>(new OpenClKernels(ctx, program));
   kernels->tiling_ = default_tiling(ctx.device());
+  kernels->real_bytes_ = has_fp64(ctx.device().device) ? sizeof(double) : sizeof(float);
   return kernels;
 }
 
@@ -74,27 +112,8 @@ void OpenClKernels::reaction_implicit(const DeviceField& a, const DeviceField& b
   check_same_layout(a, a_out);
   check_same_layout(a, b_out);
   if (region.empty()) return;
-  float q[5] = {0, 0, 0, 0, 0};
-  switch (p.model) {
-    case ReactionModel::kGrayScott:
-      q[0] = p.F, q[1] = p.k;
-      break;
-    case ReactionModel::kTuring:
-      q[0] = p.turing_s, q[1] = p.turing_beta;
-      break;
-    case ReactionModel::kMeinhardt:
-      q[0] = p.meinhardt_s, q[1] = p.meinhardt_alpha, q[2] = p.meinhardt_p1;
-      q[3] = p.meinhardt_p2, q[4] = p.meinhardt_p3;
-      break;
-    case ReactionModel::kFitzHughNagumo:
-      q[0] = p.fhn_epsilon, q[1] = p.fhn_a0, q[2] = p.fhn_a1;
-      q[3] = float(invariant_box(p).a_hi);  // the bracket half-width M
-      break;
-    case ReactionModel::kBarkley:
-    case ReactionModel::kBarkleyTurbulent:
-      q[0] = p.barkley_epsilon, q[1] = p.barkley_a, q[2] = p.barkley_b;
-      break;
-  }
+  float q[5];
+  reaction_args(p, q);
   const ConcentrationBox box = invariant_box(p);
   const cl_float4 clamp_box = {
       {float(box.a_lo), float(box.a_hi), float(box.b_lo), float(box.b_hi)}};
@@ -457,6 +476,297 @@ void OpenClKernels::add_splat(DeviceField& f, Box2 region, const SplatParams& sp
   set_kernel_args(k, f.buffer, f.stride, f.origin, box4(r), splat.cx, splat.cy, inv_r2,
                   splat.amount);
   enqueue_cells(k, r);
+}
+
+void OpenClKernels::set_inflow_stripes(DeviceField& dye, int stripes) {
+  const int nx = dye.size.x, ny = dye.size.y;
+  if (nx <= 0 || ny <= 0) return;
+  cl_kernel k = kernel("set_inflow_stripes");
+  set_kernel_args(k, dye.buffer, dye.stride, dye.origin, nx, ny, stripes);
+  enqueue_cells(k, Box2{{0, 0}, {nx, 1}});
+}
+
+// ---- The frame's remaining fluid twins ---------------------------------------------------------
+
+DeviceField upload_mask(OpenClContext& ctx, const Field<uint8_t>& mask) {
+  FieldF host(mask.size(), 1);
+  const Box2 b = mask.with_halo().intersected(host.with_halo());
+  for (int y = b.min.y; y < b.max.y; ++y)
+    for (int x = b.min.x; x < b.max.x; ++x) host(x, y) = mask(x, y) ? 1.0f : 0.0f;
+  DeviceField dev = ctx.allocate_like(host);
+  ctx.upload(host, dev);
+  return dev;
+}
+
+void OpenClKernels::face_velocities(const DeviceField& u, const DeviceField& v,
+                                    const DeviceField& p, DeviceField& uf, DeviceField& vf,
+                                    Box2 region, const ProjectParams& params) {
+  check_same_layout(u, v);
+  check_same_layout(u, p);
+  if (region.empty()) return;
+  ARDCELL_CHECK(u.with_halo().contains(region.grown(1)), "face_velocities reads halo 1");
+  ARDCELL_CHECK(uf.with_halo().contains(Box2{region.min, {region.max.x + 1, region.max.y}}) &&
+                    vf.with_halo().contains(Box2{region.min, {region.max.x, region.max.y + 1}}),
+                "face_velocities: uf or vf too small for the region's faces");
+  const float inv_h = 1.0f / params.h;
+  cl_kernel k = kernel("face_velocities");
+  set_kernel_args(k, u.buffer, v.buffer, p.buffer, u.stride, u.origin, uf, vf, box4(region), inv_h);
+  enqueue_cells(k, Box2{region.min, {region.max.x + 1, region.max.y + 1}});
+}
+
+void OpenClKernels::advect_scalar_mac(const DeviceField& q0, const DeviceField& uf,
+                                      const DeviceField& vf, DeviceField& q, Box2 region,
+                                      const AdvectParams& p) {
+  check_same_layout(q0, q);
+  ARDCELL_CHECK(q.buffer.get() != q0.buffer.get(), "advect: q aliases q0");
+  if (region.empty()) return;
+  const Box2 view = q0.with_halo();
+  ARDCELL_CHECK(view.width() >= 2 && view.height() >= 2, "advect: source view too small");
+  ARDCELL_CHECK(uf.with_halo().contains(Box2{region.min, {region.max.x + 1, region.max.y}}) &&
+                    vf.with_halo().contains(Box2{region.min, {region.max.x, region.max.y + 1}}),
+                "advect_scalar_mac: uf or vf do not hold the region's faces");
+  cl_kernel k = kernel("advect_scalar_mac");
+  const cl_int2 domain = {{p.domain.x, p.domain.y}};
+  set_kernel_args(k, q0.buffer, q.buffer, q0.stride, q0.origin, uf, vf, box4(region), box4(view),
+                  box4(uf.with_halo()), box4(vf.with_halo()), domain, int(p.periodic), p.dt_over_h);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::fill_obstacle(DeviceField& f, const DeviceField& solid, Box2 region,
+                                  ObstacleRule rule) {
+  check_same_layout(f, solid);
+  if (region.empty()) return;
+  ARDCELL_CHECK(f.with_halo().contains(region.grown(1)),
+                "fill_obstacle: fields must hold the region grown by 1");
+  cl_kernel k = kernel("fill_obstacle");
+  set_kernel_args(k, f.buffer, solid.buffer, f.stride, f.origin, box4(region), int(rule));
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::copy_field(const DeviceField& from, DeviceField& to) {
+  check_same_layout(from, to);
+  ARDCELL_CHECK(from.buffer.bytes() == to.buffer.bytes(), "copy_field: allocations differ");
+  if (from.buffer.get() == to.buffer.get() || from.buffer.bytes() == 0) return;
+  opencl_check(clEnqueueCopyBuffer(ctx_.queue(), from.buffer.get(), to.buffer.get(), 0, 0,
+                                   from.buffer.bytes(), 0, nullptr, nullptr),
+               "clEnqueueCopyBuffer");
+}
+
+namespace {
+// Weight of a ghost rule per unit face weight (kernels/stencil_operator.cpp's rule_factor).
+double rule_factor(const EdgeFill& e) {
+  switch (e.rule) {
+    case EdgeRule::kFixed:
+      return 1.0;
+    case EdgeRule::kMirror:
+      return 2.0;
+    default:
+      return 0.0;
+  }
+}
+}  // namespace
+
+void OpenClKernels::add_boundary_values(DeviceField& b, const BoundaryFill& fill, double scale) {
+  const int nx = b.size.x, ny = b.size.y;
+  if (nx <= 0 || ny <= 0) return;
+  // The amounts in double, rounded to float once per side, as the C++ does.
+  const auto amount = [&](const EdgeFill& e) { return float(rule_factor(e) * scale * e.value); };
+  const cl_float4 amounts = {
+      {amount(fill.left), amount(fill.right), amount(fill.bottom), amount(fill.top)}};
+  if (amounts.s[0] == 0.0f && amounts.s[1] == 0.0f && amounts.s[2] == 0.0f && amounts.s[3] == 0.0f)
+    return;
+  cl_kernel k = kernel("add_boundary_values");
+  set_kernel_args(k, b.buffer, b.stride, b.origin, nx, ny, amounts);
+  const std::size_t wg = std::min<std::size_t>(256, ctx_.device().max_work_group_size);
+  ctx_.enqueue(k, wg, wg);
+}
+
+// ---- Reductions ---------------------------------------------------------------------------------
+
+void ClRowPartials::read(OpenClContext& ctx, int y0, int y1, double* out) const {
+  ARDCELL_CHECK(y0 >= 0 && y1 <= rows, "row partials: rows out of range");
+  if (y1 <= y0) return;
+  const std::size_t n = std::size_t(y1 - y0);
+  if (real_bytes == sizeof(double)) {
+    opencl_check(clEnqueueReadBuffer(ctx.queue(), data.get(), CL_TRUE, std::size_t(y0) * real_bytes,
+                                     n * real_bytes, out + y0, 0, nullptr, nullptr),
+                 "clEnqueueReadBuffer");
+    return;
+  }
+  std::vector<float> f(n);
+  opencl_check(clEnqueueReadBuffer(ctx.queue(), data.get(), CL_TRUE, std::size_t(y0) * real_bytes,
+                                   n * real_bytes, f.data(), 0, nullptr, nullptr),
+               "clEnqueueReadBuffer");
+  for (std::size_t i = 0; i < n; ++i) out[std::size_t(y0) + i] = double(f[i]);
+}
+
+double ClRowPartials::sum(OpenClContext& ctx, int y0, int y1) const {
+  if (y1 <= y0) return 0.0;
+  std::vector<double> p(static_cast<std::size_t>(y1));
+  read(ctx, y0, y1, p.data());
+  double total = 0.0;
+  for (int y = y0; y < y1; ++y) total += p[std::size_t(y)];
+  return total;
+}
+
+ClRowPartials OpenClKernels::row_partials(int rows) const {
+  ClRowPartials p;
+  p.rows = std::max(rows, 0);
+  p.real_bytes = real_bytes_;
+  p.data = ctx_.allocate(std::size_t(std::max(rows, 1)) * real_bytes_);
+  return p;
+}
+
+void OpenClKernels::enqueue_rows(cl_kernel k, int y0, int y1) {
+  const std::size_t local = 32;
+  const std::size_t global = (std::size_t(y1 - y0) + local - 1) / local * local;
+  ctx_.enqueue(k, global, local);
+}
+
+void OpenClKernels::check_partials(const ClRowPartials& partials, int y1) const {
+  ARDCELL_CHECK(partials.data && partials.rows >= y1 && partials.real_bytes == real_bytes_,
+                "row partials: too few rows, or from another device");
+}
+
+void OpenClKernels::row_sums(const DeviceField& f, int y0, int y1, ClRowPartials& partials) {
+  check_partials(partials, y1);
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_sums: rows outside the field");
+  if (y1 <= y0 || f.size.x <= 0) return;
+  cl_kernel k = kernel("row_sums");
+  set_kernel_args(k, f, f.size.x, y0, y1, partials.data);
+  enqueue_rows(k, y0, y1);
+}
+
+void OpenClKernels::row_ranges(const DeviceField& f, int y0, int y1, ClRowPartials& sum,
+                               ClRowPartials& lo, ClRowPartials& hi) {
+  check_partials(sum, y1);
+  check_partials(lo, y1);
+  check_partials(hi, y1);
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_ranges: rows outside the field");
+  if (y1 <= y0 || f.size.x <= 0) return;
+  cl_kernel k = kernel("row_ranges");
+  set_kernel_args(k, f, f.size.x, y0, y1, sum.data, lo.data, hi.data);
+  enqueue_rows(k, y0, y1);
+}
+
+void OpenClKernels::row_mass_weights(const DeviceField& f, int y0, int y1, float lo, float hi,
+                                     ClRowPartials& partials) {
+  check_partials(partials, y1);
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_mass_weights: rows outside the field");
+  if (y1 <= y0 || f.size.x <= 0) return;
+  cl_kernel k = kernel("row_mass_weights");
+  set_kernel_args(k, f, f.size.x, y0, y1, lo, hi, partials.data);
+  enqueue_rows(k, y0, y1);
+}
+
+void OpenClKernels::row_masked_sums(const DeviceField& f, const DeviceField& mask, int y0, int y1,
+                                    ClRowPartials& partials) {
+  check_same_layout(f, mask);
+  check_partials(partials, y1);
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_masked_sums: rows outside the field");
+  if (y1 <= y0 || f.size.x <= 0) return;
+  cl_kernel k = kernel("row_masked_sums");
+  set_kernel_args(k, f.buffer, mask.buffer, f.stride, f.origin, f.size.x, y0, y1, partials.data);
+  enqueue_rows(k, y0, y1);
+}
+
+void OpenClKernels::restore_mass_rows(DeviceField& f, int y0, int y1, double k, float lo,
+                                      float hi) {
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "restore_mass_rows: rows outside the field");
+  const Box2 rows{{0, y0}, {f.size.x, y1}};
+  if (rows.empty()) return;
+  cl_kernel kk = kernel("restore_mass_rows");
+  // `real k`: a double where the device has doubles (the C++ multiplies in double).
+  if (real_bytes_ == sizeof(double))
+    set_kernel_args(kk, f, box4(rows), k, lo, hi);
+  else
+    set_kernel_args(kk, f, box4(rows), float(k), lo, hi);
+  enqueue_cells(kk, rows);
+}
+
+void OpenClKernels::residual(const ClStencilOperator& op, const DeviceField& b,
+                             const DeviceField& x, DeviceField* r, ClRowPartials& partials) {
+  check_operator_layout(op, b);
+  check_operator_layout(op, x);
+  if (r) check_operator_layout(op, *r);
+  check_partials(partials, op.size.y);
+  if (op.size.x <= 0 || op.size.y <= 0) return;
+  cl_kernel k = kernel("stencil_residual");
+  set_kernel_args(k, op.diag, op.wx, op.wy, b.buffer, x.buffer, r ? r->buffer : b.buffer,
+                  int(r != nullptr), op.size.x, op.size.y, periodic_x(op), periodic_y(op), 0,
+                  op.size.y, partials.data);
+  enqueue_rows(k, 0, op.size.y);
+}
+
+void OpenClKernels::row_sums_of_squares(const DeviceField& f, int y0, int y1,
+                                        ClRowPartials& partials) {
+  check_partials(partials, y1);
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_sums_of_squares: rows outside the field");
+  if (y1 <= y0 || f.size.x <= 0) return;
+  cl_kernel k = kernel("row_sums_of_squares");
+  set_kernel_args(k, f, f.size.x, y0, y1, partials.data);
+  enqueue_rows(k, y0, y1);
+}
+
+void OpenClKernels::subtract_masked(DeviceField& f, const DeviceField& mask, float mean) {
+  check_same_layout(f, mask);
+  if (f.interior().empty()) return;
+  cl_kernel k = kernel("subtract_masked");
+  set_kernel_args(k, f.buffer, mask.buffer, f.stride, f.origin, box4(f.interior()), mean);
+  enqueue_cells(k, f.interior());
+}
+
+// ---- Explicit reaction-diffusion ----------------------------------------------------------------
+
+void OpenClKernels::explicit_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                DeviceField& b_out, Box2 region, const ExplicitRdParams& p,
+                                bool nine_point) {
+  check_same_layout(a, b);
+  check_same_layout(a, a_out);
+  check_same_layout(a, b_out);
+  ARDCELL_CHECK(a_out.buffer.get() != a.buffer.get() && a_out.buffer.get() != b.buffer.get() &&
+                    b_out.buffer.get() != a.buffer.get() && b_out.buffer.get() != b.buffer.get(),
+                "explicit RD: outputs alias inputs");
+  if (region.empty()) return;
+  ARDCELL_CHECK(a.with_halo().contains(region.grown(1)), "explicit RD reads halo 1");
+  float q[5];
+  reaction_args(p.reaction, q);
+  cl_kernel k = kernel("explicit_rd");
+  set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
+                  box4(region), int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt,
+                  p.diffusion_a, p.diffusion_b, int(nine_point));
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::explicit_rd5(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                 DeviceField& b_out, Box2 region, const ExplicitRdParams& p) {
+  explicit_rd(a, b, a_out, b_out, region, p, false);
+}
+
+void OpenClKernels::explicit_rd9(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                 DeviceField& b_out, Box2 region, const ExplicitRdParams& p) {
+  explicit_rd(a, b, a_out, b_out, region, p, true);
+}
+
+void OpenClKernels::gray_scott9_explicit(const DeviceField& a, const DeviceField& b,
+                                         DeviceField& a_out, DeviceField& b_out, Box2 region,
+                                         const GrayScott9Params& p) {
+  check_same_layout(a, b);
+  check_same_layout(a, a_out);
+  check_same_layout(a, b_out);
+  ARDCELL_CHECK(a_out.buffer.get() != a.buffer.get() && a_out.buffer.get() != b.buffer.get() &&
+                    b_out.buffer.get() != a.buffer.get() && b_out.buffer.get() != b.buffer.get(),
+                "explicit RD: outputs alias inputs");
+  if (region.empty()) return;
+  ARDCELL_CHECK(a.with_halo().contains(region.grown(1)), "explicit RD reads halo 1");
+  // The constants as kernels/explicit_rd.cpp's Gs9Row, in float.
+  const float fk = p.F + p.k;
+  const float ca = 0.05f * p.diffusion_a, cb = 0.05f * p.diffusion_b;
+  const float ma = 1.8f * p.diffusion_a, mb = 1.8f * p.diffusion_b;
+  cl_kernel k = kernel("gray_scott9_explicit");
+  set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
+                  box4(region), p.F, fk, p.dt, ca, cb, ma, mb);
+  enqueue_cells(k, region);
 }
 
 }  // namespace ardcell

@@ -11,6 +11,7 @@
 
 #include "kernels/advect.h"
 #include "kernels/anisotropy.h"
+#include "kernels/explicit_rd.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
 #include "kernels/reaction_table.h"
@@ -77,6 +78,28 @@ struct ClReactionTable {
 
   // Copies `table` in, allocating only when its size changed (a new F, k or dt: a write).
   void upload(OpenClContext& ctx, const ReactionTableView& table);
+};
+
+// A solid (or null-space) mask on the device: a DeviceField of floats, 1 where mask != 0 and 0
+// elsewhere, with the layout of a FieldF of the mask's size and halo 1 (so it shares stride and
+// origin with the fields it masks). The mask's own halo, when it has one, is copied too; a
+// halo-0 mask gets a halo of zeros. Converted and uploaded once (blocking).
+DeviceField upload_mask(OpenClContext& ctx, const Field<uint8_t>& mask);
+
+// Per-row partials of a reduction on the device: row j at element j, in the device's `real`
+// (double where it has cl_khr_fp64, float otherwise; common.cl). Allocated by
+// OpenClKernels::row_partials; read() returns them as doubles, sum() adds rows [y0, y1) in row
+// order from 0.0 (as RowExecutor::sum_rows), so with doubles on the device the total has the
+// C++ reduction's bits.
+struct ClRowPartials {
+  OpenClBuffer data;
+  int rows = 0;
+  std::size_t real_bytes = sizeof(double);
+
+  // Blocking reads (they wait for the kernels that write the partials): out[j] for j in
+  // [y0, y1), out indexed by the absolute row as the C++ kernels' partials.
+  void read(OpenClContext& ctx, int y0, int y1, double* out) const;
+  double sum(OpenClContext& ctx, int y0, int y1) const;
 };
 
 class OpenClKernels {
@@ -155,6 +178,54 @@ class OpenClKernels {
   // Twins of kernels/sources.h.
   void add_scaled(const DeviceField& s, DeviceField& x, Box2 region, float scale);
   void add_splat(DeviceField& f, Box2 region, const SplatParams& splat);
+  // Twin of set_inflow_stripes (kernels/sources.h): row f.size.y - 1 of dye.
+  void set_inflow_stripes(DeviceField& dye, int stripes);
+
+  // Twin of face_velocities (kernels/project.h) with top_faces = true. u, v, p share one
+  // layout (read over region grown by 1); uf is a field of (nx + 1) x ny, vf of nx x (ny + 1).
+  void face_velocities(const DeviceField& u, const DeviceField& v, const DeviceField& p,
+                       DeviceField& uf, DeviceField& vf, Box2 region, const ProjectParams& params);
+  // Twin of advect_scalar_mac (kernels/advect.h): q0, uf, vf read over their whole allocations
+  // (as whole-field Views). q0 and q share one layout; q must not alias q0.
+  void advect_scalar_mac(const DeviceField& q0, const DeviceField& uf, const DeviceField& vf,
+                         DeviceField& q, Box2 region, const AdvectParams& p);
+  // Twin of fill_obstacle (runtime/boundary.h); solid from upload_mask, f's layout. Reads f
+  // and solid over region grown by 1.
+  void fill_obstacle(DeviceField& f, const DeviceField& solid, Box2 region, ObstacleRule rule);
+  // The whole allocation, halo and padding included (fluid_step's copy_all); same layout.
+  void copy_field(const DeviceField& from, DeviceField& to);
+  // Twin of add_boundary_values (kernels/stencil_operator.h) on the domain b.size.
+  void add_boundary_values(DeviceField& b, const BoundaryFill& fill, double scale);
+
+  // Per-row partials of the reductions (see ClRowPartials), rows [0, rows).
+  ClRowPartials row_partials(int rows) const;
+  // Twins of kernels/field_reductions.h over rows [y0, y1) of f, x in [0, f.size.x); the
+  // partials buffers need at least y1 rows.
+  void row_sums(const DeviceField& f, int y0, int y1, ClRowPartials& partials);
+  void row_ranges(const DeviceField& f, int y0, int y1, ClRowPartials& sum, ClRowPartials& lo,
+                  ClRowPartials& hi);
+  void row_mass_weights(const DeviceField& f, int y0, int y1, float lo, float hi,
+                        ClRowPartials& partials);
+  void row_masked_sums(const DeviceField& f, const DeviceField& mask, int y0, int y1,
+                       ClRowPartials& partials);
+  void restore_mass_rows(DeviceField& f, int y0, int y1, double k, float lo, float hi);
+  // Twins of kernels/stencil_sweeps.cpp's reductions over the whole interior: residual (r =
+  // b - A x when r is not null, the row sums of r^2 into partials: their sum() is residual()'s
+  // return), norm2_squared's row sums of squares, and NullSpace::remove_mean's map (f -= mean
+  // where mask != 0; the mean from row_masked_sums over the null-space mask).
+  void residual(const ClStencilOperator& op, const DeviceField& b, const DeviceField& x,
+                DeviceField* r, ClRowPartials& partials);
+  void row_sums_of_squares(const DeviceField& f, int y0, int y1, ClRowPartials& partials);
+  void subtract_masked(DeviceField& f, const DeviceField& mask, float mean);
+
+  // Twins of kernels/explicit_rd.h (read halo 1; outputs must not alias inputs).
+  void explicit_rd5(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                    DeviceField& b_out, Box2 region, const ExplicitRdParams& p);
+  void explicit_rd9(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                    DeviceField& b_out, Box2 region, const ExplicitRdParams& p);
+  // gray_scott9_explicit_tile's twin (no scratch: each work-item sums its own columns).
+  void gray_scott9_explicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                            DeviceField& b_out, Box2 region, const GrayScott9Params& p);
 
  private:
   OpenClKernels(OpenClContext& ctx, cl_program program) : ctx_(ctx), program_(program) {}
@@ -166,10 +237,16 @@ class OpenClKernels {
   void enqueue_tiled(cl_kernel k, Box2 region);
   // One work-item per cell of region (2D), for gathers and halo-0 kernels.
   void enqueue_cells(cl_kernel k, Box2 region);
+  // One work-item per row of [y0, y1) (1D), for the row reductions.
+  void enqueue_rows(cl_kernel k, int y0, int y1);
+  void check_partials(const ClRowPartials& partials, int y1) const;
+  void explicit_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                   DeviceField& b_out, Box2 region, const ExplicitRdParams& p, bool nine_point);
 
   OpenClContext& ctx_;
   cl_program program_;
   ClTiling tiling_;
+  std::size_t real_bytes_ = sizeof(double);  // the device's `real` (common.cl)
 };
 
 }  // namespace ardcell

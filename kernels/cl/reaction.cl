@@ -281,3 +281,97 @@ __kernel void reaction_table(__global const float* a, __global const float* b,
   a_out[g] = a_hat;
   b_out[g] = b_hat;
 }
+
+// ---- Forward Euler reaction-diffusion (kernels/explicit_rd.h), the explicit schemes.
+
+// Twin of kernels/reaction.cpp reaction_rates: R_A, R_B at (A, B), in real, in the C++ order.
+// Model ids and p0..p4 as reaction_implicit's.
+inline void rd_rates(int model, float p0, float p1, float p2, float p3, float p4, real A, real B,
+                     real* ra, real* rb) {
+  switch (model) {
+    case 0:  // gray-scott: F, k
+      *ra = -A * B * B + (real)p0 * ((real)1.0 - A);
+      *rb = A * B * B - ((real)p0 + (real)p1) * B;
+      return;
+    case 1:  // turing: s, beta
+      *ra = (real)p0 * (A * B - A - (real)p1);
+      *rb = (real)p0 * ((real)16.0 - A * B);
+      return;
+    case 2: {  // meinhardt: s, alpha, p1, p2, p3
+      const real m = (real)0.01 * (real)p1 * A * A;
+      *ra = (real)p0 * (A * (real)p2 + (B != 0 ? m / B : (real)0.0) + (real)p4);
+      *rb = (real)p0 * (B * (real)p3 + m);
+      return;
+    }
+    case 3:  // fitzhugh-nagumo: epsilon, a0, a1
+      *ra = A - A * A * A - B;
+      *rb = (real)p0 * (A - (real)p2 * B - (real)p1);
+      return;
+    default:  // barkley (4) and turbulent barkley (5): epsilon, a, b
+      *ra = A * ((real)1.0 - A) * (A - (B + (real)p2) / (real)p1) / (real)p0;
+      *rb = (model == 4 ? A : A * A * A) - B;
+      return;
+  }
+}
+
+// The 5-point Laplacian (Eqn 5) and seed 001's 9-point one (corners 0.05, edges 0.2, centre
+// -1) of f at global index g, in real as kernels/explicit_rd.cpp's laplacian5 / laplacian9.
+inline real rd_laplacian5(__global const float* f, int stride, int g) {
+  return (real)f[g - 1] + (real)f[g + 1] + (real)f[g - stride] + (real)f[g + stride] -
+         (real)4.0 * (real)f[g];
+}
+
+inline real rd_laplacian9(__global const float* f, int stride, int g) {
+  const real corners = (real)f[g - stride - 1] + (real)f[g - stride + 1] +
+                       (real)f[g + stride - 1] + (real)f[g + stride + 1];
+  const real edges =
+      (real)f[g - 1] + (real)f[g + 1] + (real)f[g - stride] + (real)f[g + stride];
+  return (real)0.05 * corners + (real)0.2 * edges - (real)f[g];
+}
+
+// Twin of explicit_rd5_tile (nine = 0) and explicit_rd9_tile (nine = 1):
+//   A' = A + dt R_A(A, B) + da L(A),  B' = B + dt R_B(A, B) + db L(B)
+// (da, db: D dt / h^2). Reads a and b over reg grown by 1; outputs must not alias inputs. One
+// work-item per cell.
+__kernel void explicit_rd(__global const float* a, __global const float* b, __global float* a_out,
+                          __global float* b_out, int stride, int origin, int4 reg, int model,
+                          float p0, float p1, float p2, float p3, float p4, float dt, float da,
+                          float db, int nine) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  const real A = a[g], B = b[g];
+  real ra, rb;
+  rd_rates(model, p0, p1, p2, p3, p4, A, B, &ra, &rb);
+  const real la = nine ? rd_laplacian9(a, stride, g) : rd_laplacian5(a, stride, g);
+  const real lb = nine ? rd_laplacian9(b, stride, g) : rd_laplacian5(b, stride, g);
+  a_out[g] = (float)(A + (real)dt * ra + (real)da * la);
+  b_out[g] = (float)(B + (real)dt * rb + (real)db * lb);
+}
+
+// Twin of gray_scott9_explicit_tile (seed 001's Gray-Scott step, 9-point Laplacian as the
+// separable (1 4 1) x (1 4 1) sum S: L9 = 0.05 S - 1.8 A), in float in the C++ order: column
+// sums v(c) = f(c, y-1) + 4 f(c, y) + f(c, y+1), then S = v(x-1) + 4 v(x) + v(x+1).
+//   A' = A + ca S_A - ma A + dt (F (1 - A) - A B^2),  B' = B + cb S_B - mb B + dt (A B^2 - fk B)
+// (ca = 0.05 da, ma = 1.8 da, likewise b; fk = F + k; computed on the host in float). Reads
+// halo 1; outputs must not alias inputs. One work-item per cell.
+inline float gs9_column(__global const float* f, int stride, int g) {
+  return f[g - stride] + 4.0f * f[g] + f[g + stride];
+}
+
+__kernel void gray_scott9_explicit(__global const float* a, __global const float* b,
+                                   __global float* a_out, __global float* b_out, int stride,
+                                   int origin, int4 reg, float F, float fk, float dt, float ca,
+                                   float cb, float ma, float mb) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  const float A = a[g], B = b[g];
+  const float sa = gs9_column(a, stride, g - 1) + 4.0f * gs9_column(a, stride, g) +
+                   gs9_column(a, stride, g + 1);
+  const float sb = gs9_column(b, stride, g - 1) + 4.0f * gs9_column(b, stride, g) +
+                   gs9_column(b, stride, g + 1);
+  const float abb = A * B * B;
+  a_out[g] = A + ca * sa - ma * A + dt * (F * (1.0f - A) - abb);
+  b_out[g] = B + cb * sb - mb * B + dt * (abb - fk * B);
+}
