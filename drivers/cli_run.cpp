@@ -21,9 +21,8 @@
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
 #if defined(ARDCELL_WITH_OPENCL)
-#include "host/engine/opencl_rd_engine.h"
-#include "host/engine/rd_step.h"
 #include "host/engine/table1_opencl.h"
+#include "kernels/cl/opencl_kernels.h"
 #endif
 
 namespace ardcell {
@@ -457,57 +456,6 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
   });
 }
 
-#if defined(ARDCELL_WITH_OPENCL)
-// A reaction-diffusion-only scene on an OpenCL device (host/engine/opencl_rd_engine.h): the fields
-// stay on the device; a written frame (and the saved state) downloads A and B.
-class OpenClRdStepper final : public OfflineStepper {
- public:
-  // Null, with the one line to print, when the scene or the device cannot run it: the caller
-  // falls back to the CPU engine.
-  static std::unique_ptr<OpenClRdStepper> open(const SceneConfig& scene, BackendKind kind,
-                                               int cl_device, std::string& message,
-                                               std::string& detail) {
-    const std::string fallback = "; falling back to the threads back end";
-    // An invalid RD parameter is the CPU engine's error to report, as without OpenCL.
-    if (scene.rd.enabled && !rd_config_problem(scene).empty()) return nullptr;
-    if (std::string why = OpenClRdEngine::device_problem(scene); !why.empty()) {
-      message = "ardcell: scene '" + scene.name + "' cannot run on OpenCL: " + why + fallback;
-      return nullptr;
-    }
-    BackendChoice choice = choose_backend(kind, cl_device, &OpenClKernels::prepare);
-    message = choice.message;
-    detail = choice.detail;
-    if (choice.kind != BackendKind::kOpenCl) return nullptr;
-    std::string error;
-    std::unique_ptr<OpenClKernels> kernels = OpenClKernels::create(*choice.opencl, &error);
-    if (!kernels) {
-      message = "ardcell: " + error.substr(0, error.find('\n')) + fallback;
-      return nullptr;
-    }
-    std::unique_ptr<OpenClRdStepper> s(new OpenClRdStepper());
-    s->ctx_ = std::move(choice.opencl);
-    s->kernels_ = std::move(kernels);
-    s->engine_ = std::make_unique<OpenClRdEngine>(*s->kernels_, scene);
-    return s;
-  }
-
-  void step() override {
-    engine_->step();
-    engine_->finish();  // a frame counts when it is done, as when it is shown
-  }
-  const SimState& frame_state() override { return engine_->download_state(); }
-
-  OpenClRdEngine& engine() { return *engine_; }
-  std::string device_name() const { return ctx_->device().device_name; }
-
- private:
-  OpenClRdStepper() = default;
-  std::unique_ptr<OpenClContext> ctx_;
-  std::unique_ptr<OpenClKernels> kernels_;
-  std::unique_ptr<OpenClRdEngine> engine_;
-};
-#endif
-
 int do_run(RunArgs& a, CliContext& ctx) {
   auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "run", m); };
   if (a.list) return list_scenes(ctx);
@@ -533,9 +481,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
                    "' is the fixed Table 1 workload (expected no stroke options)");
     return do_run_table1(a, ctx, scene_name);
   }
-  // OpenCL for a general scene: asked for by --backend opencl or by --cl-device N (auto).
-  const bool opencl_asked = backend == BackendKind::kOpenCl ||
-                            (backend == BackendKind::kAuto && a.cl_device_opt->count() > 0);
+  // OpenCL: asked for by --backend opencl, or auto (the default: a GPU when there is one).
+  const bool opencl_asked = backend == BackendKind::kOpenCl || backend == BackendKind::kAuto;
   {
     const std::string general =
         " applies to the table1 scenes (the Table 1 workload on the frame plan); scene '" +
@@ -552,12 +499,6 @@ int do_run(RunArgs& a, CliContext& ctx) {
     if (a.cl_device_opt->count() && !opencl_asked)
       return usage("--cl-device " + std::to_string(a.cl_device) + " needs --backend opencl or " +
                    "auto (expected no --cl-device with --backend " + a.backend + ")");
-    if (a.backend_opt->count() && backend == BackendKind::kAuto && !opencl_asked)
-      std::fprintf(ctx.err,
-                   "ardcell run: note: --backend auto keeps scene '%s' on the CPU engine; "
-                   "--backend opencl or --cl-device N runs a reaction-diffusion-only scene on "
-                   "OpenCL\n",
-                   scene_name.empty() ? "cavity" : scene_name.c_str());
   }
 
   // The scene: a saved state's, or a built-in scene / preset by name or path.
@@ -632,49 +573,33 @@ int do_run(RunArgs& a, CliContext& ctx) {
 
   if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
 
-  // The engine (on an OpenCL device when asked for and possible, else the CPU engine), and
-  // the saved state it resumes from.
-  std::unique_ptr<OfflineStepper> device_stepper;
-  std::string device_name;
-  SimState* state = nullptr;
+  // The engine, on an OpenCL device when asked for and possible (else the threads back end,
+  // with one line saying why), and the saved state it resumes from.
+  EngineOptions options;
+  if (backend == BackendKind::kSerial) options.backend = EngineOptions::Backend::kSerial;
+  if (a.workers_opt->count()) options.workers = a.workers;
+  BackendChoice choice;
   if (opencl_asked) {
-    std::string message, detail;
 #if defined(ARDCELL_WITH_OPENCL)
-    std::unique_ptr<OpenClRdStepper> on_device;
-    if (a.paint.any())
-      message =
-          "ardcell: --strokes/--replay paint on the CPU engine; falling back to the "
-          "threads back end";
-    else
-      on_device = OpenClRdStepper::open(scene, backend, a.cl_device, message, detail);
-    if (on_device) {
-      state = &on_device->engine().host_state();
-      device_name = on_device->device_name();
-      device_stepper = std::move(on_device);
-    }
+    choice = choose_backend(backend, a.cl_device, &OpenClKernels::prepare);
 #else
-    message = choose_backend(backend, a.cl_device).message;
+    choice = choose_backend(backend, a.cl_device);
 #endif
-    if (!message.empty()) std::fprintf(ctx.err, "%s\n", message.c_str());
-    if (!detail.empty()) std::fprintf(ctx.err, "%s\n", detail.c_str());
+    if (!choice.message.empty()) std::fprintf(ctx.err, "%s\n", choice.message.c_str());
+    if (!choice.detail.empty()) std::fprintf(ctx.err, "%s\n", choice.detail.c_str());
+    if (choice.kind == BackendKind::kOpenCl) {
+      options.backend = EngineOptions::Backend::kOpenCl;
+      options.opencl = choice.opencl.get();
+    }
   }
-  std::unique_ptr<Engine> engine;
-  if (!state) {
-    EngineOptions options;
-    if (backend == BackendKind::kSerial) options.backend = EngineOptions::Backend::kSerial;
-    if (a.workers_opt->count()) options.workers = a.workers;
-    engine = std::make_unique<Engine>(scene, options);
-    state = &engine->state();
-  }
+  auto engine = std::make_unique<Engine>(scene, options);
+  SimState* state = &engine->state();
   if (!frame_field_available(*state, field))
     return usage("--show " + show + ": scene '" + scene.name + "' has no " + show +
                  " field (expected one of the fields it simulates)");
   if (resume) {
     if (Status s = load_state_fields(a.load_state, meta, *state); !s)
       return usage("--load-state " + s.message());
-#if defined(ARDCELL_WITH_OPENCL)
-    if (device_stepper) static_cast<OpenClRdStepper&>(*device_stepper).engine().upload_state();
-#endif
   }
 
   // Stroke playback (--strokes / --replay): files are read before any output is created.
@@ -685,15 +610,15 @@ int do_run(RunArgs& a, CliContext& ctx) {
   RunOutputs outputs;
   if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs); rc != kExitOk)
     return rc;
-  if (device_stepper) {
-    if (a.stats)
-      std::fprintf(ctx.out, "scene=%s size=%dx%d backend=opencl (%s)\n", scene.name.c_str(),
-                   scene.size.x, scene.size.y, device_name.c_str());
-    return run_and_report(a, ctx, *device_stepper, scene, steps, every, render, outputs);
-  }
-  if (a.stats)
-    std::fprintf(ctx.out, "scene=%s size=%dx%d backend=%s workers=%d\n", scene.name.c_str(),
+  if (a.stats) {
+    std::fprintf(ctx.out, "scene=%s size=%dx%d backend=%s workers=%d", scene.name.c_str(),
                  scene.size.x, scene.size.y, engine->backend_name(), engine->workers());
+#if defined(ARDCELL_WITH_OPENCL)
+    if (choice.opencl)
+      std::fprintf(ctx.out, " device=%s", choice.opencl->device().device_name.c_str());
+#endif
+    std::fputc('\n', ctx.out);
+  }
   EngineStepper stepper(*engine, playback.get());
   return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs);
 }
@@ -736,9 +661,8 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
   a.schedule_opt = run->add_option("--schedule", a.schedule,
                                    "table1 scenes: serial | stream | blocked (default blocked)");
   a.backend_opt = run->add_option("--backend", a.backend,
-                                  "auto | threads | serial | opencl (table1 scenes, default auto: "
-                                  "an OpenCL GPU, else threads; reaction-diffusion-only scenes "
-                                  "with a fixed-sweep solver: opencl)");
+                                  "auto | threads | serial | opencl (default auto: an OpenCL GPU, "
+                                  "else threads)");
   a.cl_device_opt =
       run->add_option("--cl-device", a.cl_device, "OpenCL device index (see ardcell devices)");
   a.workers_opt =

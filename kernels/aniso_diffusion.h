@@ -40,6 +40,9 @@ class ImplicitDiffusion {
     solver_->set_limits(max_iterations, tolerance);
   }
   BoundaryKind boundary() const { return boundary_; }
+  Int2 size() const { return size_; }
+  const SolverSettings& solver_settings() const { return solver_->settings(); }
+  bool has_solid() const { return solid_ != nullptr; }
 
  private:
   void copy_rows(const FieldF& from, FieldF& to) const;  // interiors, in bands of rows

@@ -136,11 +136,10 @@ void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight
   }
 }
 
-namespace {
+namespace {}  // namespace
 
-// Weight of a ghost rule on the boundary cell's diagonal, per unit face weight: the fixed ghost
-// sits one cell away (1), the mirrored one puts the value on the face half a cell away (2).
-double rule_factor(const EdgeFill& e) {
+// b += the boundary values' share (factor * scale * value) on the boundary cells.
+double boundary_rule_factor(const EdgeFill& e) {
   switch (e.rule) {
     case EdgeRule::kFixed:
       return 1.0;
@@ -151,13 +150,10 @@ double rule_factor(const EdgeFill& e) {
   }
 }
 
-}  // namespace
-
-// b += the boundary values' share (factor * scale * value) on the boundary cells.
 void add_boundary_values(View<float> b, Int2 size, const BoundaryFill& fill, double scale) {
   const int nx = size.x, ny = size.y;
   auto add = [&](const EdgeFill& e, int x0, int y0, int dx, int dy, int count) {
-    const float amount = float(rule_factor(e) * scale * e.value);
+    const float amount = float(boundary_rule_factor(e) * scale * e.value);
     if (amount == 0.0f) return;
     for (int k = 0; k < count; ++k) b(x0 + k * dx, y0 + k * dy) += amount;
   };

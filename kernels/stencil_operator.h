@@ -70,6 +70,10 @@ void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight
 // bottom, top, so a corner cell gets both of its sides' shares, in that order. The amount is
 // rounded to float once per side. (host/engine/fluid_step.cpp's add_boundary_rhs.)
 void add_boundary_values(View<float> b, Int2 size, const BoundaryFill& fill, double scale);
+// Weight of a ghost rule on the boundary cell's diagonal, per unit face weight: the fixed ghost
+// sits one cell away (1), the mirrored one puts the value on the face half a cell away (2);
+// copied and periodic ghosts add nothing (0).
+double boundary_rule_factor(const EdgeFill& e);
 
 // Cuts the faces of the solid cells (solid(i, j) != 0) out of the operator: a fluid neighbour
 // keeps wall_factor times the cut face weight on its diagonal (0: Neumann, zero flux through the

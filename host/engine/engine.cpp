@@ -1,9 +1,13 @@
 #include "host/engine/engine.h"
 
+#include "host/engine/device.h"
 #include "host/engine/fluid_step.h"
 #include "host/engine/rd_step.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
+#if defined(ARDCELL_WITH_OPENCL)
+#include "host/engine/opencl_device.h"
+#endif
 
 #include <algorithm>
 #include <string>
@@ -17,6 +21,18 @@ struct Engine::Solvers {
 };
 
 namespace {
+
+std::unique_ptr<Device> make_engine_device(const EngineOptions& options, RowExecutor& cpu) {
+  if (options.backend == EngineOptions::Backend::kOpenCl) {
+#if defined(ARDCELL_WITH_OPENCL)
+    ARDCELL_CHECK(options.opencl != nullptr, "Engine: the OpenCL back end needs a context");
+    return std::make_unique<OpenClDevice>(*options.opencl, cpu);
+#else
+    ARDCELL_CHECK(false, "Engine: this build has no OpenCL");
+#endif
+  }
+  return std::make_unique<CpuDevice>(cpu);
+}
 
 std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
   if (options.backend == EngineOptions::Backend::kSerial) return std::make_unique<SerialBackend>();
@@ -36,6 +52,7 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
     : config_(config),
       backend_(make_engine_backend(options)),
       executor_(std::make_unique<RowExecutor>(*backend_)),
+      device_(make_engine_device(options, *executor_)),
       solvers_(std::make_unique<Solvers>()) {
   ARDCELL_CHECK(config.size.x > 0 && config.size.y > 0, "Engine: grid size must be positive");
   ARDCELL_CHECK(config.domain_width > 0.0 && config.dt > 0.0,
@@ -44,12 +61,12 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
   if (config_.fluid.kind != FluidSceneKind::kNone) {
-    solvers_->fluid = make_fluid_step(config_, *executor_);
+    solvers_->fluid = make_fluid_step(config_, *device_);
     solvers_->fluid->allocate(state_);
   }
   if (config_.rd.enabled) {
     // Throws std::invalid_argument with one line naming a bad RD parameter.
-    solvers_->rd = std::make_unique<RdStepper>(config_, *executor_);
+    solvers_->rd = std::make_unique<RdStepper>(config_, *device_);
     solvers_->rd->init_state(state_);  // allocates A, B, theta0
   }
   reset();
@@ -57,8 +74,27 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
 
 Engine::~Engine() = default;
 
-const char* Engine::backend_name() const { return backend_->name(); }
-int Engine::workers() const { return backend_->workers(); }
+const char* Engine::backend_name() const {
+  return device_->fields_on_host() ? backend_->name() : device_->name();
+}
+int Engine::workers() const {
+  return device_->fields_on_host() ? backend_->workers() : device_->workers();
+}
+
+SimState& Engine::state() {
+  if (!device_->fields_on_host())
+    state_.for_each_field([&](std::string_view, FieldF& f) {
+      device_->sync_to_host(f);
+      device_->host_wrote(f);
+    });
+  return state_;
+}
+
+const SimState& Engine::state() const {
+  if (!device_->fields_on_host())
+    state_.for_each_field([&](std::string_view, const FieldF& f) { device_->sync_to_host(f); });
+  return state_;
+}
 
 void Engine::reset() {
   state_.time = 0.0;
@@ -143,6 +179,8 @@ void Engine::step() {
   state_.time += state_.dt;
   ++state_.step;
 }
+
+void Engine::finish() { device_->finish(); }
 
 void Engine::step_without_rd() {
   if (solvers_->fluid) solvers_->fluid->step(state_);

@@ -3,9 +3,10 @@
 // built once from a SceneConfig; step() advances one frame (fluid step, then the RD step when the
 // scene has RD) and does no heap allocation once the first frame has run.
 //
-// Every stage runs on the engine's back end: per-cell kernels, solver sweeps and reductions in
-// bands of rows (runtime/row_executor.h), so `serial` and `threads` with any number of workers
-// give the same bits (tests/host/engine/engine_backend_parity_test.cpp).
+// Every stage runs as the ops of the engine's Device (host/engine/device.h): on the CPU,
+// per-cell kernels, solver sweeps and reductions in bands of rows (runtime/row_executor.h), so
+// `serial` and `threads` with any number of workers give the same bits
+// (tests/host/engine/engine_backend_parity_test.cpp).
 #include <memory>
 #include <string>
 
@@ -17,14 +18,20 @@ namespace ardcell {
 
 struct RdStepStats;
 class Backend;
+class Device;
 class RowExecutor;
 
-// Where the engine runs: the serial reference or the threads back end (workers 0: one per
-// hardware thread).
+class OpenClContext;
+
+// Where the engine runs: the serial reference, the threads back end (workers 0: one per
+// hardware thread), or an OpenCL device (`opencl`: a context the caller keeps open for longer
+// than the engine, so that switching scenes builds no program again; ops it cannot run use the
+// threads back end).
 struct EngineOptions {
-  enum class Backend : uint8_t { kSerial, kThreads };
+  enum class Backend : uint8_t { kSerial, kThreads, kOpenCl };
   Backend backend = Backend::kThreads;
   int workers = 0;
+  OpenClContext* opencl = nullptr;
 };
 
 class Engine {
@@ -36,8 +43,10 @@ class Engine {
 
   // Back to the scene's initial conditions (time 0, step 0).
   void reset();
-  // Advances one frame of config().dt.
+  // Advances one frame of config().dt. On a device that queues its work (OpenCL) it may return
+  // before the frame is done: finish() waits (state() does too).
   void step();
+  void finish();
   // The same frame without the RD stage (fluid, time and step count only): for a caller that
   // advances A and B itself, as the live display does on a coarser RD grid.
   void step_without_rd();
@@ -53,14 +62,18 @@ class Engine {
   // a change of reaction parameters or dt: the one case that allocates.)
   Status update_parameters(const SceneConfig& next);
 
-  SimState& state() { return state_; }
-  const SimState& state() const { return state_; }
+  // The state on the host. On a device that keeps its own copies (OpenCL) the fields are
+  // downloaded first; the non-const one also takes whatever the caller writes into them to
+  // the device before the next frame (painting, a loaded state).
+  SimState& state();
+  const SimState& state() const;
   const SceneConfig& config() const { return config_; }
-  // "serial" or "threads", and its number of workers.
+  // "serial", "threads" or "opencl", and its number of workers (compute units for OpenCL).
   const char* backend_name() const;
   int workers() const;
   // What the engine's stages run on (for a caller that steps more on the same workers, as the
-  // live display's coarse RD grids do).
+  // live display's coarse RD grids do): the Device and its CPU executor.
+  Device& device() { return *device_; }
   RowExecutor& executor() { return *executor_; }
   // What the last RD step's solves did (iterations, residuals); nullptr when the scene has no RD.
   const RdStepStats* rd_stats() const;
@@ -70,6 +83,7 @@ class Engine {
   SceneConfig config_;
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<RowExecutor> executor_;
+  std::unique_ptr<Device> device_;
   SimState state_;
   std::unique_ptr<Solvers> solvers_;
 };

@@ -17,19 +17,6 @@ BoundaryKind axis_kind(const EdgeFill& a, const EdgeFill& b) {
                                                                         : BoundaryKind::kNeumann;
 }
 
-// Weight of a ghost rule on the boundary cell's diagonal, per unit face weight: the fixed ghost
-// sits one cell away (1), the mirrored one puts the value on the face half a cell away (2).
-double rule_factor(const EdgeFill& e) {
-  switch (e.rule) {
-    case EdgeRule::kFixed:
-      return 1.0;
-    case EdgeRule::kMirror:
-      return 2.0;
-    default:
-      return 0.0;
-  }
-}
-
 // Folds the ghost rules of `fill` into an operator assembled with Neumann (or periodic) axes.
 void fold_boundary(StencilOperator& op, const BoundaryFill& fill, double scale) {
   const struct {
@@ -40,115 +27,8 @@ void fold_boundary(StencilOperator& op, const BoundaryFill& fill, double scale) 
                {fill.bottom, BoundarySide::kBottom},
                {fill.top, BoundarySide::kTop}};
   for (const auto& s : sides)
-    if (rule_factor(s.e) > 0.0) add_boundary_diagonal(op, s.side, rule_factor(s.e) * scale);
-}
-
-// b += the boundary values' share (factor * scale * value) on the boundary cells.
-void add_boundary_rhs(FieldF& b, const BoundaryFill& fill, double scale) {
-  const int nx = b.nx(), ny = b.ny();
-  auto add = [&](const EdgeFill& e, int x0, int y0, int dx, int dy, int count) {
-    const float amount = float(rule_factor(e) * scale * e.value);
-    if (amount == 0.0f) return;
-    for (int k = 0; k < count; ++k) b(x0 + k * dx, y0 + k * dy) += amount;
-  };
-  add(fill.left, 0, 0, 0, 1, ny);
-  add(fill.right, nx - 1, 0, 0, 1, ny);
-  add(fill.bottom, 0, 0, 1, 0, nx);
-  add(fill.top, 0, ny - 1, 1, 0, nx);
-}
-
-void zero_solid(FieldF& f, const Field<uint8_t>& solid, RowExecutor& ex) {
-  if (solid.empty()) return;
-  ex.for_rows(f.ny(), f.nx(), [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
-      const uint8_t* s = solid.row(j);
-      float* r = f.row(j);
-      for (int i = 0; i < f.nx(); ++i)
-        if (s[i]) r[i] = 0.0f;
-    }
-  });
-}
-
-double interior_sum(const FieldF& f, RowExecutor& ex) {
-  return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) {
-      const float* r = f.row(j);
-      double row_total = 0.0;
-      for (int i = 0; i < f.nx(); ++i) row_total += r[i];
-      partials[j] = row_total;
-    }
-  });
-}
-
-struct Range {
-  double sum = 0.0;
-  float lo = 0.0f, hi = 0.0f;
-};
-
-// Sum (rows added in order), minimum and maximum of the interior.
-Range interior_range(const FieldF& f, RowExecutor& ex) {
-  const int ny = f.ny();
-  double* lo = ex.rows_scratch(ny, 0);
-  double* hi = ex.rows_scratch(ny, 1);
-  Range r;
-  r.sum = ex.sum_rows(ny, f.nx(), [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) {
-      const float* row = f.row(j);
-      double row_total = 0.0;
-      float row_lo = row[0], row_hi = row[0];
-      for (int i = 0; i < f.nx(); ++i) {
-        row_total += row[i];
-        row_lo = std::min(row_lo, row[i]);
-        row_hi = std::max(row_hi, row[i]);
-      }
-      partials[j] = row_total;
-      lo[j] = row_lo;
-      hi[j] = row_hi;
-    }
-  });
-  r.lo = float(lo[0]);
-  r.hi = float(hi[0]);
-  for (int j = 1; j < ny; ++j) {
-    r.lo = std::min(r.lo, float(lo[j]));
-    r.hi = std::max(r.hi, float(hi[j]));
-  }
-  return r;
-}
-
-// Puts `missing` mass back where advection is least certain: weights (q - lo)(hi - q) vanish at
-// the extremes of the field before advection, so plateaus (and the max principle) survive; the
-// result is clamped to [lo, hi] (the mass then stays short only when the weights cannot hold
-// it, far beyond any normal step).
-void restore_mass(FieldF& f, double missing, float lo, float hi, RowExecutor& ex) {
-  const double total_weight = ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) {
-      const float* row = f.row(j);
-      double row_total = 0.0;
-      for (int i = 0; i < f.nx(); ++i) row_total += double(row[i] - lo) * double(hi - row[i]);
-      partials[j] = row_total;
-    }
-  });
-  if (!(total_weight > 0.0)) return;
-  const double k = missing / total_weight;
-  ex.for_rows(f.ny(), f.nx(), [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
-      float* row = f.row(j);
-      for (int i = 0; i < f.nx(); ++i) {
-        const float q = row[i] + float(k * double(row[i] - lo) * double(hi - row[i]));
-        row[i] = std::min(std::max(q, lo), hi);
-      }
-    }
-  });
-}
-
-// The whole allocation (halo included), in bands of rows of storage.
-void copy_all(const FieldF& from, FieldF& to, RowExecutor& ex) {
-  const int rows = from.ny() + 2 * from.halo();
-  const std::size_t stride = std::size_t(from.stride());
-  ex.for_rows(rows, int(stride), [&](int y0, int y1) {
-    std::memcpy(to.raw() + stride * std::size_t(y0), from.raw() + stride * std::size_t(y0),
-                stride * std::size_t(y1 - y0) * sizeof(float));
-  });
+    if (boundary_rule_factor(s.e) > 0.0)
+      add_boundary_diagonal(op, s.side, boundary_rule_factor(s.e) * scale);
 }
 
 }  // namespace
@@ -158,14 +38,9 @@ struct FluidStep::Operators {
   std::unique_ptr<LinearSolver> solver_u, solver_v, solver_p, solver_dye;
 };
 
-template <class F>
-void FluidStep::for_bands(const F& f) const {
-  ex_->for_rows(size_.y, size_.x, [&](int y0, int y1) { f(Box2{{0, y0}, {size_.x, y1}}); });
-}
-
-FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, RowExecutor& ex)
+FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, Device& device)
     : config_(config),
-      ex_(&ex),
+      dev_(&device),
       size_(size),
       h_(h),
       scratch_u_(size, 1),
@@ -220,17 +95,20 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
   ops_ = std::make_unique<Operators>(Operators{make_op(fill_u_), make_op(fill_v_), make_op(fill_p_),
                                                make_op(fill_dye_), nullptr, nullptr, nullptr,
                                                nullptr});
+  RowExecutor& ex = device.executor();
   ops_->solver_u = LinearSolver::make(config_.viscosity_solver, size, ex);
   ops_->solver_v = LinearSolver::make(config_.viscosity_solver, size, ex);
   ops_->solver_p = LinearSolver::make(config_.pressure_solver, size, ex);
   ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size, ex);
-  ex.reserve_rows(size.y);
+  device.reserve(size);
 
   // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces.
   reassemble_stencil_operator(ops_->pressure, 0.0, 1.0, nullptr);
   fold_boundary(ops_->pressure, fill_p_, 1.0);
   if (!solid_.empty()) isolate_solid_cells(ops_->pressure, solid_, 0.0);
   ops_->solver_p->prepare(ops_->pressure);
+  dev_->host_wrote(ops_->pressure);
+  dev_->host_wrote(solid_);
   prepare(dt);
 }
 
@@ -264,10 +142,11 @@ void FluidStep::prepare(double dt) {
   const double s_visc = dt * config_.viscosity / (h_ * h_);
   auto setup = [&](StencilOperator& op, LinearSolver& solver, const BoundaryFill& fill, double s,
                    bool no_slip_obstacle) {
-    reassemble_stencil_operator(op, 1.0, s, nullptr, *ex_);
+    reassemble_stencil_operator(op, 1.0, s, nullptr, dev_->executor());
     fold_boundary(op, fill, s);
     if (!solid_.empty()) isolate_solid_cells(op, solid_, no_slip_obstacle ? 2.0 : 0.0);
     solver.prepare(op);
+    dev_->host_wrote(op);
   };
   setup(ops_->visc_u, *ops_->solver_u, fill_u_, s_visc, true);
   setup(ops_->visc_v, *ops_->solver_v, fill_v_, s_visc, true);
@@ -295,23 +174,21 @@ void FluidStep::reset(SimState& state) const {
   } else if (config_.kind == FluidSceneKind::kObstacle) {
     // Start from the uniform inflow; the first projection turns it around the disc.
     state.v.fill(float(-config_.inflow_speed));
-    zero_solid(state.v, solid_, *ex_);
   }
+  for (const FieldF* f : {&state.u, &state.v, &state.p, &state.dye}) dev_->host_wrote(*f);
+  if (!solid_.empty()) dev_->fill_obstacle(state.v, solid_, ObstacleRule::kZero);
   if (config_.kind != FluidSceneKind::kNone) {
     fill_velocity(state);
-    fill_boundary(state.dye.view(), n, fill_dye_);
+    dev_->fill_boundary(state.dye, fill_dye_);
   }
 }
 
 void FluidStep::fill_velocity(SimState& state) const {
-  fill_boundary(state.u.view(), size_, fill_u_);
-  fill_boundary(state.v.view(), size_, fill_v_);
+  dev_->fill_boundary(state.u, fill_u_);
+  dev_->fill_boundary(state.v, fill_v_);
   if (!solid_.empty()) {
-    // Solid cells are written from fluid cells only: bands of rows do not interfere.
-    for_bands([&](Box2 rows) {
-      fill_obstacle(state.u.view(), solid_.view(), rows, ObstacleRule::kNoSlip);
-      fill_obstacle(state.v.view(), solid_.view(), rows, ObstacleRule::kNoSlip);
-    });
+    dev_->fill_obstacle(state.u, solid_, ObstacleRule::kNoSlip);
+    dev_->fill_obstacle(state.v, solid_, ObstacleRule::kNoSlip);
   }
 }
 
@@ -324,17 +201,13 @@ void FluidStep::add_forces_and_sources(SimState& state) {
       const double angle = e.swirl * state.time;
       const double fx = e.force_x * std::cos(angle) - e.force_y * std::sin(angle);
       const double fy = e.force_x * std::sin(angle) + e.force_y * std::cos(angle);
-      for_bands([&](Box2 rows) {
-        add_splat(state.dye.view(), rows, {cx, cy, r, float(dt * e.dye_rate)});
-        add_splat(state.u.view(), rows, {cx, cy, r, float(dt * fx)});
-        add_splat(state.v.view(), rows, {cx, cy, r, float(dt * fy)});
-      });
+      dev_->add_splat(state.dye, {cx, cy, r, float(dt * e.dye_rate)});
+      dev_->add_splat(state.u, {cx, cy, r, float(dt * fx)});
+      dev_->add_splat(state.v, {cx, cy, r, float(dt * fy)});
     }
   } else if (config_.kind == FluidSceneKind::kObstacle && config_.inflow_dye_stripes > 0) {
     // Dye enters with the inflow in vertical stripes (the top row is refreshed each frame).
-    const int top = size_.y - 1;
-    const int stripes = 2 * config_.inflow_dye_stripes;
-    for (int i = 0; i < size_.x; ++i) state.dye(i, top) = (i * stripes / size_.x) % 2 ? 1.0f : 0.0f;
+    dev_->set_inflow_stripes(state.dye, config_.inflow_dye_stripes);
   }
 }
 
@@ -343,10 +216,10 @@ void FluidStep::diffuse_velocity(SimState& state) {
   const double s = state.dt * config_.viscosity / (h_ * h_);
   auto solve = [&](FieldF& x, const StencilOperator& op, LinearSolver& solver,
                    const BoundaryFill& fill) {
-    copy_all(x, scratch_b_, *ex_);
-    add_boundary_rhs(scratch_b_, fill, s);
-    zero_solid(scratch_b_, solid_, *ex_);
-    return solver.solve(op, scratch_b_, x);
+    dev_->copy(x, scratch_b_);
+    dev_->add_boundary_values(scratch_b_, fill, s);
+    if (!solid_.empty()) dev_->fill_obstacle(scratch_b_, solid_, ObstacleRule::kZero);
+    return dev_->solve(solver, op, scratch_b_, x);
   };
   report_.viscosity_u = solve(state.u, ops_->visc_u, *ops_->solver_u, fill_u_);
   report_.viscosity_v = solve(state.v, ops_->visc_v, *ops_->solver_v, fill_v_);
@@ -355,56 +228,33 @@ void FluidStep::diffuse_velocity(SimState& state) {
 SolveReport FluidStep::project(SimState& state) {
   fill_velocity(state);
   const ProjectParams params{float(h_)};
-  for_bands(
-      [&](Box2 rows) { pressure_rhs(state.u.view(), state.v.view(), rhs_.view(), rows, params); });
-  add_boundary_rhs(rhs_, fill_p_, 1.0);
-  zero_solid(rhs_, solid_, *ex_);
-  const SolveReport report = ops_->solver_p->solve(ops_->pressure, rhs_, state.p);
-  fill_boundary(state.p.view(), size_, fill_p_);
-  if (!solid_.empty())
-    for_bands([&](Box2 rows) {
-      fill_obstacle(state.p.view(), solid_.view(), rows, ObstacleRule::kCopy);
-    });
-  for_bands([&](Box2 rows) {
-    face_velocities(state.u.view(), state.v.view(), state.p.view(), face_u_.view(), face_v_.view(),
-                    rows, params, rows.max.y == size_.y);
-  });
-  if (fill_u_.bottom.rule == EdgeRule::kPeriodic) {
-    // Ghost rows of uf and ghost columns of vf, wrapped, for the periodic back-trace.
-    const int nx = size_.x, ny = size_.y;
-    for (int i = 0; i <= nx; ++i) {
-      face_u_(i, -1) = face_u_(i, ny - 1);
-      face_u_(i, ny) = face_u_(i, 0);
-    }
-    for (int j = 0; j <= ny; ++j) {
-      face_v_(-1, j) = face_v_(nx - 1, j);
-      face_v_(nx, j) = face_v_(0, j);
-    }
-  }
-  for_bands([&](Box2 rows) {
-    subtract_gradient(state.p.view(), state.u.view(), state.v.view(), rows, params);
-  });
+  dev_->pressure_rhs(state.u, state.v, rhs_, params);
+  dev_->add_boundary_values(rhs_, fill_p_, 1.0);
+  if (!solid_.empty()) dev_->fill_obstacle(rhs_, solid_, ObstacleRule::kZero);
+  const SolveReport report = dev_->solve(*ops_->solver_p, ops_->pressure, rhs_, state.p);
+  dev_->fill_boundary(state.p, fill_p_);
+  if (!solid_.empty()) dev_->fill_obstacle(state.p, solid_, ObstacleRule::kCopy);
+  dev_->face_velocities(state.u, state.v, state.p, face_u_, face_v_, params,
+                        fill_u_.bottom.rule == EdgeRule::kPeriodic);
+  dev_->subtract_gradient(state.p, state.u, state.v, params);
   fill_velocity(state);
   return report;
 }
 
 void FluidStep::advect(SimState& state) {
   fill_velocity(state);
-  copy_all(state.u, scratch_u_, *ex_);
-  copy_all(state.v, scratch_v_, *ex_);
+  dev_->copy(state.u, scratch_u_);
+  dev_->copy(state.v, scratch_v_);
   const bool periodic = fill_u_.left.rule == EdgeRule::kPeriodic;
   const AdvectParams params{float(state.dt / h_), size_, periodic};
-  for_bands([&](Box2 rows) {
-    advect_velocity(scratch_u_.view(), scratch_v_.view(), state.u.view(), state.v.view(), rows,
-                    params);
-  });
+  dev_->advect_velocity(scratch_u_, scratch_v_, state.u, state.v, params);
 }
 
 void FluidStep::diffuse_dye(SimState& state) {
   if (!(config_.dye_diffusion > 0.0)) return;
-  copy_all(state.dye, scratch_b_, *ex_);
-  zero_solid(scratch_b_, solid_, *ex_);
-  report_.dye = ops_->solver_dye->solve(ops_->dye, scratch_b_, state.dye);
+  dev_->copy(state.dye, scratch_b_);
+  if (!solid_.empty()) dev_->fill_obstacle(scratch_b_, solid_, ObstacleRule::kZero);
+  report_.dye = dev_->solve(*ops_->solver_dye, ops_->dye, scratch_b_, state.dye);
 }
 
 void FluidStep::step(SimState& state) {
@@ -417,31 +267,27 @@ void FluidStep::step(SimState& state) {
   report_.pressure_second = project(state);
 
   diffuse_dye(state);
-  fill_boundary(state.dye.view(), size_, fill_dye_);
-  if (!solid_.empty())
-    for_bands([&](Box2 rows) {
-      fill_obstacle(state.dye.view(), solid_.view(), rows, ObstacleRule::kCopy);
-    });
-  copy_all(state.dye, scratch_b_, *ex_);
+  dev_->fill_boundary(state.dye, fill_dye_);
+  if (!solid_.empty()) dev_->fill_obstacle(state.dye, solid_, ObstacleRule::kCopy);
+  dev_->copy(state.dye, scratch_b_);
   const bool closed =
       config_.kind == FluidSceneKind::kCavity || config_.kind == FluidSceneKind::kInk;
   const bool fix_mass = config_.conserve_dye && closed;
-  const Range before = fix_mass ? interior_range(state.dye, *ex_) : Range{};
+  const FieldRange before = fix_mass ? dev_->range(state.dye) : FieldRange{};
   const bool periodic = fill_dye_.left.rule == EdgeRule::kPeriodic;
   const AdvectParams params{float(state.dt / h_), size_, periodic};
-  for_bands([&](Box2 rows) {
-    advect_scalar_mac(scratch_b_.view(), face_u_.view(), face_v_.view(), state.dye.view(), rows,
-                      params);
-  });
+  dev_->advect_scalar_mac(scratch_b_, face_u_, face_v_, state.dye, params);
   if (fix_mass) {
-    restore_mass(state.dye, before.sum - interior_sum(state.dye, *ex_), before.lo, before.hi, *ex_);
+    // Advection's mass error, put back where it is least certain (Device::restore_mass).
+    const double after = dev_->range(state.dye).sum;
+    dev_->restore_mass(state.dye, before.sum - after, before.lo, before.hi);
   }
-  fill_boundary(state.dye.view(), size_, fill_dye_);
+  dev_->fill_boundary(state.dye, fill_dye_);
 }
 
-std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene, RowExecutor& ex) {
+std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene, Device& device) {
   return std::make_unique<FluidStep>(scene.fluid, scene.size, scene.domain_width / scene.size.x,
-                                     scene.dt, ex);
+                                     scene.dt, device);
 }
 
 }  // namespace ardcell

@@ -5,13 +5,14 @@
 //   advection by the new velocity.
 // The implicit solves use the 5-point StencilOperator and the LinearSolver chosen in the
 // FluidConfig (jacobi | rbgs | iccg | mg); the per-cell work is the tile kernels of kernels/
-// (advect.h, project.h, sources.h) run in bands of rows on the RowExecutor it is made with (the
-// engine's back end: same bits on any number of workers). Everything is allocated in the
-// constructor: step() does no heap allocation.
+// (advect.h, project.h, sources.h), run as the ops of the Device it is made with
+// (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers, or
+// OpenCL). Everything is allocated in the constructor: step() does no heap allocation.
 #include <memory>
 
 #include "host/config/fluid_config.h"
 #include "host/config/sim_state.h"
+#include "host/engine/device.h"
 #include "kernels/linear_solver.h"
 #include "runtime/boundary.h"
 
@@ -27,7 +28,7 @@ struct FluidStepReport {
 class FluidStep {
  public:
   FluidStep(const FluidConfig& config, Int2 size, double h, double dt,
-            RowExecutor& ex = RowExecutor::serial());
+            Device& device = CpuDevice::serial());
   ~FluidStep();
   FluidStep(const FluidStep&) = delete;
   FluidStep& operator=(const FluidStep&) = delete;
@@ -70,12 +71,8 @@ class FluidStep {
   void diffuse_dye(SimState& state);
   void advect(SimState& state);
 
-  // Interior rows of the grid in bands on the executor: f(Box2 rows) over the full width.
-  template <class F>
-  void for_bands(const F& f) const;
-
   FluidConfig config_;
-  RowExecutor* ex_;
+  Device* dev_;
   Int2 size_;
   double h_;
   double prepared_dt_ = -1.0;
@@ -89,6 +86,6 @@ class FluidStep {
 
 // Builds the FluidStep of a scene (size, h = domain_width / size.x, dt).
 std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene,
-                                           RowExecutor& ex = RowExecutor::serial());
+                                           Device& device = CpuDevice::serial());
 
 }  // namespace ardcell

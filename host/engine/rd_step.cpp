@@ -66,20 +66,9 @@ std::string rd_config_problem(const SceneConfig& scene) {
   return "";
 }
 
-template <class F>
-void RdStepper::for_bands(const F& f) const {
-  const Int2 n = scene_.size;
-  ex_->for_rows(n.y, n.x, [&](int y0, int y1, int worker) {
-    const Box2 rows{{0, y0}, {n.x, y1}};
-    if constexpr (std::is_invocable_v<const F&, Box2, int>)
-      f(rows, worker);
-    else
-      f(rows);
-  });
-}
-
-RdStepper::RdStepper(const SceneConfig& scene, RowExecutor& ex)
-    : scene_(scene), ex_(&ex), rd_(scene.rd) {
+RdStepper::RdStepper(const SceneConfig& scene, Device& device)
+    : scene_(scene), dev_(&device), rd_(scene.rd) {
+  RowExecutor& ex = device.executor();
   if (std::string why = rd_config_problem(scene); !why.empty()) throw std::invalid_argument(why);
   const double scene_h = scene.domain_width / scene.size.x;
   dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
@@ -93,15 +82,17 @@ RdStepper::RdStepper(const SceneConfig& scene, RowExecutor& ex)
   if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit) {
     const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
     table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
+    device.host_wrote(table_);
   }
   conductivity_ = FieldF(scene.size, 1);
   scratch_a_ = FieldF(scene.size, 1);
   scratch_b_ = FieldF(scene.size, 1);
-  row_scratch_stride_ = (2 * std::size_t(scene.size.x + 2) + 16 + 15) / 16 * 16;
-  row_scratch_.assign(row_scratch_stride_ * std::size_t(ex.workers()), 0.0f);
-  ex.reserve_rows(scene.size.y);
+  device.reserve(scene.size);
+  // Seed 001's scheme on the CPU: a frame's steps temporally blocked on every core (it steps
+  // the host fields itself).
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
-      rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic)
+      rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic &&
+      device.fields_on_host())
     parallel_gs9_ =
         std::make_unique<ParallelGrayScott9>(scene.size, gray_scott9_params(), ex.workers());
 }
@@ -141,6 +132,7 @@ void RdStepper::update_parameters(const SceneConfig& scene) {
       (dt_ != old_dt || !same_reaction(old_reaction, rd_.reaction))) {
     const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
     table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
+    dev_->host_wrote(table_);
   }
   if (parallel_gs9_) parallel_gs9_->set_params(gray_scott9_params());
 }
@@ -205,24 +197,19 @@ void RdStepper::init_state(SimState& s) const {
         s.B(x, y) = float(std::clamp(s.B(x, y) * (1.0 + rd_.noise * ub), box.b_lo, box.b_hi));
       }
   }
+  for (const FieldF* f : {&s.A, &s.B, &s.theta0}) dev_->host_wrote(*f);
 }
 
 void RdStepper::fill_chemical_ghosts(SimState& s) {
-  fill_boundary(s.A.view(), scene_.size, chemical_fill(rd_.boundary, rd_.boundary_a));
-  fill_boundary(s.B.view(), scene_.size, chemical_fill(rd_.boundary, rd_.boundary_b));
+  dev_->fill_boundary(s.A, chemical_fill(rd_.boundary, rd_.boundary_a));
+  dev_->fill_boundary(s.B, chemical_fill(rd_.boundary, rd_.boundary_b));
 }
 
 void RdStepper::react(SimState& s) {
-  if (!table_.empty()) {
-    for_bands([&](Box2 rows) {
-      reaction_table_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), rows, table_.view());
-    });
-  } else {
-    for_bands([&](Box2 rows) {
-      reaction_implicit_tile(s.A.view(), s.B.view(), s.A.view(), s.B.view(), rows, rd_.reaction,
-                             float(dt_));
-    });
-  }
+  if (!table_.empty())
+    dev_->reaction_table(s.A, s.B, table_);
+  else
+    dev_->reaction_implicit(s.A, s.B, rd_.reaction, float(dt_));
 }
 
 void RdStepper::diffuse(SimState& s) {
@@ -232,20 +219,18 @@ void RdStepper::diffuse(SimState& s) {
     iso = rd_.anisotropy.isotropic_value;
   } else {
     fill_chemical_ghosts(s);
-    for_bands([&](Box2 rows) {
-      conductivity_tile(s.A.view(), s.theta0.view(), conductivity_.view(), rows, rd_.anisotropy);
-    });
+    dev_->conductivity(s.A, s.theta0, conductivity_, rd_.anisotropy);
     k = &conductivity_;
   }
   const Field<uint8_t>* solid = s.obstacle.empty() ? nullptr : &s.obstacle;
   diff_a_->set_solid(solid);
   diff_b_->set_solid(solid);
   const double base = dt_ / (h_ * h_) * iso;
-  const SolveReport ra =
-      diff_a_->step(s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
+  const SolveReport ra = dev_->implicit_diffusion(
+      *diff_a_, s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
   const SolveReport rb =
-      diff_b_->step(s.B, rd_.anisotropy_on_b ? k : nullptr,
-                    {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
+      dev_->implicit_diffusion(*diff_b_, s.B, rd_.anisotropy_on_b ? k : nullptr,
+                               {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
   stats_.diffusion_iterations_a = ra.iterations;
   stats_.diffusion_iterations_b = rb.iterations;
   stats_.diffusion_residual_a = ra.relative_residual;
@@ -257,25 +242,15 @@ void RdStepper::explicit_step(SimState& s) {
   const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
   const float da = rd_.diffuse ? float(rd_.diffusion_a * base) : 0.0f;
   const float db = rd_.diffuse ? float(rd_.diffusion_b * base) : 0.0f;
-  if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
-      rd_.react) {
-    const GrayScott9Params p{rd_.reaction.F, rd_.reaction.k, float(dt_), da, db};
-    for_bands([&](Box2 rows, int worker) {
-      gray_scott9_explicit_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows,
-                                p, row_scratch_.data() + row_scratch_stride_ * std::size_t(worker));
-    });
-  } else {
-    const ExplicitRdParams p{rd_.reaction, rd_.react ? float(dt_) : 0.0f, da, db};
-    const bool nine = rd_.scheme == RdScheme::kExplicit9;
-    for_bands([&](Box2 rows) {
-      if (nine)
-        explicit_rd9_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows, p);
-      else
-        explicit_rd5_tile(s.A.view(), s.B.view(), scratch_a_.view(), scratch_b_.view(), rows, p);
-    });
-  }
-  std::swap(s.A, scratch_a_);
-  std::swap(s.B, scratch_b_);
+  using Scheme = Device::ExplicitScheme;
+  const ExplicitRdParams p{rd_.reaction, rd_.react ? float(dt_) : 0.0f, da, db};
+  const Scheme scheme = rd_.scheme == RdScheme::kExplicit5 ? Scheme::k5
+                        : rd_.reaction.model == ReactionModel::kGrayScott && rd_.react
+                            ? Scheme::kGrayScott9
+                            : Scheme::k9;
+  dev_->explicit_rd(s.A, s.B, scratch_a_, scratch_b_, scheme, p);
+  dev_->swap(s.A, scratch_a_);
+  dev_->swap(s.B, scratch_b_);
 }
 
 void RdStepper::parallel_gray_scott9_frame(SimState& s) {
@@ -294,14 +269,15 @@ void RdStepper::parallel_gray_scott9_frame(SimState& s) {
     return;
   }
   const std::size_t row_bytes = sizeof(float) * std::size_t(scene_.size.x);
-  ex_->for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
+  RowExecutor& ex = dev_->executor();
+  ex.for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y) {
       std::memcpy(sim.a().row(y), s.A.row(y), row_bytes);
       std::memcpy(sim.b().row(y), s.B.row(y), row_bytes);
     }
   });
   sim.run(rd_.steps_per_frame);
-  ex_->for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
+  ex.for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y) {
       std::memcpy(s.A.row(y), sim.a().row(y), row_bytes);
       std::memcpy(s.B.row(y), sim.b().row(y), row_bytes);
@@ -314,12 +290,10 @@ void RdStepper::advect(SimState& s) {
   const double scene_h = scene_.domain_width / scene_.size.x;
   const AdvectParams p{float(scene_.dt / scene_h), scene_.size,
                        rd_.boundary == BoundaryKind::kPeriodic};
-  for_bands([&](Box2 rows) {
-    advect_scalar(s.A.view(), s.u.view(), s.v.view(), scratch_a_.view(), rows, p);
-    advect_scalar(s.B.view(), s.u.view(), s.v.view(), scratch_b_.view(), rows, p);
-  });
-  std::swap(s.A, scratch_a_);
-  std::swap(s.B, scratch_b_);
+  dev_->advect_scalar(s.A, s.u, s.v, scratch_a_, p);
+  dev_->advect_scalar(s.B, s.u, s.v, scratch_b_, p);
+  dev_->swap(s.A, scratch_a_);
+  dev_->swap(s.B, scratch_b_);
 }
 
 void RdStepper::step(SimState& s) {

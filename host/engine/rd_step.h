@@ -8,14 +8,16 @@
 // rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
 // Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps on every core
 // with ParallelGrayScott9 (host/engine/rd_parallel_gray_scott.h), temporally blocked; the other
-// explicit cases step whole fields one step at a time. Every per-cell stage runs in bands of
-// rows on the engine's RowExecutor (same bits on any number of workers).
+// explicit cases step whole fields one step at a time. Every stage is an op of the engine's
+// Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers,
+// or OpenCL).
 // Nothing is allocated in step() once constructed.
 #include <memory>
 #include <string>
 
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
+#include "host/engine/device.h"
 #include "host/engine/rd_parallel_gray_scott.h"
 #include "kernels/aniso_diffusion.h"
 #include "kernels/reaction_table.h"
@@ -33,7 +35,7 @@ struct RdStepStats {
 class RdStepper {
  public:
   // Throws std::invalid_argument with rd_config_problem()'s line on a bad configuration.
-  explicit RdStepper(const SceneConfig& scene, RowExecutor& ex = RowExecutor::serial());
+  explicit RdStepper(const SceneConfig& scene, Device& device = CpuDevice::serial());
   ~RdStepper();
 
   // Allocates A, B when absent (and theta0 when absent: filled with rd.anisotropy.theta0; a
@@ -65,19 +67,13 @@ class RdStepper {
   void parallel_gray_scott9_frame(SimState& s);
   void advect(SimState& s);
 
-  // Interior rows in bands on the executor: f(Box2 rows) or f(Box2 rows, worker).
-  template <class F>
-  void for_bands(const F& f) const;
-
   SceneConfig scene_;
-  RowExecutor* ex_;
+  Device* dev_;
   RdConfig rd_;
   double dt_, h_;
   std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
-  std::vector<float> row_scratch_;  // per worker, row_scratch_stride_ floats each
-  std::size_t row_scratch_stride_ = 0;
   std::unique_ptr<ParallelGrayScott9> parallel_gs9_;
   RdStepStats stats_;
 };

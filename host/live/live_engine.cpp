@@ -165,7 +165,7 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
     l->config.size = n;
     l->take_parameters(scene);
     if (!rd_config_problem(l->config).empty()) break;
-    l->rd = std::make_unique<RdStepper>(l->config, engine_.executor());
+    l->rd = std::make_unique<RdStepper>(l->config, engine_.device());
     l->state.size = n;
     l->state.h = scene.domain_width / n.x;
     l->state.dt = scene.dt;

@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "host/config/scene_config.h"
 #include "host/config/status.h"
@@ -62,8 +63,9 @@ class EngineStepper final : public OfflineStepper {
   void step() override {
     if (playback_) playback_->before_step(engine_.state(), engine_.state().time);
     engine_.step();
+    engine_.finish();  // a frame counts when it is done
   }
-  const SimState& frame_state() override { return engine_.state(); }
+  const SimState& frame_state() override { return std::as_const(engine_).state(); }
 
  private:
   Engine& engine_;

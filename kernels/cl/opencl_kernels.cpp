@@ -593,19 +593,19 @@ void ClRowPartials::read(OpenClContext& ctx, int y0, int y1, double* out) const 
                  "clEnqueueReadBuffer");
     return;
   }
-  std::vector<float> f(n);
+  float* f = host_floats.data();
   opencl_check(clEnqueueReadBuffer(ctx.queue(), data.get(), CL_TRUE, std::size_t(y0) * real_bytes,
-                                   n * real_bytes, f.data(), 0, nullptr, nullptr),
+                                   n * real_bytes, f, 0, nullptr, nullptr),
                "clEnqueueReadBuffer");
   for (std::size_t i = 0; i < n; ++i) out[std::size_t(y0) + i] = double(f[i]);
 }
 
 double ClRowPartials::sum(OpenClContext& ctx, int y0, int y1) const {
   if (y1 <= y0) return 0.0;
-  std::vector<double> p(static_cast<std::size_t>(y1));
-  read(ctx, y0, y1, p.data());
+  double* p = host.data();
+  read(ctx, y0, y1, p);
   double total = 0.0;
-  for (int y = y0; y < y1; ++y) total += p[std::size_t(y)];
+  for (int y = y0; y < y1; ++y) total += p[y];
   return total;
 }
 
@@ -614,6 +614,8 @@ ClRowPartials OpenClKernels::row_partials(int rows) const {
   p.rows = std::max(rows, 0);
   p.real_bytes = real_bytes_;
   p.data = ctx_.allocate(std::size_t(std::max(rows, 1)) * real_bytes_);
+  p.host.assign(std::size_t(std::max(rows, 1)), 0.0);
+  if (real_bytes_ != sizeof(double)) p.host_floats.assign(std::size_t(std::max(rows, 1)), 0.0f);
   return p;
 }
 

@@ -8,6 +8,7 @@
 #if defined(ARDCELL_WITH_OPENCL)
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "kernels/advect.h"
 #include "kernels/anisotropy.h"
@@ -95,6 +96,9 @@ struct ClRowPartials {
   OpenClBuffer data;
   int rows = 0;
   std::size_t real_bytes = sizeof(double);
+  // Host copies the reads land in (sized once, so reading allocates nothing).
+  mutable std::vector<double> host;
+  mutable std::vector<float> host_floats;
 
   // Blocking reads (they wait for the kernels that write the partials): out[j] for j in
   // [y0, y1), out indexed by the absolute row as the C++ kernels' partials.

@@ -11,20 +11,12 @@
 #include "host/engine/engine.h"
 #include "host/scenes/preset.h"
 #include "runtime/row_executor.h"
+#include "tests/support/preset_params.h"
 
 namespace ardcell {
 namespace {
 
-constexpr Int2 kAwkwardSize{127, 93};
 constexpr int kFrames = 50;
-
-SceneConfig awkward(const std::string& name) {
-  Preset preset;
-  EXPECT_TRUE(load_preset(name, preset)) << name;
-  SceneConfig scene = preset.scene;
-  scene.size = kAwkwardSize;
-  return scene;
-}
 
 // The first cell (field, x, y) where a and b differ in any bit, or "" when none does.
 std::string first_difference(const SimState& a, const SimState& b) {
@@ -46,7 +38,7 @@ std::string first_difference(const SimState& a, const SimState& b) {
 class EngineBackendParity : public testing::TestWithParam<std::string> {};
 
 TEST_P(EngineBackendParity, ThreadsEqualSerialBitForBit) {
-  const SceneConfig scene = awkward(GetParam());
+  const SceneConfig scene = awkward_preset_scene(GetParam());
   ASSERT_GT(long(scene.size.x) * scene.size.y, RowExecutor::kMinParallelCells)
       << "the grid must be large enough for the threads back end to cut it into bands";
   Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
@@ -61,12 +53,7 @@ TEST_P(EngineBackendParity, ThreadsEqualSerialBitForBit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPreset, EngineBackendParity, testing::ValuesIn(preset_names()),
-                         [](const testing::TestParamInfo<std::string>& info) {
-                           std::string name = info.param;
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+                         preset_test_name);
 
 }  // namespace
 }  // namespace ardcell

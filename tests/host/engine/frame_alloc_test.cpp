@@ -1,17 +1,22 @@
 // No heap allocation during a steady-state frame: global operator new is replaced in this
 // test program and counted while frames run, on every Table 1 schedule and on every preset on
-// both CPU back ends of the engine.
+// every back end of the engine (the OpenCL one on PoCL: the host side of its frame, which only
+// enqueues kernels).
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 #include "host/engine/engine.h"
 #include "host/engine/table1.h"
 #include "host/scenes/preset.h"
 
 #include "tests/support/alloc_counter.h"
+#if defined(ARDCELL_WITH_OPENCL)
+#include "tests/support/opencl_test_device.h"
+#endif
 
 namespace ardcell {
 namespace {
@@ -35,18 +40,24 @@ TEST(FrameAlloc, SteadyStateFramesDoNotAllocate) {
   }
 }
 
-TEST(FrameAlloc, EveryPresetOnEveryCpuBackendSteps0Allocations) {
+TEST(FrameAlloc, EveryPresetOnEveryBackendSteps0Allocations) {
+  std::vector<EngineOptions> back_ends = {EngineOptions{EngineOptions::Backend::kSerial, 1},
+                                          EngineOptions{EngineOptions::Backend::kThreads, 2}};
+#if defined(ARDCELL_WITH_OPENCL)
+  if (TestOpenClDevice* device = test_opencl_device())
+    back_ends.push_back({EngineOptions::Backend::kOpenCl, 0, device->ctx.get()});
+#endif
   for (const std::string& name : preset_names()) {
     Preset preset;
     ASSERT_TRUE(load_preset(name, preset)) << name;
     SceneConfig scene = preset.scene;
     scene.size = {127, 93};  // large enough to be cut into bands of rows
-    for (EngineOptions options : {EngineOptions{EngineOptions::Backend::kSerial, 1},
-                                  EngineOptions{EngineOptions::Backend::kThreads, 2}}) {
+    for (const EngineOptions& options : back_ends) {
       Engine engine(scene, options);
       engine.step();  // the first frame may size scratch (reduction partials)
       const long before = g_allocations.load();
       for (int i = 0; i < 3; ++i) engine.step();
+      engine.finish();
       EXPECT_EQ(g_allocations.load() - before, 0) << name << " on " << engine.backend_name();
     }
   }

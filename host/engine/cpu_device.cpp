@@ -1,0 +1,263 @@
+// CpuDevice: every op of host/engine/device.h as the kernels of kernels/ over bands of rows on
+// the RowExecutor. Each band writes its own rows only, and reductions store one partial per
+// row and add them in row order, so any number of workers gives the serial reference's bits.
+#include <algorithm>
+#include <cstring>
+#include <type_traits>
+#include <utility>
+
+#include "host/engine/device.h"
+#include "kernels/field_reductions.h"
+#include "kernels/stencil_operator.h"
+#include "runtime/row_executor.h"
+
+namespace ardcell {
+const char* device_op_name(DeviceOp op) {
+  switch (op) {
+    case DeviceOp::kCopy:
+      return "copy";
+    case DeviceOp::kFillBoundary:
+      return "boundary fill";
+    case DeviceOp::kFillObstacle:
+      return "obstacle fill";
+    case DeviceOp::kAddBoundaryValues:
+      return "boundary values";
+    case DeviceOp::kAddSplat:
+      return "splat";
+    case DeviceOp::kInflowStripes:
+      return "inflow stripes";
+    case DeviceOp::kPressureRhs:
+      return "pressure right-hand side";
+    case DeviceOp::kFaceVelocities:
+      return "face velocities";
+    case DeviceOp::kSubtractGradient:
+      return "gradient subtraction";
+    case DeviceOp::kAdvectVelocity:
+      return "velocity advection";
+    case DeviceOp::kAdvectScalar:
+      return "scalar advection";
+    case DeviceOp::kAdvectScalarMac:
+      return "scalar advection (MAC faces)";
+    case DeviceOp::kRange:
+      return "field range";
+    case DeviceOp::kRestoreMass:
+      return "mass fix";
+    case DeviceOp::kSolve:
+      return "linear solve";
+    case DeviceOp::kReactionImplicit:
+      return "implicit reaction";
+    case DeviceOp::kReactionTable:
+      return "reaction table";
+    case DeviceOp::kConductivity:
+      return "conductivity";
+    case DeviceOp::kImplicitDiffusion:
+      return "implicit diffusion";
+    case DeviceOp::kExplicitRd:
+      return "explicit reaction-diffusion";
+    case DeviceOp::kCount:
+      break;
+  }
+  return "?";
+}
+
+CpuDevice::CpuDevice(RowExecutor& ex) : ex_(&ex) {}
+CpuDevice::~CpuDevice() = default;
+
+CpuDevice& CpuDevice::serial() {
+  thread_local CpuDevice device(RowExecutor::serial());
+  return device;
+}
+
+const char* CpuDevice::name() const { return ex_->workers() > 1 ? "threads" : "serial"; }
+int CpuDevice::workers() const { return ex_->workers(); }
+
+void CpuDevice::reserve(Int2 grid) {
+  ex_->reserve_rows(grid.y + 1);  // the faces of a grid have one more row
+  const std::size_t stride = (2 * std::size_t(grid.x + 2) + 16 + 15) / 16 * 16;
+  if (stride > row_scratch_stride_) {
+    row_scratch_stride_ = stride;
+    row_scratch_.assign(row_scratch_stride_ * std::size_t(ex_->workers()), 0.0f);
+  }
+}
+
+template <class F>
+void CpuDevice::for_bands(Int2 size, const F& f) {
+  ex_->for_rows(size.y, size.x, [&](int y0, int y1, int worker) {
+    const Box2 rows{{0, y0}, {size.x, y1}};
+    if constexpr (std::is_invocable_v<const F&, Box2, int>)
+      f(rows, worker);
+    else
+      f(rows);
+  });
+}
+
+void CpuDevice::copy(const FieldF& from, FieldF& to) {
+  ARDCELL_CHECK(from.raw_size() == to.raw_size(), "copy: fields of different layouts");
+  const int rows = from.ny() + 2 * from.halo();
+  const std::size_t stride = std::size_t(from.stride());
+  ex_->for_rows(rows, int(stride), [&](int y0, int y1) {
+    std::memcpy(to.raw() + stride * std::size_t(y0), from.raw() + stride * std::size_t(y0),
+                stride * std::size_t(y1 - y0) * sizeof(float));
+  });
+}
+
+void CpuDevice::swap(FieldF& a, FieldF& b) { std::swap(a, b); }
+
+void CpuDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
+  ardcell::fill_boundary(f.view(), f.size(), fill);
+}
+
+void CpuDevice::fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) {
+  // Solid cells are written from fluid cells only: bands of rows do not interfere.
+  for_bands(f.size(),
+            [&](Box2 rows) { ardcell::fill_obstacle(f.view(), solid.view(), rows, rule); });
+}
+
+void CpuDevice::add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) {
+  ardcell::add_boundary_values(b.view(), b.size(), fill, scale);
+}
+
+void CpuDevice::add_splat(FieldF& f, const SplatParams& splat) {
+  for_bands(f.size(), [&](Box2 rows) { ardcell::add_splat(f.view(), rows, splat); });
+}
+
+void CpuDevice::set_inflow_stripes(FieldF& dye, int stripes) {
+  ardcell::set_inflow_stripes(dye.view(), dye.size(), stripes);
+}
+
+void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs,
+                             const ProjectParams& p) {
+  for_bands(rhs.size(),
+            [&](Box2 rows) { ardcell::pressure_rhs(u.view(), v.view(), rhs.view(), rows, p); });
+}
+
+void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
+                                FieldF& vf, const ProjectParams& params, bool periodic) {
+  const Int2 n = p.size();
+  for_bands(n, [&](Box2 rows) {
+    ardcell::face_velocities(u.view(), v.view(), p.view(), uf.view(), vf.view(), rows, params,
+                             rows.max.y == n.y);
+  });
+  if (periodic) {
+    // Ghost rows of uf and ghost columns of vf, wrapped, for the periodic back-trace.
+    for (int i = 0; i <= n.x; ++i) {
+      uf(i, -1) = uf(i, n.y - 1);
+      uf(i, n.y) = uf(i, 0);
+    }
+    for (int j = 0; j <= n.y; ++j) {
+      vf(-1, j) = vf(n.x - 1, j);
+      vf(n.x, j) = vf(0, j);
+    }
+  }
+}
+
+void CpuDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
+                                  const ProjectParams& params) {
+  for_bands(p.size(), [&](Box2 rows) {
+    ardcell::subtract_gradient(p.view(), u.view(), v.view(), rows, params);
+  });
+}
+
+void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
+                                const AdvectParams& p) {
+  for_bands(u.size(), [&](Box2 rows) {
+    ardcell::advect_velocity(u0.view(), v0.view(), u.view(), v.view(), rows, p);
+  });
+}
+
+void CpuDevice::advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
+                              const AdvectParams& p) {
+  for_bands(q.size(), [&](Box2 rows) {
+    ardcell::advect_scalar(q0.view(), u.view(), v.view(), q.view(), rows, p);
+  });
+}
+
+void CpuDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
+                                  const AdvectParams& p) {
+  for_bands(q.size(), [&](Box2 rows) {
+    ardcell::advect_scalar_mac(q0.view(), uf.view(), vf.view(), q.view(), rows, p);
+  });
+}
+
+FieldRange CpuDevice::range(const FieldF& f) {
+  const int ny = f.ny();
+  double* lo = ex_->rows_scratch(ny, 0);
+  double* hi = ex_->rows_scratch(ny, 1);
+  FieldRange r;
+  r.sum = ex_->sum_rows(ny, f.nx(), [&](int y0, int y1, double* partials) {
+    row_ranges(f.view(), f.nx(), y0, y1, partials, lo, hi);
+  });
+  r.lo = float(lo[0]);
+  r.hi = float(hi[0]);
+  for (int j = 1; j < ny; ++j) {
+    r.lo = std::min(r.lo, float(lo[j]));
+    r.hi = std::max(r.hi, float(hi[j]));
+  }
+  return r;
+}
+
+void CpuDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
+  const double total_weight = ex_->sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
+    row_mass_weights(f.view(), f.nx(), y0, y1, lo, hi, partials);
+  });
+  if (!(total_weight > 0.0)) return;
+  const double k = missing / total_weight;
+  ex_->for_rows(f.ny(), f.nx(),
+                [&](int y0, int y1) { restore_mass_rows(f.view(), f.nx(), y0, y1, k, lo, hi); });
+}
+
+SolveReport CpuDevice::solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
+                             FieldF& x) {
+  return solver.solve(op, b, x);
+}
+
+void CpuDevice::reaction_implicit(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
+  for_bands(a.size(), [&](Box2 rows) {
+    reaction_implicit_tile(a.view(), b.view(), a.view(), b.view(), rows, p, dt);
+  });
+}
+
+void CpuDevice::reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) {
+  for_bands(a.size(), [&](Box2 rows) {
+    reaction_table_tile(a.view(), b.view(), a.view(), b.view(), rows, table.view());
+  });
+}
+
+void CpuDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
+                             const AnisotropyParams& p) {
+  for_bands(a.size(),
+            [&](Box2 rows) { conductivity_tile(a.view(), theta0.view(), k.view(), rows, p); });
+}
+
+SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
+                                          const FieldF* conductivity, const DiffusionStep& s) {
+  return diffusion.step(field, conductivity, s);
+}
+
+void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                            ExplicitScheme scheme, const ExplicitRdParams& p) {
+  switch (scheme) {
+    case ExplicitScheme::kGrayScott9: {
+      ARDCELL_CHECK(row_scratch_stride_ >= 2 * std::size_t(a.nx() + 2),
+                    "explicit_rd: reserve() the grid first");
+      const GrayScott9Params gs{p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b};
+      for_bands(a.size(), [&](Box2 rows, int worker) {
+        gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
+                                  row_scratch(worker));
+      });
+      break;
+    }
+    case ExplicitScheme::k9:
+      for_bands(a.size(), [&](Box2 rows) {
+        explicit_rd9_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
+      });
+      break;
+    case ExplicitScheme::k5:
+      for_bands(a.size(), [&](Box2 rows) {
+        explicit_rd5_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
+      });
+      break;
+  }
+}
+
+}  // namespace ardcell

@@ -1,0 +1,220 @@
+#pragma once
+// Device: what the frame's stages (host/engine/fluid_step.h, rd_step.h) run their operations on.
+// The stages say WHAT happens to which fields, in the paper's order; a Device says HOW (ggml's
+// backend: one small set of ops, `supports`, one parity test over every op and device):
+//   CpuDevice    - the kernels of kernels/ in bands of rows on a RowExecutor (the serial
+//                  reference or the threads back end: same bits on any number of workers);
+//   OpenClDevice - the OpenCL twins of those kernels on device-resident fields
+//                  (host/engine/opencl_device.h).
+// Ops take whole fields (their interiors, the ghost ring where the op says so) and never see
+// tiles, rows or back ends. Fields are named by their host objects: a device that keeps its own
+// copies maps each FieldF to its copy and moves data only when the other side needs it
+// (sync_to_host / host_wrote). swap() exchanges two fields on every side, as std::swap does on
+// the host.
+#include <cstdint>
+#include <vector>
+
+#include "kernels/advect.h"
+#include "kernels/aniso_diffusion.h"
+#include "kernels/anisotropy.h"
+#include "kernels/explicit_rd.h"
+#include "kernels/linear_solver.h"
+#include "kernels/project.h"
+#include "kernels/reaction.h"
+#include "kernels/reaction_table.h"
+#include "kernels/sources.h"
+#include "runtime/boundary.h"
+#include "runtime/field.h"
+
+namespace ardcell {
+
+class RowExecutor;
+
+// The ops a device may or may not run natively (Device::supports). An op a device does not run
+// falls back to the CPU for that op (its fields move to the host and back), with one line.
+enum class DeviceOp : uint8_t {
+  kCopy,
+  kFillBoundary,
+  kFillObstacle,
+  kAddBoundaryValues,
+  kAddSplat,
+  kInflowStripes,
+  kPressureRhs,
+  kFaceVelocities,
+  kSubtractGradient,
+  kAdvectVelocity,
+  kAdvectScalar,
+  kAdvectScalarMac,
+  kRange,
+  kRestoreMass,
+  kSolve,
+  kReactionImplicit,
+  kReactionTable,
+  kConductivity,
+  kImplicitDiffusion,
+  kExplicitRd,
+  kCount
+};
+const char* device_op_name(DeviceOp op);
+
+// Sum (rows added in order), minimum and maximum of a field's interior.
+struct FieldRange {
+  double sum = 0.0;
+  float lo = 0.0f, hi = 0.0f;
+};
+
+class Device {
+ public:
+  virtual ~Device() = default;
+  // "serial", "threads" or "opencl".
+  virtual const char* name() const = 0;
+  virtual int workers() const = 0;
+  // Whether `op` runs on this device itself (false: on the CPU, moving its fields).
+  virtual bool supports(DeviceOp op) const = 0;
+  // The CPU executor: solvers are made for it, and ops that fall back run on it.
+  virtual RowExecutor& executor() = 0;
+  // True when the ops work on the host fields themselves (no copies to keep in step).
+  virtual bool fields_on_host() const = 0;
+  // Sizes the scratch of ops on grids of up to `grid` cells, so that they allocate nothing.
+  virtual void reserve(Int2 grid) = 0;
+  // Returns when every op issued so far has finished (a device may queue them).
+  virtual void finish() = 0;
+
+  // --- fields
+  // Whole allocations (halo included); same layout.
+  virtual void copy(const FieldF& from, FieldF& to) = 0;
+  virtual void swap(FieldF& a, FieldF& b) = 0;
+  // Makes the host copy of f current (a device with its own copies downloads it).
+  virtual void sync_to_host(const FieldF& f) = 0;
+  // The host copy of f (or of a mask) was written: the device's copy is stale.
+  virtual void host_wrote(const FieldF& f) = 0;
+  virtual void host_wrote(const Field<uint8_t>& mask) = 0;
+  // A reaction table was (re)built.
+  virtual void host_wrote(const ReactionTable& table) = 0;
+
+  // --- boundaries (runtime/boundary.h)
+  // The ghost ring of the domain (f.size()).
+  virtual void fill_boundary(FieldF& f, const BoundaryFill& fill) = 0;
+  // Solid cells of the interior from their fluid neighbours.
+  virtual void fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) = 0;
+  // b += the boundary values' share on the boundary cells (kernels/stencil_operator.h).
+  virtual void add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) = 0;
+
+  // --- fluid (kernels/sources.h, project.h, advect.h), over the interior
+  virtual void add_splat(FieldF& f, const SplatParams& splat) = 0;
+  virtual void set_inflow_stripes(FieldF& dye, int stripes) = 0;
+  virtual void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs,
+                            const ProjectParams& p) = 0;
+  // Every face of the grid; with `periodic`, the ghost rows of uf and columns of vf wrapped.
+  virtual void face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
+                               FieldF& vf, const ProjectParams& params, bool periodic) = 0;
+  virtual void subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
+                                 const ProjectParams& params) = 0;
+  virtual void advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
+                               const AdvectParams& p) = 0;
+  virtual void advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
+                             const AdvectParams& p) = 0;
+  virtual void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
+                                 const AdvectParams& p) = 0;
+  // The interior's sum (rows added in order), minimum and maximum.
+  virtual FieldRange range(const FieldF& f) = 0;
+  // Puts `missing` mass back with weights (q - lo)(hi - q), clamped to [lo, hi]
+  // (host/engine/fluid_step.cpp says why).
+  virtual void restore_mass(FieldF& f, double missing, float lo, float hi) = 0;
+
+  // --- linear systems (kernels/linear_solver.h): improves x towards A x = b. The operator's
+  // coefficients are host data (assembled by the stage; host_wrote(op) after a change).
+  virtual SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
+                            FieldF& x) = 0;
+  void host_wrote(const StencilOperator& op) {
+    host_wrote(op.diag);
+    host_wrote(op.wx);
+    host_wrote(op.wy);
+  }
+
+  // --- reaction-diffusion (kernels/reaction.h, reaction_table.h, anisotropy.h,
+  // aniso_diffusion.h, explicit_rd.h), over the interior, in place where outputs are inputs
+  virtual void reaction_implicit(FieldF& a, FieldF& b, const ReactionParams& p, float dt) = 0;
+  virtual void reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) = 0;
+  virtual void conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
+                            const AnisotropyParams& p) = 0;
+  // One implicit step of `field` with `diffusion`'s operator and solver (Eqn 13; Eqns 17/19 with
+  // a conductivity).
+  virtual SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
+                                         const FieldF* conductivity, const DiffusionStep& s) = 0;
+  // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b.
+  enum class ExplicitScheme : uint8_t { k5, k9, kGrayScott9 };
+  virtual void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                           ExplicitScheme scheme, const ExplicitRdParams& p) = 0;
+};
+
+// The CPU device over a RowExecutor (the engine's serial or threads back end): every op in bands
+// of rows; reductions add per-row partials in row order. Fields are the host's own.
+class CpuDevice final : public Device {
+ public:
+  explicit CpuDevice(RowExecutor& ex);
+  ~CpuDevice() override;
+  // The calling thread's serial device (RowExecutor::serial()), for tools and tests.
+  static CpuDevice& serial();
+
+  const char* name() const override;
+  int workers() const override;
+  bool supports(DeviceOp) const override { return true; }
+  RowExecutor& executor() override { return *ex_; }
+  bool fields_on_host() const override { return true; }
+  void reserve(Int2 grid) override;
+  void finish() override {}
+
+  void copy(const FieldF& from, FieldF& to) override;
+  void swap(FieldF& a, FieldF& b) override;
+  void sync_to_host(const FieldF&) override {}
+  void host_wrote(const FieldF&) override {}
+  void host_wrote(const Field<uint8_t>&) override {}
+  void host_wrote(const ReactionTable&) override {}
+  using Device::host_wrote;
+
+  void fill_boundary(FieldF& f, const BoundaryFill& fill) override;
+  void fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) override;
+  void add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) override;
+
+  void add_splat(FieldF& f, const SplatParams& splat) override;
+  void set_inflow_stripes(FieldF& dye, int stripes) override;
+  void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p) override;
+  void face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf, FieldF& vf,
+                       const ProjectParams& params, bool periodic) override;
+  void subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
+                         const ProjectParams& params) override;
+  void advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
+                       const AdvectParams& p) override;
+  void advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
+                     const AdvectParams& p) override;
+  void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
+                         const AdvectParams& p) override;
+  FieldRange range(const FieldF& f) override;
+  void restore_mass(FieldF& f, double missing, float lo, float hi) override;
+
+  SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
+                    FieldF& x) override;
+
+  void reaction_implicit(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
+  void reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) override;
+  void conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
+                    const AnisotropyParams& p) override;
+  SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
+                                 const FieldF* conductivity, const DiffusionStep& s) override;
+  void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                   ExplicitScheme scheme, const ExplicitRdParams& p) override;
+
+ private:
+  // The interior rows of an nx x ny grid in bands: f(Box2 rows) or f(Box2 rows, worker).
+  template <class F>
+  void for_bands(Int2 size, const F& f);
+  // Worker w's row scratch (seed 001's row sums): row_scratch_stride_ floats (reserve()).
+  float* row_scratch(int worker) { return row_scratch_.data() + row_scratch_stride_ * worker; }
+
+  RowExecutor* ex_;
+  std::vector<float> row_scratch_;
+  std::size_t row_scratch_stride_ = 0;
+};
+
+}  // namespace ardcell

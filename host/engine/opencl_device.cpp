@@ -1,0 +1,445 @@
+#if defined(ARDCELL_WITH_OPENCL)
+#include "host/engine/opencl_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "runtime/row_executor.h"
+
+namespace ardcell {
+
+OpenClDevice::OpenClDevice(OpenClContext& ctx, RowExecutor& cpu) : ctx_(ctx), cpu_(cpu) {
+  std::string error;
+  cl_ = OpenClKernels::create(ctx, &error);
+  if (!cl_) throw std::runtime_error(error.substr(0, error.find('\n')));
+}
+
+OpenClDevice::~OpenClDevice() = default;
+
+int OpenClDevice::workers() const { return int(ctx_.device().compute_units); }
+
+void OpenClDevice::reserve(Int2 grid) {
+  cpu_.reserve(grid);
+  const int rows = grid.y + 1;  // face fields have one row more
+  if (partial_sum_.rows < rows) {
+    partial_sum_ = cl_->row_partials(rows);
+    partial_lo_ = cl_->row_partials(rows);
+    partial_hi_ = cl_->row_partials(rows);
+    host_lo_.assign(std::size_t(rows), 0.0);
+    host_hi_.assign(std::size_t(rows), 0.0);
+  }
+}
+
+// Every op has a twin; solves and implicit diffusion run here with fixed Jacobi or RBGS sweeps
+// (the real-time solvers) and fall back for the others (implicit_diffusion, solve).
+bool OpenClDevice::supports(DeviceOp op) const { return op != DeviceOp::kCount; }
+
+// --- residency ---------------------------------------------------------------------------
+
+OpenClDevice::Mirror& OpenClDevice::mirror(const FieldF& f) {
+  for (Mirror& m : mirrors_)
+    if (m.host == &f) {
+      if (m.device.size == f.size() && m.device.halo == f.halo()) return m;
+      // The host field was reallocated (a loaded state of another layout): copy it anew.
+      m.device = ctx_.allocate_like(f);
+      m.current = Current::kHost;
+      return m;
+    }
+  Mirror m;
+  m.host = &f;
+  m.device = ctx_.allocate_like(f);
+  m.current = Current::kHost;
+  mirrors_.push_back(std::move(m));
+  return mirrors_.back();
+}
+
+const DeviceField& OpenClDevice::in(const FieldF& f) {
+  Mirror& m = mirror(f);
+  if (m.current == Current::kHost) {
+    ctx_.upload(f, m.device);
+    uploaded_ += std::int64_t(f.raw_size() * sizeof(float));
+    m.current = Current::kBoth;
+  }
+  return m.device;
+}
+
+DeviceField& OpenClDevice::out(FieldF& f) {
+  Mirror& m = mirror(f);
+  if (m.current == Current::kHost) {
+    ctx_.upload(f, m.device);
+    uploaded_ += std::int64_t(f.raw_size() * sizeof(float));
+  }
+  m.current = Current::kDevice;
+  return m.device;
+}
+
+void OpenClDevice::host_in(const FieldF& f) {
+  for (Mirror& m : mirrors_)
+    if (m.host == &f && m.current == Current::kDevice) {
+      ctx_.download(m.device, const_cast<FieldF&>(f));  // the host copy is a cache of it
+      downloaded_ += std::int64_t(f.raw_size() * sizeof(float));
+      m.current = Current::kBoth;
+    }
+}
+
+void OpenClDevice::host_out(FieldF& f) {
+  host_in(f);
+  host_wrote(f);
+}
+
+void OpenClDevice::sync_to_host(const FieldF& f) { host_in(f); }
+
+void OpenClDevice::host_wrote(const FieldF& f) {
+  for (Mirror& m : mirrors_)
+    if (m.host == &f) m.current = Current::kHost;
+  for (OperatorTwin& t : operators_)
+    if (&t.host->diag == &f || &t.host->wx == &f || &t.host->wy == &f) t.stale = true;
+}
+
+void OpenClDevice::host_wrote(const Field<uint8_t>& m) {
+  for (MaskMirror& mm : masks_)
+    if (mm.host == &m) mm.stale = true;
+}
+
+const DeviceField& OpenClDevice::mask(const Field<uint8_t>& m) {
+  MaskMirror* found = nullptr;
+  for (MaskMirror& mm : masks_)
+    if (mm.host == &m) found = &mm;
+  if (!found) {
+    masks_.push_back({&m, {}, true});
+    found = &masks_.back();
+  }
+  if (found->stale) {
+    found->device = upload_mask(ctx_, m);
+    found->stale = false;
+  }
+  return found->device;
+}
+
+void OpenClDevice::host_wrote(const ReactionTable&) { table_stale_ = true; }
+
+void OpenClDevice::finish() { ctx_.finish(); }
+
+void OpenClDevice::say_fallback(DeviceOp op, const char* setting, const char* why) {
+  bool& said = said_[std::size_t(op)];
+  if (said) return;
+  said = true;
+  std::fprintf(stderr, "ardcell: opencl: %s runs on the CPU (%s: %s)\n", device_op_name(op),
+               setting, why);
+}
+
+// --- fields --------------------------------------------------------------------------------
+
+void OpenClDevice::copy(const FieldF& from, FieldF& to) {
+  ARDCELL_CHECK(from.raw_size() == to.raw_size(), "copy: fields of different layouts");
+  const DeviceField& src = in(from);
+  Mirror& m = mirror(to);
+  m.current = Current::kDevice;  // every byte is overwritten: nothing to upload first
+  cl_->copy_field(src, m.device);
+}
+
+void OpenClDevice::swap(FieldF& a, FieldF& b) {
+  Mirror& ma = mirror(a);
+  Mirror& mb = mirror(b);
+  std::swap(a, b);
+  std::swap(ma.host, mb.host);
+}
+
+// --- boundaries ----------------------------------------------------------------------------
+
+void OpenClDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
+  cl_->fill_boundary(out(f), fill);
+}
+
+void OpenClDevice::fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) {
+  if (solid.empty()) return;
+  const DeviceField& m = mask(solid);
+  cl_->fill_obstacle(out(f), m, box_of_size(f.size()), rule);
+}
+
+void OpenClDevice::add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) {
+  cl_->add_boundary_values(out(b), fill, scale);
+}
+
+// --- fluid ---------------------------------------------------------------------------------
+
+void OpenClDevice::add_splat(FieldF& f, const SplatParams& splat) {
+  cl_->add_splat(out(f), box_of_size(f.size()), splat);
+}
+
+void OpenClDevice::set_inflow_stripes(FieldF& dye, int stripes) {
+  cl_->set_inflow_stripes(out(dye), stripes);
+}
+
+void OpenClDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs,
+                                const ProjectParams& p) {
+  cl_->pressure_rhs(in(u), in(v), out(rhs), box_of_size(rhs.size()), p);
+}
+
+void OpenClDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
+                                   FieldF& vf, const ProjectParams& params, bool periodic) {
+  const DeviceField& du = in(u);
+  const DeviceField& dv = in(v);
+  const DeviceField& dp = in(p);
+  DeviceField& duf = out(uf);
+  DeviceField& dvf = out(vf);
+  cl_->face_velocities(du, dv, dp, duf, dvf, box_of_size(p.size()), params);
+  if (!periodic) return;
+  // Ghost rows of uf and ghost columns of vf, wrapped, for the periodic back-trace (as
+  // CpuDevice::face_velocities): rows are contiguous copies, columns rectangle copies.
+  const Int2 n = p.size();
+  const std::size_t f = sizeof(float);
+  auto at = [](const DeviceField& d, int x, int y) {
+    return std::size_t(d.origin + y * d.stride + x);
+  };
+  cl_command_queue q = ctx_.queue();
+  cl_mem ub = duf.buffer.get(), vb = dvf.buffer.get();
+  const std::size_t row = std::size_t(n.x + 1) * f;
+  opencl_check(clEnqueueCopyBuffer(q, ub, ub, at(duf, 0, n.y - 1) * f, at(duf, 0, -1) * f, row, 0,
+                                   nullptr, nullptr),
+               "clEnqueueCopyBuffer(uf row)");
+  opencl_check(clEnqueueCopyBuffer(q, ub, ub, at(duf, 0, 0) * f, at(duf, 0, n.y) * f, row, 0,
+                                   nullptr, nullptr),
+               "clEnqueueCopyBuffer(uf row)");
+  const std::size_t pitch = std::size_t(dvf.stride) * f;
+  const std::size_t region[3] = {f, std::size_t(n.y + 1), 1};
+  auto column = [&](int from_x, int to_x) {
+    const std::size_t src[3] = {at(dvf, from_x, 0) * f, 0, 0};
+    const std::size_t dst[3] = {at(dvf, to_x, 0) * f, 0, 0};
+    opencl_check(clEnqueueCopyBufferRect(q, vb, vb, src, dst, region, pitch, 0, pitch, 0, 0,
+                                         nullptr, nullptr),
+                 "clEnqueueCopyBufferRect(vf column)");
+  };
+  column(n.x - 1, -1);
+  column(0, n.x);
+}
+
+void OpenClDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
+                                     const ProjectParams& params) {
+  const DeviceField& dp = in(p);
+  DeviceField& du = out(u);
+  cl_->subtract_gradient(dp, du, out(v), box_of_size(p.size()), params);
+}
+
+void OpenClDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
+                                   const AdvectParams& p) {
+  const DeviceField& du0 = in(u0);
+  const DeviceField& dv0 = in(v0);
+  DeviceField& du = out(u);
+  cl_->advect_velocity(du0, dv0, du, out(v), box_of_size(u.size()), p);
+}
+
+void OpenClDevice::advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
+                                 const AdvectParams& p) {
+  const DeviceField& dq0 = in(q0);
+  const DeviceField& du = in(u);
+  const DeviceField& dv = in(v);
+  cl_->advect_scalar(dq0, du, dv, out(q), box_of_size(q.size()), p);
+}
+
+void OpenClDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf,
+                                     FieldF& q, const AdvectParams& p) {
+  const DeviceField& dq0 = in(q0);
+  const DeviceField& duf = in(uf);
+  const DeviceField& dvf = in(vf);
+  cl_->advect_scalar_mac(dq0, duf, dvf, out(q), box_of_size(q.size()), p);
+}
+
+FieldRange OpenClDevice::range(const FieldF& f) {
+  const int ny = f.ny();
+  cl_->row_ranges(in(f), 0, ny, partial_sum_, partial_lo_, partial_hi_);
+  FieldRange r;
+  r.sum = partial_sum_.sum(ctx_, 0, ny);
+  partial_lo_.read(ctx_, 0, ny, host_lo_.data());
+  partial_hi_.read(ctx_, 0, ny, host_hi_.data());
+  r.lo = float(host_lo_[0]);
+  r.hi = float(host_hi_[0]);
+  for (int j = 1; j < ny; ++j) {
+    r.lo = std::min(r.lo, float(host_lo_[std::size_t(j)]));
+    r.hi = std::max(r.hi, float(host_hi_[std::size_t(j)]));
+  }
+  return r;
+}
+
+void OpenClDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
+  DeviceField& d = out(f);
+  cl_->row_mass_weights(d, 0, f.ny(), lo, hi, partial_sum_);
+  const double total_weight = partial_sum_.sum(ctx_, 0, f.ny());
+  if (!(total_weight > 0.0)) return;
+  cl_->restore_mass_rows(d, 0, f.ny(), missing / total_weight, lo, hi);
+}
+
+// --- linear systems ------------------------------------------------------------------------
+
+OpenClDevice::OperatorTwin& OpenClDevice::operator_twin(const StencilOperator& op) {
+  OperatorTwin* t = nullptr;
+  for (OperatorTwin& o : operators_)
+    if (o.host == &op) t = &o;
+  if (!t) {
+    operators_.emplace_back();
+    t = &operators_.back();
+    t->host = &op;
+    t->device = ClStencilOperator::allocate(ctx_, op.size, op.boundary_x, op.boundary_y);
+    t->null_space = std::make_unique<stencil::NullSpace>(op.size);
+    const FieldF like(op.size, 1);
+    t->other = ctx_.allocate_like(like);
+    t->r = ctx_.allocate_like(like);
+  }
+  if (t->stale) {
+    t->device.upload(ctx_, op);
+    t->null_space->analyse(op, cpu_.executor());
+    if (t->null_space->singular()) t->null_mask = upload_mask(ctx_, t->null_space->mask());
+    t->stale = false;
+  }
+  return *t;
+}
+
+double OpenClDevice::consistent_part(double all, const DeviceField& f, const OperatorTwin& t) {
+  if (!t.null_space->singular()) return all;
+  const int ny = t.host->size.y;
+  cl_->row_masked_sums(f, t.null_mask, 0, ny, partial_sum_);
+  const double sum = partial_sum_.sum(ctx_, 0, ny);
+  return std::max(0.0, all - sum * sum / double(t.null_space->count()));
+}
+
+double OpenClDevice::relative_residual(OperatorTwin& t, const DeviceField& b, const DeviceField& x,
+                                       double bb) {
+  cl_->residual(t.device, b, x, &t.r, partial_sum_);
+  const double rr = consistent_part(partial_sum_.sum(ctx_, 0, t.host->size.y), t.r, t);
+  return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
+}
+
+// The fixed-sweep solvers of kernels/jacobi_solver.cpp and rbgs_solver.cpp, sweep for sweep,
+// on the device; ICCG and multigrid run on the CPU.
+SolveReport OpenClDevice::solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
+                                FieldF& x) {
+  const SolverSettings& settings = solver.settings();
+  const bool jacobi = settings.kind == SolverKind::kJacobi;
+  if (!jacobi && settings.kind != SolverKind::kRedBlackGaussSeidel) {
+    say_fallback(DeviceOp::kSolve, solver_kind_name(settings.kind).data(),
+                 "OpenCL runs the jacobi and rbgs solvers");
+    host_in(b);
+    host_in(x);
+    const SolveReport report = cpu_.solve(solver, op, b, x);
+    host_wrote(x);
+    return report;
+  }
+  OperatorTwin& t = operator_twin(op);
+  const DeviceField& db = in(b);
+  DeviceField& dx = out(x);
+  const int ny = op.size.y;
+  cl_->row_sums_of_squares(db, 0, ny, partial_sum_);
+  const double bb = consistent_part(partial_sum_.sum(ctx_, 0, ny), db, t);
+  const bool check = settings.tolerance > 0.0;
+  SolveReport report{};
+  DeviceField* from = &dx;
+  DeviceField* to = &t.other;
+  for (int k = 0; k < settings.max_iterations; ++k) {
+    if (jacobi) {
+      cl_->stencil_jacobi_sweep(t.device, db, *from, *to);
+      std::swap(from, to);
+    } else {
+      cl_->stencil_rbgs_half_sweep(t.device, db, dx, 0);
+      cl_->stencil_rbgs_half_sweep(t.device, db, dx, 1);
+    }
+    ++report.iterations;
+    if (check && relative_residual(t, db, *from, bb) <= settings.tolerance) break;
+  }
+  if (from != &dx) cl_->copy_field(*from, dx);
+  if (t.null_space->singular()) {
+    cl_->row_masked_sums(dx, t.null_mask, 0, ny, partial_sum_);
+    const double sum = partial_sum_.sum(ctx_, 0, ny);
+    cl_->subtract_masked(dx, t.null_mask, float(sum / double(t.null_space->count())));
+  }
+  report.relative_residual = relative_residual(t, db, dx, bb);
+  return report;
+}
+
+// --- reaction-diffusion --------------------------------------------------------------------
+
+void OpenClDevice::reaction_implicit(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  cl_->reaction_implicit(da, db, da, db, box_of_size(a.size()), p, dt);
+}
+
+void OpenClDevice::reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) {
+  if (table_stale_) {
+    table_.upload(ctx_, table.view());
+    table_stale_ = false;
+  }
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  cl_->reaction_table(da, db, da, db, box_of_size(a.size()), table_);
+}
+
+void OpenClDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
+                                const AnisotropyParams& p) {
+  const DeviceField& da = in(a);
+  const DeviceField& dt = in(theta0);
+  cl_->conductivity(da, &dt, out(k), box_of_size(a.size()), p);
+}
+
+SolveReport OpenClDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
+                                             const FieldF* conductivity, const DiffusionStep& s) {
+  const SolverSettings& solver = diffusion.solver_settings();
+  const bool fixed_sweeps =
+      (solver.kind == SolverKind::kJacobi || solver.kind == SolverKind::kRedBlackGaussSeidel) &&
+      solver.tolerance == 0.0;
+  if (!fixed_sweeps || diffusion.has_solid()) {
+    const bool sweeps =
+        solver.kind == SolverKind::kJacobi || solver.kind == SolverKind::kRedBlackGaussSeidel;
+    const char* setting = !sweeps                   ? solver_kind_name(solver.kind).data()
+                          : solver.tolerance != 0.0 ? "a tolerance"
+                                                    : "solid cells";
+    say_fallback(DeviceOp::kImplicitDiffusion, setting,
+                 "OpenCL runs fixed jacobi or rbgs sweeps (tolerance 0) around no solid cells");
+    host_in(field);
+    if (conductivity) host_in(*conductivity);
+    const SolveReport r = cpu_.implicit_diffusion(diffusion, field, conductivity, s);
+    host_wrote(field);
+    return r;
+  }
+  DiffusionTwin* twin = nullptr;
+  for (DiffusionTwin& t : diffusions_)
+    if (t.cpu == &diffusion) twin = &t;
+  if (!twin) {
+    diffusions_.push_back({&diffusion, std::make_unique<OpenClDiffusion>(
+                                           *cl_, diffusion.size(), diffusion.boundary(), solver)});
+    twin = &diffusions_.back();
+  }
+  twin->device->set_sweeps(solver.max_iterations);
+  const DeviceField* k = conductivity ? &in(*conductivity) : nullptr;
+  twin->device->step(out(field), k, s);
+  // Fixed sweeps stop on their count alone; the residual of the device's step is not measured.
+  return SolveReport{solver.max_iterations, std::numeric_limits<double>::quiet_NaN()};
+}
+
+void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                               ExplicitScheme scheme, const ExplicitRdParams& p) {
+  const DeviceField& da = in(a);
+  const DeviceField& db = in(b);
+  DeviceField& da_out = out(a_out);
+  DeviceField& db_out = out(b_out);
+  const Box2 all = box_of_size(a.size());
+  switch (scheme) {
+    case ExplicitScheme::kGrayScott9:
+      cl_->gray_scott9_explicit(da, db, da_out, db_out, all,
+                                {p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b});
+      break;
+    case ExplicitScheme::k9:
+      cl_->explicit_rd9(da, db, da_out, db_out, all, p);
+      break;
+    case ExplicitScheme::k5:
+      cl_->explicit_rd5(da, db, da_out, db_out, all, p);
+      break;
+  }
+}
+
+}  // namespace ardcell
+#endif

@@ -1,0 +1,147 @@
+#pragma once
+// OpenClDevice: the Device (host/engine/device.h) whose ops are the OpenCL twins of the kernels
+// (kernels/cl/opencl_kernels.h), on fields resident in device memory across frames.
+//
+// Residency: each host field an op names gets a device copy the first time (allocated then:
+// the first frame allocates, later ones do not) and a note of which side is current. A device op
+// uploads an input only when the host wrote it since (host_wrote: painting, a loaded state, a
+// reset), and leaves its outputs current on the device only; sync_to_host downloads a field
+// when the host asks for it (the shown field, a saved state). So a frame moves nothing between
+// host and device unless someone looks.
+//
+// Every op has a twin. A setting a twin lacks (ICCG or multigrid solves; implicit diffusion that
+// stops on a residual or flows around solid cells) runs that op on the CPU device instead: its
+// inputs come to the host, its outputs go back when a device op next reads them, and the first
+// time each op falls back, one line says so on stderr.
+#if defined(ARDCELL_WITH_OPENCL)
+#include <array>
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "host/engine/device.h"
+#include "kernels/cl/opencl_diffusion.h"
+#include "kernels/cl/opencl_kernels.h"
+#include "kernels/stencil_sweeps.h"
+
+namespace ardcell {
+
+class OpenClDevice final : public Device {
+ public:
+  // Builds (or takes from ctx's cache) the kernels' program; ops that fall back run on `cpu`.
+  // Throws std::runtime_error with one line when the program cannot be built.
+  OpenClDevice(OpenClContext& ctx, RowExecutor& cpu);
+  ~OpenClDevice() override;
+
+  const char* name() const override { return "opencl"; }
+  int workers() const override;
+  bool supports(DeviceOp op) const override;
+  RowExecutor& executor() override { return cpu_.executor(); }
+  bool fields_on_host() const override { return false; }
+  void reserve(Int2 grid) override;
+
+  void copy(const FieldF& from, FieldF& to) override;
+  void swap(FieldF& a, FieldF& b) override;
+  void sync_to_host(const FieldF& f) override;
+  void host_wrote(const FieldF& f) override;
+  void host_wrote(const Field<uint8_t>& mask) override;
+  void host_wrote(const ReactionTable& table) override;
+  using Device::host_wrote;
+  void finish() override;
+
+  void fill_boundary(FieldF& f, const BoundaryFill& fill) override;
+  void fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) override;
+  void add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) override;
+
+  void add_splat(FieldF& f, const SplatParams& splat) override;
+  void set_inflow_stripes(FieldF& dye, int stripes) override;
+  void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p) override;
+  void face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf, FieldF& vf,
+                       const ProjectParams& params, bool periodic) override;
+  void subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
+                         const ProjectParams& params) override;
+  void advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
+                       const AdvectParams& p) override;
+  void advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
+                     const AdvectParams& p) override;
+  void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
+                         const AdvectParams& p) override;
+  FieldRange range(const FieldF& f) override;
+  void restore_mass(FieldF& f, double missing, float lo, float hi) override;
+
+  SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
+                    FieldF& x) override;
+
+  void reaction_implicit(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
+  void reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) override;
+  void conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
+                    const AnisotropyParams& p) override;
+  SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
+                                 const FieldF* conductivity, const DiffusionStep& s) override;
+  void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                   ExplicitScheme scheme, const ExplicitRdParams& p) override;
+
+  OpenClKernels& kernels() { return *cl_; }
+  // Bytes moved between host and device so far (tests: a steady frame moves none).
+  std::int64_t uploaded_bytes() const { return uploaded_; }
+  std::int64_t downloaded_bytes() const { return downloaded_; }
+
+ private:
+  enum class Current : uint8_t { kHost, kDevice, kBoth };
+  struct Mirror {
+    const void* host = nullptr;  // the FieldF (or mask) this copies
+    DeviceField device;
+    Current current = Current::kBoth;
+  };
+  struct MaskMirror {
+    const Field<uint8_t>* host = nullptr;
+    DeviceField device;  // 1.0 where solid (upload_mask)
+    bool stale = true;
+  };
+  struct DiffusionTwin {
+    const ImplicitDiffusion* cpu = nullptr;
+    std::unique_ptr<OpenClDiffusion> device;
+  };
+  // A StencilOperator's coefficients on the device, its null space (analysed on the host) and
+  // the solver scratch of its size.
+  struct OperatorTwin {
+    const StencilOperator* host = nullptr;
+    ClStencilOperator device;
+    std::unique_ptr<stencil::NullSpace> null_space;
+    DeviceField null_mask, other, r;
+    bool stale = true;
+  };
+
+  Mirror& mirror(const FieldF& f);
+  const DeviceField& mask(const Field<uint8_t>& m);
+  OperatorTwin& operator_twin(const StencilOperator& op);
+  // |f|^2 without its null-space component (stencil::NullSpace::consistent_part).
+  double consistent_part(double all, const DeviceField& f, const OperatorTwin& t);
+  double relative_residual(OperatorTwin& t, const DeviceField& b, const DeviceField& x, double bb);
+  // The device copy, current (uploaded if the host wrote it): for an op that reads f, or writes
+  // part of it.
+  const DeviceField& in(const FieldF& f);
+  DeviceField& out(FieldF& f);
+  // The host copy, current (downloaded if a device op wrote it), for an op run on the CPU.
+  void host_in(const FieldF& f);
+  void host_out(FieldF& f);
+  // One line on stderr the first time `op` runs on the CPU instead, naming the setting and why.
+  void say_fallback(DeviceOp op, const char* setting, const char* why);
+
+  OpenClContext& ctx_;
+  std::unique_ptr<OpenClKernels> cl_;
+  CpuDevice cpu_;
+  std::deque<Mirror> mirrors_;  // a deque: references stay valid as mirrors are added
+  std::deque<MaskMirror> masks_;
+  std::deque<DiffusionTwin> diffusions_;
+  std::deque<OperatorTwin> operators_;
+  ClRowPartials partial_sum_, partial_lo_, partial_hi_;
+  std::vector<double> host_lo_, host_hi_;
+  ClReactionTable table_;
+  bool table_stale_ = true;
+  std::array<bool, std::size_t(DeviceOp::kCount)> said_{};
+  std::int64_t uploaded_ = 0, downloaded_ = 0;
+};
+
+}  // namespace ardcell
+#endif
