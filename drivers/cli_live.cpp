@@ -16,9 +16,11 @@
 #include "drivers/png_writer.h"
 #include "host/live/attract_mode.h"
 #include "host/live/live_engine.h"
-#include "host/live/live_opencl.h"
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
+#if defined(ARDCELL_WITH_OPENCL)
+#include "kernels/cl/opencl_kernels.h"
+#endif
 #ifdef ARDCELL_WITH_SDL2
 #include "drivers/display_sdl.h"
 #endif
@@ -81,34 +83,14 @@ std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& openc
   if (device_given && a.cl_device < 0)
     return "--cl-device " + std::to_string(a.cl_device) +
            ": expected a device index (0 or more, see ardcell devices)";
-  // As `ardcell run`: OpenCL when asked for by --backend opencl or by --cl-device N (auto).
-  opencl_asked = kind == BackendKind::kOpenCl || (kind == BackendKind::kAuto && device_given);
+  // As `ardcell run`: OpenCL when asked for by --backend opencl, or auto (a GPU if there is one).
+  opencl_asked = kind == BackendKind::kOpenCl || kind == BackendKind::kAuto;
   if (device_given && !opencl_asked)
     return "--cl-device " + std::to_string(a.cl_device) +
            " needs --backend opencl or auto (expected no --cl-device with --backend " + a.backend +
            ")";
   return "";
 }
-
-#if defined(ARDCELL_WITH_OPENCL)
-// The OpenCL device's simulations, or null (after printing the one line saying why) when the
-// device or its program cannot be had: the presets then run on the CPU.
-std::unique_ptr<OpenClLiveSimulations> open_opencl(BackendKind kind, int cl_device,
-                                                   std::FILE* err) {
-  BackendChoice choice = choose_backend(kind, cl_device, &OpenClKernels::prepare);
-  if (!choice.message.empty()) std::fprintf(err, "%s\n", choice.message.c_str());
-  if (!choice.detail.empty()) std::fprintf(err, "%s\n", choice.detail.c_str());
-  if (choice.kind != BackendKind::kOpenCl) return nullptr;
-  std::string error;
-  std::unique_ptr<OpenClKernels> kernels = OpenClKernels::create(*choice.opencl, &error);
-  if (!kernels) {
-    std::fprintf(err, "ardcell: %s; falling back to the threads back end\n",
-                 error.substr(0, error.find('\n')).c_str());
-    return nullptr;
-  }
-  return std::make_unique<OpenClLiveSimulations>(std::move(choice.opencl), std::move(kernels), err);
-}
-#endif
 
 // FrameSink (drivers/) as the live loop's FrameWriter.
 class SinkWriter final : public FrameWriter {
@@ -208,15 +190,21 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   EngineOptions engine_options;
   if (backend == BackendKind::kSerial) engine_options.backend = EngineOptions::Backend::kSerial;
   if (a.workers_opt->count()) engine_options.workers = a.workers;
-  SimulationFactory factory = engine_simulations(engine_options);
+  BackendChoice choice;  // its OpenCL context outlives the loop's simulations
+  if (opencl_asked) {
 #if defined(ARDCELL_WITH_OPENCL)
-  std::unique_ptr<OpenClLiveSimulations> device;
-  if (opencl_asked) device = open_opencl(backend, a.cl_device, ctx.err);
-  if (device) factory = device->factory();
+    choice = choose_backend(backend, a.cl_device, &OpenClKernels::prepare);
 #else
-  if (opencl_asked)
-    std::fprintf(ctx.err, "%s\n", choose_backend(backend, a.cl_device).message.c_str());
+    choice = choose_backend(backend, a.cl_device);
 #endif
+    if (!choice.message.empty()) std::fprintf(ctx.err, "%s\n", choice.message.c_str());
+    if (!choice.detail.empty()) std::fprintf(ctx.err, "%s\n", choice.detail.c_str());
+    if (choice.kind == BackendKind::kOpenCl) {
+      engine_options.backend = EngineOptions::Backend::kOpenCl;
+      engine_options.opencl = choice.opencl.get();
+    }
+  }
+  SimulationFactory factory = engine_simulations(engine_options);
   LiveLoop loop(o, factory, *display);
   if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
   std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
@@ -331,9 +319,9 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   live->add_flag("--keys", args->keys, "List every preset key and exit");
   live->add_flag("--list", args->list, "List preset names and exit");
   live->add_option("--backend", args->backend,
-                   "auto | threads | serial | opencl: threads (and auto) run every preset on "
-                   "every core, serial on one; opencl runs reaction-diffusion-only presets on an "
-                   "OpenCL device (the others on threads)");
+                   "auto | threads | serial | opencl: threads runs every preset on every core, "
+                   "serial on one, opencl on an OpenCL device; auto (the default) an OpenCL GPU "
+                   "when there is one, else threads");
   args->workers_opt = live->add_option("--workers", args->workers,
                                        "threads back end workers (default: one per core)");
   args->cl_device_opt =

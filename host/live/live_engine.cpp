@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
+#include "host/engine/device.h"
 #include "host/engine/rd_step.h"
 #include "runtime/boundary.h"
 #include "runtime/row_executor.h"
@@ -146,10 +148,17 @@ void paint_live_samples(Painter& painter, const PaintConfig& base,
 
 EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& paint_base,
                                    const EngineOptions& options)
-    : engine_(preset.scene, options),
+    : EngineSimulation(preset, paint_base, options, nullptr) {}
+
+EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& paint_base,
+                                   const EngineOptions& options,
+                                   std::shared_ptr<std::mutex> device_mutex)
+    : device_mutex_(std::move(device_mutex)),
       paint_base_(paint_base),
       painter_(preset.scene.size, live_paint_config(paint_base, preset.input, preset.scene.size)) {
-  const SceneConfig& scene = engine_.config();
+  const auto lock = lock_device();
+  engine_ = std::make_unique<Engine>(preset.scene, options);
+  const SceneConfig& scene = engine_->config();
   if (!scene.rd.enabled || !preset.quality.adaptive) return;
   snap_a_ = FieldF(scene.size, 1);
   snap_b_ = FieldF(scene.size, 1);
@@ -165,12 +174,12 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
     l->config.size = n;
     l->take_parameters(scene);
     if (!rd_config_problem(l->config).empty()) break;
-    l->rd = std::make_unique<RdStepper>(l->config, engine_.device());
+    l->rd = std::make_unique<RdStepper>(l->config, engine_->device());
     l->state.size = n;
     l->state.h = scene.domain_width / n.x;
     l->state.dt = scene.dt;
-    l->rd->init_state(l->state);  // allocates A, B, theta0
-    if (!engine_.state().u.empty()) {
+    l->rd->init_state(l->state);  // allocates A, B, theta0 (and hands them to the device)
+    if (!engine_->state().u.empty()) {
       l->state.u = FieldF(n, 1);
       l->state.v = FieldF(n, 1);
     }
@@ -185,13 +194,27 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
     l->a_tmp = FieldF(n, 1);
     l->b_tmp = FieldF(n, 1);
     l->solid_tmp = FieldF(n, 1);
-    if (!engine_.state().obstacle.empty()) l->state.obstacle = Field<uint8_t>(n, 1);
+    if (!engine_->state().obstacle.empty()) l->state.obstacle = Field<uint8_t>(n, 1);
     levels_.push_back(std::move(l));
     previous = n;
   }
 }
 
-EngineSimulation::~EngineSimulation() = default;
+EngineSimulation::~EngineSimulation() {
+  const auto lock = lock_device();
+  levels_.clear();
+  engine_.reset();
+}
+
+std::unique_lock<std::mutex> EngineSimulation::lock_device() const {
+  return device_mutex_ ? std::unique_lock<std::mutex>(*device_mutex_)
+                       : std::unique_lock<std::mutex>();
+}
+
+const SimState& EngineSimulation::state() const {
+  const auto lock = lock_device();
+  return std::as_const(*engine_).state();
+}
 
 double EngineSimulation::lowest_rd_scale() const {
   return levels_.empty() ? 1.0 : levels_.back()->scale;
@@ -202,23 +225,25 @@ double EngineSimulation::rd_scale() const {
 }
 
 Int2 EngineSimulation::rd_grid() const {
-  return level_ < 0 ? engine_.config().size : levels_[size_t(level_)]->state.size;
+  return level_ < 0 ? engine_->config().size : levels_[size_t(level_)]->state.size;
 }
 
 // The coarse grid's obstacle and theta0 (and A, B when `chemicals`) from the scene's grid.
 void EngineSimulation::sync_coarse_from_fine(RdLevel& l, bool chemicals) {
-  const SimState& f = engine_.state();
+  const SimState& f = engine_->state();
   SimState& c = l.state;
   if (chemicals) {
-    transfer(engine_.executor(), l.down_x, l.down_y, f.A, l.down_tmp, c.A);
-    transfer(engine_.executor(), l.down_x, l.down_y, f.B, l.down_tmp, c.B);
+    transfer(engine_->executor(), l.down_x, l.down_y, f.A, l.down_tmp, c.A);
+    transfer(engine_->executor(), l.down_x, l.down_y, f.B, l.down_tmp, c.B);
   }
-  transfer(engine_.executor(), l.near_x, l.near_y, f.theta0, l.down_tmp, c.theta0);
+  transfer(engine_->executor(), l.near_x, l.near_y, f.theta0, l.down_tmp, c.theta0);
   if (!f.obstacle.empty()) {
-    transfer(engine_.executor(), l.down_x, l.down_y, f.obstacle, l.down_tmp, l.solid_tmp);
+    transfer(engine_->executor(), l.down_x, l.down_y, f.obstacle, l.down_tmp, l.solid_tmp);
     for (int y = 0; y < c.size.y; ++y)
       for (int x = 0; x < c.size.x; ++x) c.obstacle(x, y) = l.solid_tmp(x, y) >= 0.5f ? 1 : 0;
+    engine_->device().host_wrote(c.obstacle);
   }
+  for (const FieldF* g : {&c.A, &c.B, &c.theta0}) engine_->device().host_wrote(*g);
 }
 
 void EngineSimulation::to_level(int level) {
@@ -230,6 +255,7 @@ void EngineSimulation::to_level(int level) {
 }
 
 void EngineSimulation::set_rd_scale(double scale) {
+  const auto lock = lock_device();
   // The coarsest grid at or above the scale asked for (levels are finest first).
   int level = -1;
   for (size_t i = 0; i < levels_.size(); ++i)
@@ -238,40 +264,48 @@ void EngineSimulation::set_rd_scale(double scale) {
 }
 
 void EngineSimulation::step() {
+  const auto lock = lock_device();
   if (level_ < 0) {
-    engine_.step();
+    engine_->step();
     return;
   }
   RdLevel& l = *levels_[size_t(level_)];
-  engine_.step_without_rd();
-  SimState& f = engine_.state();
+  engine_->step_without_rd();
+  SimState& f = engine_->state();
   SimState& c = l.state;
   if (!c.u.empty()) {
-    transfer(engine_.executor(), l.down_x, l.down_y, f.u, l.down_tmp, c.u);
-    transfer(engine_.executor(), l.down_x, l.down_y, f.v, l.down_tmp, c.v);
+    transfer(engine_->executor(), l.down_x, l.down_y, f.u, l.down_tmp, c.u);
+    transfer(engine_->executor(), l.down_x, l.down_y, f.v, l.down_tmp, c.v);
     fill_boundary(c.u.view(), c.size, BoundaryFill::copy());
     fill_boundary(c.v.view(), c.size, BoundaryFill::copy());
+    engine_->device().host_wrote(c.u);
+    engine_->device().host_wrote(c.v);
   }
   l.rd->step(c);
-  transfer(engine_.executor(), l.up_x, l.up_y, c.A, l.up_tmp, f.A);
-  transfer(engine_.executor(), l.up_x, l.up_y, c.B, l.up_tmp, f.B);
+  engine_->device().sync_to_host(c.A);
+  engine_->device().sync_to_host(c.B);
+  transfer(engine_->executor(), l.up_x, l.up_y, c.A, l.up_tmp, f.A);
+  transfer(engine_->executor(), l.up_x, l.up_y, c.B, l.up_tmp, f.B);
 }
 
 void EngineSimulation::reset() {
-  engine_.reset();
+  const auto lock = lock_device();
+  engine_->reset();
   if (level_ >= 0) sync_coarse_from_fine(*levels_[size_t(level_)], true);
 }
 
 void EngineSimulation::apply(const SceneConfig& config) {
-  if (!engine_.update_parameters(config)) return;
+  const auto lock = lock_device();
+  if (!engine_->update_parameters(config)) return;
   for (auto& l : levels_) {
-    l->take_parameters(engine_.config());
+    l->take_parameters(engine_->config());
     l->rd->update_parameters(l->config);
   }
 }
 
 void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputMapping& input) {
-  SimState& f = engine_.state();
+  const auto lock = lock_device();
+  SimState& f = engine_->state();
   RdLevel* l = level_ >= 0 ? levels_[size_t(level_)].get() : nullptr;
   if (l) {
     snap_a_ = f.A;  // same size: copies into the existing storage
@@ -292,16 +326,16 @@ void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputM
   for (int y = 0; y < f.size.y; ++y)
     for (int x = 0; x < f.size.x; ++x)
       snap_a_(x, y) = std::abs(f.A(x, y) - snap_a_(x, y)) + std::abs(f.B(x, y) - snap_b_(x, y));
-  transfer(engine_.executor(), l->down_x, l->down_y, snap_a_, l->down_tmp, l->solid_tmp);
-  transfer(engine_.executor(), l->down_x, l->down_y, f.A, l->down_tmp, l->a_tmp);
-  transfer(engine_.executor(), l->down_x, l->down_y, f.B, l->down_tmp, l->b_tmp);
+  transfer(engine_->executor(), l->down_x, l->down_y, snap_a_, l->down_tmp, l->solid_tmp);
+  transfer(engine_->executor(), l->down_x, l->down_y, f.A, l->down_tmp, l->a_tmp);
+  transfer(engine_->executor(), l->down_x, l->down_y, f.B, l->down_tmp, l->b_tmp);
   for (int y = 0; y < c.size.y; ++y)
     for (int x = 0; x < c.size.x; ++x)
       if (l->solid_tmp(x, y) > 0) {
         c.A(x, y) = l->a_tmp(x, y);
         c.B(x, y) = l->b_tmp(x, y);
       }
-  sync_coarse_from_fine(*l, false);
+  sync_coarse_from_fine(*l, false);  // hands c's A, B, theta0 to the device
 }
 
 std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset) {
@@ -309,8 +343,12 @@ std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset) {
 }
 
 SimulationFactory engine_simulations(const EngineOptions& options) {
-  return [options](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
-    return std::make_unique<EngineSimulation>(preset, paint_config_for(preset.scene), options);
+  std::shared_ptr<std::mutex> device_mutex;
+  if (options.backend == EngineOptions::Backend::kOpenCl)
+    device_mutex = std::make_shared<std::mutex>();
+  return [options, device_mutex](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
+    return std::make_unique<EngineSimulation>(preset, paint_config_for(preset.scene), options,
+                                              device_mutex);
   };
 }
 

@@ -12,8 +12,14 @@
 //    are the coarse ones prolongated (bilinear) every frame. Going down a rung restricts A and B
 //    (area average), going up prolongates them. Painting stays on the scene's grid; coarse cells
 //    under a stroke take the restriction of the painted cells. Nothing allocates per frame.
+//  - On OpenCL (EngineOptions::Backend::kOpenCl) the fields stay on the device between frames;
+//    state() downloads them for the display, painting uploads what it wrote. The simulations
+//    of one factory share the device: the loop builds the next preset's on its worker thread
+//    while the current one runs, so every use of a simulation's engine takes the factory's
+//    device mutex (kernel arguments are set on kernels the engines share).
 #include <array>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "host/engine/engine.h"
@@ -41,18 +47,21 @@ class EngineSimulation final : public LiveSimulation {
                    const EngineOptions& options = {});
   ~EngineSimulation() override;
 
+  // device_mutex: held around every use of the engine (null: none needed, the CPU back ends).
+  EngineSimulation(const Preset& preset, const PaintConfig& paint_base,
+                   const EngineOptions& options, std::shared_ptr<std::mutex> device_mutex);
   void step() override;
   void reset() override;
-  const SimState& state() const override { return engine_.state(); }
+  const SimState& state() const override;
   // Refused changes (structural ones) keep the current parameters: the live loop switches
   // presets for those.
   void apply(const SceneConfig& config) override;
   void paint(std::span<const StrokeSample> samples, const InputMapping& input) override;
-  std::string_view backend() const override { return engine_.backend_name(); }
+  std::string_view backend() const override { return engine_->backend_name(); }
   double lowest_rd_scale() const override;
   void set_rd_scale(double scale) override;
 
-  const Engine& engine() const { return engine_; }
+  const Engine& engine() const { return *engine_; }
   const Painter& painter() const { return painter_; }
   double rd_scale() const;
   // The grid the RD runs on now (the scene's grid at scale 1).
@@ -63,7 +72,10 @@ class EngineSimulation final : public LiveSimulation {
   void to_level(int level);
   void sync_coarse_from_fine(RdLevel& l, bool chemicals);
 
-  Engine engine_;
+  std::unique_lock<std::mutex> lock_device() const;
+
+  std::shared_ptr<std::mutex> device_mutex_;
+  std::unique_ptr<Engine> engine_;
   PaintConfig paint_base_;
   Painter painter_;
   std::vector<std::unique_ptr<RdLevel>> levels_;  // coarser RD grids, finest first
@@ -75,7 +87,8 @@ class EngineSimulation final : public LiveSimulation {
 // What `ardcell live` runs: an EngineSimulation whose painter starts from the scene's defaults
 // (paint_config_for, as `ardcell run --strokes` does).
 std::unique_ptr<LiveSimulation> make_engine_simulation(const Preset& preset);
-// The same on a chosen back end (`ardcell live --backend serial|threads --workers N`).
+// The same on a chosen back end (`ardcell live --backend serial|threads|opencl --workers N`);
+// for OpenCL, options.opencl must outlive every simulation made.
 SimulationFactory engine_simulations(const EngineOptions& options);
 
 }  // namespace ardcell

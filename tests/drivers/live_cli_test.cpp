@@ -74,9 +74,10 @@ TEST(LiveCli, BadBackendArgumentsAreOneLineAndExitCodeTwo) {
 }
 
 #if defined(ARDCELL_WITH_OPENCL)
-// An RD-only preset set to fixed sweeps runs on the device; the playlist's next preset, one
-// the device refuses (a fluid), then runs on the CPU with one line saying why.
-TEST(LiveCli, OpenClBackendRunsTheDevicePresetAndFallsBackPerPreset) {
+// An RD-only preset and a fluid preset set to fixed sweeps run on the device with no fallback
+// line; a pressure solver the device does not run (multigrid) runs that op on the CPU with one
+// line naming it.
+TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     GTEST_SKIP() << "no X or Wayland display";
   const Result devices = run("devices");
@@ -97,7 +98,15 @@ TEST(LiveCli, OpenClBackendRunsTheDevicePresetAndFallsBackPerPreset) {
             "enabled = true\n[rd.diffusion_solver]\nkind = \"jacobi\"\niterations = 6\n"
             "tolerance = 0.0\n");
   const std::string fluid =
-      write("small-fluid.toml", "name = \"small-fluid\"\n[grid]\nsize = [16, 16]\n");
+      write("small-fluid.toml",
+            "name = \"small-fluid\"\n[grid]\nsize = [16, 16]\n[fluid.pressure_solver]\n"
+            "kind = \"jacobi\"\niterations = 10\ntolerance = 0.0\n[fluid.viscosity_solver]\n"
+            "kind = \"rbgs\"\niterations = 4\ntolerance = 0.0\n");
+  const std::string multigrid =
+      write("small-fluid-mg.toml",
+            "name = \"small-fluid-mg\"\n[grid]\nsize = [16, 16]\n[fluid.pressure_solver]\n"
+            "kind = \"mg\"\niterations = 2\ntolerance = 0.0\n[fluid.viscosity_solver]\n"
+            "kind = \"rbgs\"\niterations = 4\ntolerance = 0.0\n");
   // LeakSanitizer's stop-the-world tracer crashed (signal 11, exit 134) once at exit of a
   // live window with PoCL's worker threads under a loaded parallel ctest; leaks are checked by
   // the other tests, so these two runs do without the exit-time leak scan.
@@ -105,17 +114,24 @@ TEST(LiveCli, OpenClBackendRunsTheDevicePresetAndFallsBackPerPreset) {
   const Result r =
       run("live " + rd + " --backend opencl --frames 3 --fps 0 --scale 1", no_leak_scan);
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("ardcell live: backend opencl ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ardcell live: backend opencl\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("frames 3, deadline misses "), std::string::npos) << r.output;
-  // The device refuses a fluid: the kiosk keeps running it on the CPU.
-  const Result cpu =
+  EXPECT_EQ(r.output.find("runs on the CPU"), std::string::npos) << r.output;
+  const Result on_device =
       run("live " + fluid + " --backend opencl --frames 2 --fps 0 --scale 1", no_leak_scan);
-  EXPECT_EQ(cpu.code, 0) << cpu.output;
-  EXPECT_NE(cpu.output.find("ardcell live: preset 'small-fluid' cannot run on OpenCL: fluid.scene"),
+  EXPECT_EQ(on_device.code, 0) << on_device.output;
+  EXPECT_NE(on_device.output.find("ardcell live: backend opencl\n"), std::string::npos)
+      << on_device.output;
+  EXPECT_EQ(on_device.output.find("runs on the CPU"), std::string::npos) << on_device.output;
+  EXPECT_NE(on_device.output.find("frames 2, deadline misses "), std::string::npos)
+      << on_device.output;
+  const Result one_op =
+      run("live " + multigrid + " --backend opencl --frames 2 --fps 0 --scale 1", no_leak_scan);
+  EXPECT_EQ(one_op.code, 0) << one_op.output;
+  EXPECT_NE(one_op.output.find("ardcell: opencl: linear solve runs on the CPU (mg: "),
             std::string::npos)
-      << cpu.output;
-  EXPECT_NE(cpu.output.find("ardcell live: backend threads\n"), std::string::npos) << cpu.output;
-  EXPECT_NE(cpu.output.find("frames 2, deadline misses "), std::string::npos) << cpu.output;
+      << one_op.output;
+  EXPECT_NE(one_op.output.find("frames 2, deadline misses "), std::string::npos) << one_op.output;
   // auto keeps the CPU (no OpenCL line at all).
   const Result automatic = run("live " + rd + " --backend auto --frames 1 --fps 0 --scale 1");
   EXPECT_EQ(automatic.code, 0) << automatic.output;
