@@ -35,11 +35,12 @@ Status check_output_path(const std::filesystem::path& path, bool folder) {
   if (parent.filename().empty()) parent = parent.parent_path();  // "dir/"
   parent = parent.parent_path();
   std::error_code ec;
-  while (!parent.empty() && !fs::exists(parent, ec) && parent != parent.root_path())
+  // A file's folder must exist (AtomicFile makes none); a folder's missing parents are made.
+  while (folder && !parent.empty() && !fs::exists(parent, ec) && parent != parent.root_path())
     parent = parent.parent_path();
   if (!fs::is_directory(parent, ec))
-    return Status::error(what + ": " + parent.string() + " is not a folder (expected " + expected +
-                         ")");
+    return Status::error(what + ": " + parent.string() +
+                         " is not a folder or does not exist (expected " + expected + ")");
   if (::access(parent.c_str(), W_OK | X_OK) != 0)
     return Status::error(what + ": folder " + parent.string() + " is not writable (" +
                          errno_text(errno) + "; expected " + expected + ")");
