@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <exception>
 
 namespace ardcell {
@@ -47,7 +49,53 @@ std::string chosen_command(const CLI::App& app) {
   return name;
 }
 
+constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
+std::atomic<bool> g_stop_requested{false};
+std::atomic<int> g_stop_signal{0};
+
+extern "C" void on_stop_signal(int sig) {
+  int none = 0;
+  g_stop_signal.compare_exchange_strong(none, sig);
+  g_stop_requested.store(true);
+}
+
 }  // namespace
+
+StopSignals::StopSignals() {
+  g_stop_requested.store(false);
+  g_stop_signal.store(0);
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  for (int i = 0; i < 3; ++i) ::sigaction(kStopSignals[i], &sa, &previous_[i]);
+}
+
+StopSignals::~StopSignals() {
+  for (int i = 0; i < 3; ++i) ::sigaction(kStopSignals[i], &previous_[i], nullptr);
+}
+
+const std::atomic<bool>& StopSignals::requested() { return g_stop_requested; }
+int StopSignals::signal() { return g_stop_signal.load(); }
+int StopSignals::exit_code(int otherwise) {
+  const int sig = g_stop_signal.load();
+  return sig ? 128 + sig : otherwise;
+}
+
+CLI::Validator finite_range(double lo, double hi) {
+  const std::string range =
+      "a finite number in [" + CLI::detail::to_string(lo) + ", " + CLI::detail::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || v < lo ||
+            v > hi)
+          return "expected " + range + ", got '" + text + "'";
+        return "";
+      },
+      "FINITE in [" + CLI::detail::to_string(lo) + ", " + CLI::detail::to_string(hi) + "]");
+}
 
 int cli_usage_error(CliContext& ctx, const std::string& command, const std::string& message) {
   std::fprintf(ctx.err, "ardcell%s%s: %s\n", command.empty() ? "" : " ", command.c_str(),

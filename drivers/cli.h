@@ -6,6 +6,8 @@
 // code in ctx.exit_code), then add the one line `X(<name>)` to ARDCELL_SUBCOMMANDS in
 // drivers/cli.cpp. Report bad input with cli_usage_error (one line, exit code 2).
 #include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <string>
 
@@ -27,6 +29,32 @@ using CommandInstaller = void (*)(CLI::App& app, CliContext& ctx);
 // Prints "ardcell <command>: <message>" as one line on ctx.err (newlines in message become
 // spaces) and returns kExitUsage, so a callback can write `ctx.exit_code = cli_usage_error(...)`.
 int cli_usage_error(CliContext& ctx, const std::string& command, const std::string& message);
+
+// SIGINT, SIGTERM and SIGHUP end `run`, `live` and `tablet record` the way Esc does: while a
+// StopSignals lives, the handler only records the signal and sets requested(), which the loop
+// polls; the command then finishes its files (recording, saved state, frames) and returns
+// exit_code(). Installed with sigaction, so a disposition inherited as ignored (a script's `&`)
+// is replaced too. Keep it alive until the files are finished and renamed: a second signal
+// during finishing is recorded, never cuts the rename short. The destructor restores what was
+// there before.
+class StopSignals {
+ public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  static const std::atomic<bool>& requested();
+  static int signal();  // the first signal received, 0 for none
+  // 128 + the signal when one ended the command (130 SIGINT, 143 SIGTERM), else `otherwise`.
+  static int exit_code(int otherwise);
+
+ private:
+  struct sigaction previous_[3];
+};
+
+// A CLI11 check for a numeric flag that is no preset key (--fps, --attract): a finite number
+// in [lo, hi]; NaN and infinities are refused (CLI::Range lets NaN through).
+CLI::Validator finite_range(double lo, double hi);
 
 // The subcommands defined here.
 void add_run_command(CLI::App& app, CliContext& ctx);

@@ -1,6 +1,7 @@
 // `ardcell live [PRESET]`: the real-time window (drivers/display_sdl.h) running the live loop
 // (host/live/live_loop.h) with presets, adaptive quality, attract mode, GPIO buttons, OSC and
 // recording. See README "Live display, presets and kiosk".
+#include <arpa/inet.h>
 #include <sched.h>
 #include <sys/mman.h>
 
@@ -8,12 +9,14 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <thread>
 
 #include "drivers/cli.h"
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/gpio_buttons.h"
 #include "drivers/png_writer.h"
+#include "host/io/atomic_file.h"
 #include "host/live/attract_mode.h"
 #include "host/live/live_engine.h"
 #include "host/scenes/preset.h"
@@ -44,6 +47,8 @@ struct LiveArgs {
   bool rt = false;
   int osc_port = -1;
   std::string osc_bind = "127.0.0.1";
+  bool osc_remote = false;
+  std::vector<std::string> preset_dirs;
   double attract_seconds = 0;
   std::string attract_dir;
   std::string gpio_config;
@@ -67,6 +72,12 @@ struct LiveArgs {
   CLI::Option* cl_device_opt = nullptr;
   CLI::Option* workers_opt = nullptr;
 };
+
+// An IPv4 address outside 127.0.0.0/8: listening there needs --osc-remote.
+bool is_remote_address(const std::string& address) {
+  in_addr a{};
+  return inet_pton(AF_INET, address.c_str(), &a) == 1 && (ntohl(a.s_addr) >> 24) != 127;
+}
 
 // --backend / --cl-device: what to run the presets on. "" when valid, else the usage line.
 std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& opencl_asked) {
@@ -140,6 +151,18 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   bool opencl_asked = false;
   if (std::string why = check_backend_args(a, backend, opencl_asked); !why.empty())
     return cli_usage_error(ctx, "live", why);
+  if (a.osc_port >= 0 && !a.osc_remote && is_remote_address(a.osc_bind))
+    return cli_usage_error(ctx, "live",
+                           "--osc-bind " + a.osc_bind +
+                               ": listening beyond 127.0.0.0/8 lets anyone on the network "
+                               "control the display (expected a loopback address, or "
+                               "--osc-remote to allow it)");
+  for (const std::string& dir : a.preset_dirs)
+    if (std::error_code ec; !std::filesystem::is_directory(dir, ec))
+      return cli_usage_error(ctx, "live",
+                             "--preset-dir " + dir +
+                                 ": not a folder (expected a "
+                                 "folder of .toml presets)");
 #ifndef ARDCELL_WITH_SDL2
   return cli_usage_error(ctx, "live", "this build has no SDL2 display (ARDCELL_WITH_SDL2=OFF)");
 #else
@@ -150,6 +173,23 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                                                  : o.playlist.front();
   Preset preset;
   if (Status s = load_preset(first, preset); !s) return cli_usage_error(ctx, "live", s.message());
+  for (const std::string& name : a.playlist)
+    if (Preset p; !load_preset(name, p))
+      return cli_usage_error(ctx, "live",
+                             "--playlist " + name + ": " + load_preset(name, p).message());
+  // Every destination is checked before the window opens.
+  if (!a.record.empty())
+    if (Status s = check_output_path(a.record, false); !s)
+      return cli_usage_error(ctx, "live", "--record " + s.message());
+  if (!a.screenshot.empty())
+    if (Status s = check_output_path(a.screenshot, false); !s)
+      return cli_usage_error(ctx, "live", "--screenshot " + s.message());
+  if (std::error_code ec; !std::filesystem::is_directory(a.screenshot_dir, ec))
+    return cli_usage_error(
+        ctx, "live",
+        "--screenshot-dir " + a.screenshot_dir + ": not a folder (expected an existing folder)");
+  if (Status s = check_output_path(a.screenshot_dir, true); !s)
+    return cli_usage_error(ctx, "live", "--screenshot-dir " + s.message());
   if (a.rt) request_realtime(ctx.err);
 
   Status error = Status::ok();
@@ -205,6 +245,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     }
   }
   SimulationFactory factory = engine_simulations(engine_options);
+  // SIGINT/SIGTERM/SIGHUP quit as Esc does (recording finished, stats printed), also when an
+  // ignored SIGINT was inherited; kept until the recording is renamed into place.
+  StopSignals signals;
+  o.stop = &StopSignals::requested();
   LiveLoop loop(o, factory, *display);
   if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
   std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
@@ -244,9 +288,16 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   std::unique_ptr<OscServer> osc;
   if (a.osc_port >= 0) {
     Status os = Status::ok();
-    osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(), os);
+    osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(), os,
+                           a.preset_dirs);
     if (!osc) return cli_usage_error(ctx, "live", os.message());
     std::fprintf(ctx.err, "ardcell live: OSC on udp://%s:%d\n", a.osc_bind.c_str(), osc->port());
+    if (is_remote_address(a.osc_bind))
+      std::fprintf(ctx.err,
+                   "ardcell live: warning: OSC listens beyond this machine (%s): anyone who can "
+                   "reach UDP port %d can switch presets, paint and record; there is no "
+                   "authentication\n",
+                   a.osc_bind.c_str(), osc->port());
   }
 #else
   if (a.osc_port >= 0)
@@ -278,7 +329,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
     return kExitFailure;
   }
-  return kExitOk;
+  return StopSignals::exit_code(kExitOk);
 #endif
 }
 
@@ -290,14 +341,18 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
       "live", "Real-time window: paint with mouse, touch or pen; presets, kiosk, OSC");
   live->add_option("preset", args->preset, "Preset name or .toml path (`--list`)");
   live->add_option("--fps", args->fps, "Target frame rate (default: the display's refresh)")
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(finite_range(0.0, 1000.0));
   live->add_flag("--rt", args->rt, "Ask for SCHED_FIFO and mlockall (goes on when refused)");
   live->add_option("--osc", args->osc_port, "Listen for OSC on this UDP port")
       ->check(CLI::Range(0, 65535));
   live->add_option("--osc-bind", args->osc_bind, "Address OSC binds to (default 127.0.0.1)");
+  live->add_flag("--osc-remote", args->osc_remote,
+                 "Allow --osc-bind beyond 127.0.0.0/8 (no authentication: trusted networks only)");
+  live->add_option("--preset-dir", args->preset_dirs,
+                   "Folder OSC /ardcell/preset may load .toml presets from (repeatable)");
   live->add_option("--attract", args->attract_seconds,
                    "Replay recorded strokes after this many idle seconds")
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(finite_range(0.0, 1e6));
   live->add_option("--attract-dir", args->attract_dir, "Folder of .jsonl stroke recordings");
   live->add_option("--gpio", args->gpio_config, "GPIO buttons config (TOML)");
   live->add_option("--frames", args->frames, "Exit after N frames (tests)")

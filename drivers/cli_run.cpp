@@ -30,9 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::atomic<bool> g_stop{false};
-extern "C" void on_interrupt(int) { g_stop.store(true); }
-
 struct RunArgs {
   std::string scene, scene_positional, size, solver, out, save_state, load_state;
   std::string colormap, show, video, schedule, backend, store_kib;
@@ -43,7 +40,7 @@ struct RunArgs {
   int sweeps = 0, fps = 30, cl_device = -1, workers = 0;
   CLI::Option *steps_opt, *every_opt, *dt_opt, *re_opt, *sweeps_opt, *solver_opt, *size_opt;
   CLI::Option *colormap_opt, *show_opt, *schedule_opt, *backend_opt, *cl_device_opt, *workers_opt;
-  CLI::Option* store_kib_opt;
+  CLI::Option *store_kib_opt, *out_opt, *video_opt, *save_state_opt;
   RunPaintOptions paint;  // --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes
 };
 
@@ -147,6 +144,15 @@ int open_outputs(RunArgs& a, CliContext& ctx, const std::string& scene_name, Int
     remove_created(o.created);
     return cli_usage_error(ctx, "run", m);
   };
+  // Every destination is checked before anything is written.
+  for (CLI::Option* opt : {a.out_opt, a.video_opt, a.save_state_opt})
+    if (opt->count() && opt->as<std::string>().empty())
+      return usage(opt->get_name() + ": expected a path, got an empty string");
+  if (!a.save_state.empty())
+    if (Status s = check_state_destination(a.save_state); !s)
+      return usage("--save-state " + s.message());
+  if (!a.video.empty())
+    if (Status s = check_output_path(a.video, false); !s) return usage("--video " + s.message());
   o.png = every > 0 && !a.no_png;
   o.out = !a.out.empty() ? a.out : "out/" + scene_name + "-" + timestamp();
   if (o.png) {
@@ -155,11 +161,6 @@ int open_outputs(RunArgs& a, CliContext& ctx, const std::string& scene_name, Int
   }
   if (!a.video.empty()) {
     const fs::path video(a.video);
-    std::error_code ec;
-    const fs::path parent = video.parent_path().empty() ? fs::path(".") : video.parent_path();
-    if (!fs::is_directory(parent, ec) || ::access(parent.c_str(), W_OK) != 0)
-      return usage("--video " + a.video + ": folder " + parent.string() +
-                   " does not exist or is not writable");
     std::unique_ptr<FrameSink> sink;
     std::string note;
     std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg gives EPIPE, not a silent exit
@@ -182,20 +183,19 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   options.every = every;
   options.render = render;
   options.progress = (!a.quiet && ::isatty(STDERR_FILENO)) ? ctx.err : nullptr;
-  options.stop = &g_stop;
+  // From here to the summary, SIGINT/SIGTERM/SIGHUP end the run early and the frames, video
+  // and state are still finished; a second signal cannot cut the saving short.
+  StopSignals signals;
+  options.stop = &StopSignals::requested();
   std::vector<double> frame_seconds;
   if (a.stats) {
     frame_seconds.assign(std::size_t(std::min(steps, kMaxTimedFrames)), 0.0);
     options.frame_seconds = frame_seconds;
   }
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
   std::vector<FrameSink*> sink_ptrs;
   for (auto& s : outputs.sinks) sink_ptrs.push_back(s.get());
   OfflineRunSummary summary;
   Status run = run_offline(stepper, options, sink_ptrs, summary);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
   if (!run) {
     std::fprintf(ctx.err, "ardcell run: %s\n", run.message().c_str());
     return kExitFailure;
@@ -229,7 +229,7 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
     if (after_run) after_run();
   }
   std::fflush(ctx.out);
-  return summary.stopped_early ? 130 : kExitOk;
+  return StopSignals::exit_code(kExitOk);
 }
 
 // The Table 1 workload shown as a SimState: on the CPU (Table1Workload on the serial or threads
@@ -641,18 +641,19 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--solver", a.solver, "implicit solver: jacobi | rbgs | iccg | mg");
   a.sweeps_opt = run->add_option("--sweeps", a.sweeps,
                                  "sweeps (jacobi, rbgs), iterations (iccg) or V-cycles (mg)");
-  run->add_option("--out", a.out, "folder for PNG frames (default out/<scene>-<time>)");
+  a.out_opt = run->add_option("--out", a.out, "folder for PNG frames (default out/<scene>-<time>)");
   a.every_opt = run->add_option("--every", a.every,
                                 "write a frame every N steps; 0: none (default steps/50)");
   a.show_opt = run->add_option("--show", a.show,
                                "field drawn: dye | speed | vorticity | "
                                "pressure | A | B (default: the scene's)");
   a.colormap_opt = run->add_option("--colormap", a.colormap, "gray | viridis | magma | rdbu");
-  run->add_option("--video", a.video,
-                  "also write a video: .y4m built in, other extensions through ffmpeg");
+  a.video_opt = run->add_option(
+      "--video", a.video, "also write a video: .y4m built in, other extensions through ffmpeg");
   run->add_option("--fps", a.fps, "video frame rate (default 30)");
   run->add_flag("--no-png", a.no_png, "write no PNG frames (e.g. video only)");
-  run->add_option("--save-state", a.save_state, "save the final state to this folder");
+  a.save_state_opt =
+      run->add_option("--save-state", a.save_state, "save the final state to this folder");
   run->add_option("--load-state", a.load_state, "resume from a state saved by --save-state");
   run->add_flag("--quiet", a.quiet, "no progress bar");
   run->add_option("--set", a.sets,

@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/io/user_file.h"
+
 namespace ardcell {
 
 namespace {
@@ -90,11 +92,10 @@ Status parse_gpio_config(std::string_view text, std::string_view source, GpioCon
 }
 
 Status load_gpio_config(const std::string& path, GpioConfig& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::error(path + ": cannot open GPIO config (expected a readable TOML file)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_gpio_config(ss.str(), path, out);
+  std::string text;
+  if (Status s = read_user_file(path, kMaxTextConfigBytes, "a GPIO config TOML file", text); !s)
+    return s;
+  return parse_gpio_config(text, path, out);
 }
 
 void SimulatedGpioSource::push(const GpioEdge& e) {

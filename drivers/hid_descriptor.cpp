@@ -362,6 +362,14 @@ bool parse_hid_descriptor(std::span<const uint8_t> bytes, HidDescriptor& out, st
     error = "descriptor ends with " + std::to_string(global_stack.size()) + " unmatched Push";
     return false;
   }
+  // Without any Application collection (some tablets open their pen as a top-level Physical
+  // collection), each top-level collection stands for the application, as Linux maps them.
+  const bool any_application = std::any_of(d.collections.begin(), d.collections.end(),
+                                           [](const HidCollection& c) { return c.type == 1; });
+  if (!any_application)
+    for (HidCollection& c : d.collections)
+      c.application = c.parent < 0 ? int(&c - d.collections.data())
+                                   : d.collections[std::size_t(c.parent)].application;
   out = std::move(d);
   return true;
 }

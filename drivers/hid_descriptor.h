@@ -57,7 +57,8 @@ struct HidCollection {
   uint8_t type = 0;      // 0 physical, 1 application, 2 logical, ...
   uint32_t usage = 0;    // page << 16 | id (0 when the collection has no usage)
   int parent = -1;       // index into HidDescriptor::collections, -1 at top level
-  int application = -1;  // index of the enclosing application collection (itself if one)
+  int application = -1;  // index of the enclosing application collection (itself if one); in a
+                         // descriptor with none, the top-level collection (as Linux maps it)
 };
 
 // One data field of a report. A Variable main item yields one field per report-count element

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/io/user_file.h"
+
 namespace ardcell {
 
 namespace {
@@ -153,15 +155,13 @@ bool parse_hid_recording(const std::string& text, HidRecording& out, std::string
 }
 
 bool read_hid_recording(const std::string& path, HidRecording& out, std::string& error) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    error = path + ": cannot open (" + std::strerror(errno) + ")";
+  std::string text;
+  if (Status s = read_user_file(path, kMaxRecordingBytes, "a hid-recorder file", text); !s) {
+    error = s.message();
     return false;
   }
-  std::ostringstream ss;
-  ss << f.rdbuf();
   std::string why;
-  if (!parse_hid_recording(ss.str(), out, why)) {
+  if (!parse_hid_recording(text, out, why)) {
     error = path + ": " + why;
     return false;
   }

@@ -5,10 +5,13 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -58,12 +61,75 @@ bool numeric_arg(char type, const lo_arg* a, double& out) {
   }
 }
 bool is_string(char type) { return type == LO_STRING || type == LO_SYMBOL; }
+
+// The sender's text as logged: at most kMaxEchoedChars, non-printable bytes as \xNN.
+std::string echoed(std::string_view text) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < OscServer::kMaxEchoedChars; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f && c != '\\') {
+      out += char(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  if (text.size() > OscServer::kMaxEchoedChars) out += "...";
+  return out;
+}
+
+// A preset as a sender may name it: letters, digits, '.', '-', '_'; no path, no "..".
+bool plain_name(const std::string& name) {
+  if (name.empty() || name.size() > 128 || name.find("..") != std::string::npos) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_')
+      return false;
+  return true;
+}
+
+std::string real_path(const std::string& path) {
+  char* r = ::realpath(path.c_str(), nullptr);
+  if (!r) return "";
+  std::string out = r;
+  std::free(r);
+  return out;
+}
 }  // namespace
+
+std::string OscServer::resolve_preset(const std::string& name, std::string& why) const {
+  if (!plain_name(name)) {
+    why = "expected a preset name or a .toml file name in a preset folder (no paths)";
+    return "";
+  }
+  const bool toml = name.ends_with(".toml");
+  if (!toml)
+    for (const std::string& n : preset_names())
+      if (n == name) return name;
+  for (const std::string& folder : preset_folders_) {
+    const std::string root = real_path(folder);
+    if (root.empty()) continue;
+    // realpath follows every symlink: what it names must still lie inside the folder.
+    const std::string file = real_path(folder + "/" + (toml ? name : name + ".toml"));
+    struct stat st {};
+    if (file.empty() || !file.starts_with(root + "/") || ::stat(file.c_str(), &st) != 0 ||
+        !S_ISREG(st.st_mode))
+      continue;
+    if (file.size() >= LiveCommand{}.text.size()) continue;
+    return file;
+  }
+  why = preset_folders_.empty()
+            ? "not a built-in preset (no --preset-dir is given, so only built-in names)"
+            : "not a built-in preset nor a preset file in the preset folders";
+  return "";
+}
 
 std::unique_ptr<OscServer> OscServer::start(int port, const std::string& bind_address,
                                             CommandQueue& commands, StrokeRing& strokes,
-                                            Status& error) {
+                                            Status& error,
+                                            std::vector<std::string> preset_folders) {
   std::unique_ptr<OscServer> s(new OscServer(commands, strokes));
+  s->preset_folders_ = std::move(preset_folders);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(uint16_t(port));
@@ -100,6 +166,27 @@ OscServer::~OscServer() {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
   if (fd_ >= 0) close(fd_);
+  if (log_dropped_ > 0)
+    std::fprintf(stderr, "osc: %lld more rejected messages not logged\n",
+                 static_cast<long long>(log_dropped_));
+}
+
+void OscServer::log_line(const std::string& line) {
+  const double now = seconds_now();
+  if (now - log_window_ >= 1.0) {
+    if (log_dropped_ > 0)
+      std::fprintf(stderr, "osc: %lld more rejected messages not logged (at most %d a second)\n",
+                   static_cast<long long>(log_dropped_), kMaxLogLinesPerSecond);
+    log_window_ = now;
+    log_lines_ = 0;
+    log_dropped_ = 0;
+  }
+  if (log_lines_ >= kMaxLogLinesPerSecond) {
+    ++log_dropped_;
+    return;
+  }
+  ++log_lines_;
+  std::fprintf(stderr, "osc: %s\n", line.c_str());
 }
 
 std::string OscServer::last_error() const {
@@ -109,7 +196,7 @@ std::string OscServer::last_error() const {
 
 bool OscServer::reject(const std::string& why) {
   ++rejected_;
-  std::fprintf(stderr, "osc: %s\n", why.c_str());
+  log_line(why);
   std::lock_guard lock(error_mutex_);
   last_error_ = why;
   return false;
@@ -122,9 +209,11 @@ bool OscServer::dispatch(const void* data, size_t size) {
   int result = 0;
   lo_message m = lo_message_deserialise(copy.data(), size, &result);
   if (!m) return reject("malformed OSC message (liblo error " + std::to_string(result) + ")");
-  const std::string path = lo_get_path(copy.data(), ssize_t(size));
+  const std::string address = lo_get_path(copy.data(), ssize_t(size));
   const char* types_c = lo_message_get_types(m);
-  const std::string types = types_c ? types_c : "";
+  const std::string types_raw = types_c ? types_c : "";
+  // Only escaped prefixes of the sender's text reach the log (`path` and `types` below).
+  const std::string path = echoed(address), types = echoed(types_raw);
   lo_arg** argv = lo_message_get_argv(m);
   const int argc = lo_message_get_argc(m);
   struct Free {
@@ -139,7 +228,7 @@ bool OscServer::dispatch(const void* data, size_t size) {
     return true;
   };
   auto text_arg = [&](int i) -> std::string {
-    return i < argc && is_string(types[size_t(i)])
+    return i < argc && is_string(types_raw[size_t(i)])
                ? std::string(reinterpret_cast<const char*>(argv[i]))
                : std::string();
   };
@@ -147,25 +236,31 @@ bool OscServer::dispatch(const void* data, size_t size) {
     return reject(path + " ," + types + ": expected " + expected);
   };
 
-  if (path == "/ardcell/preset") {
-    if (argc != 1 || !is_string(types[0])) return usage("s NAME");
-    return push(LiveCommand::with_text(LiveCommandKind::kSelectPreset, text_arg(0)));
+  if (address == "/ardcell/preset") {
+    if (argc != 1 || !is_string(types_raw[0])) return usage("s NAME");
+    std::string why;
+    const std::string preset = resolve_preset(text_arg(0), why);
+    if (preset.empty()) return reject(path + ": " + echoed(text_arg(0)) + ": " + why);
+    return push(LiveCommand::with_text(LiveCommandKind::kSelectPreset, preset));
   }
-  if (path == "/ardcell/preset/next") return push(LiveCommand::make(LiveCommandKind::kNextPreset));
-  if (path == "/ardcell/preset/prev") return push(LiveCommand::make(LiveCommandKind::kPrevPreset));
-  if (path == "/ardcell/param") {
-    if (argc != 2 || !is_string(types[0])) return usage("s KEY and a value");
+  if (address == "/ardcell/preset/next")
+    return push(LiveCommand::make(LiveCommandKind::kNextPreset));
+  if (address == "/ardcell/preset/prev")
+    return push(LiveCommand::make(LiveCommandKind::kPrevPreset));
+  if (address == "/ardcell/param") {
+    if (argc != 2 || !is_string(types_raw[0])) return usage("s KEY and a value");
     const std::string key = text_arg(0);
     const ParamSpec* spec = find_param(key);
-    if (!spec) return reject(path + ": unknown key '" + key + "' (see `ardcell live --keys`)");
+    if (!spec)
+      return reject(path + ": unknown key '" + echoed(key) + "' (see `ardcell live --keys`)");
     double value = 0;
-    if (is_string(types[1]) && spec->kind == ParamKind::kChoice) {
+    if (is_string(types_raw[1]) && spec->kind == ParamKind::kChoice) {
       const std::string name = text_arg(1);
       value = -1;
       for (size_t i = 0; i < spec->choices.size(); ++i)
         if (spec->choices[i] == name) value = double(i);
       if (value < 0) return reject(path + ": " + key + ": expected " + param_expectation(*spec));
-    } else if (!numeric_arg(types[1], argv[1], value)) {
+    } else if (!numeric_arg(types_raw[1], argv[1], value)) {
       return reject(path + ": " + key + ": expected " + param_expectation(*spec));
     }
     std::string why;
@@ -177,26 +272,27 @@ bool OscServer::dispatch(const void* data, size_t size) {
     return push(
         LiveCommand::make(LiveCommandKind::kSetParam, value, int(spec - preset_params().data())));
   }
-  if (path == "/ardcell/mode") {
+  if (address == "/ardcell/mode") {
     const ParamSpec* mode = find_param("input.mode");
     double index = -1;
-    if (argc == 1 && is_string(types[0])) {
+    if (argc == 1 && is_string(types_raw[0])) {
       const std::string name = text_arg(0);
       for (size_t i = 0; i < mode->choices.size(); ++i)
         if (mode->choices[i] == name) index = double(i);
     } else if (argc == 1) {
-      (void)numeric_arg(types[0], argv[0], index);
+      (void)numeric_arg(types_raw[0], argv[0], index);
     }
     if (index < 0 || index > mode->max) return usage(param_expectation(*mode).c_str());
     return push(LiveCommand::make(LiveCommandKind::kSetMode, index));
   }
-  if (path == "/ardcell/stroke" || path == "/ardcell/stroke/end") {
+  if (address == "/ardcell/stroke" || address == "/ardcell/stroke/end") {
     StrokeSample s;
     s.time = seconds_now() - start_time_;
-    if (path == "/ardcell/stroke") {
+    if (address == "/ardcell/stroke") {
       double x = 0, y = 0, p = 1;
-      if (argc < 2 || argc > 3 || !numeric_arg(types[0], argv[0], x) ||
-          !numeric_arg(types[1], argv[1], y) || (argc == 3 && !numeric_arg(types[2], argv[2], p)))
+      if (argc < 2 || argc > 3 || !numeric_arg(types_raw[0], argv[0], x) ||
+          !numeric_arg(types_raw[1], argv[1], y) ||
+          (argc == 3 && !numeric_arg(types_raw[2], argv[2], p)))
         return usage("f X f Y [f PRESSURE]");
       s.x = float(x);
       s.y = float(y);
@@ -208,17 +304,25 @@ bool OscServer::dispatch(const void* data, size_t size) {
     ++handled_;
     return true;
   }
-  if (path == "/ardcell/record/start")
-    return push(LiveCommand::with_text(LiveCommandKind::kRecordStart, text_arg(0)));
-  if (path == "/ardcell/record/stop") return push(LiveCommand::make(LiveCommandKind::kRecordStop));
-  if (path == "/ardcell/screenshot")
-    return push(LiveCommand::with_text(LiveCommandKind::kScreenshot, text_arg(0)));
-  if (path == "/ardcell/reset") return push(LiveCommand::make(LiveCommandKind::kReset));
-  if (path == "/ardcell/hud") return push(LiveCommand::make(LiveCommandKind::kToggleHud));
-  if (path == "/ardcell/pause") {
+  // The sender names no files: generated names in the output folder (--screenshot-dir).
+  if (address == "/ardcell/record/start") {
+    if (argc != 0)
+      return usage("no argument (recordings get generated names in the output folder)");
+    return push(LiveCommand::make(LiveCommandKind::kRecordStart));
+  }
+  if (address == "/ardcell/record/stop")
+    return push(LiveCommand::make(LiveCommandKind::kRecordStop));
+  if (address == "/ardcell/screenshot") {
+    if (argc != 0)
+      return usage("no argument (screenshots get generated names in the output folder)");
+    return push(LiveCommand::make(LiveCommandKind::kScreenshot));
+  }
+  if (address == "/ardcell/reset") return push(LiveCommand::make(LiveCommandKind::kReset));
+  if (address == "/ardcell/hud") return push(LiveCommand::make(LiveCommandKind::kToggleHud));
+  if (address == "/ardcell/pause") {
     double v = 0;
     if (argc == 0) return push(LiveCommand::make(LiveCommandKind::kTogglePause));
-    if (argc == 1 && numeric_arg(types[0], argv[0], v))
+    if (argc == 1 && numeric_arg(types_raw[0], argv[0], v))
       return push(LiveCommand::make(LiveCommandKind::kSetPause, v != 0 ? 1 : 0));
     return usage("no argument (toggle) or i 0|1");
   }

@@ -2,7 +2,8 @@
 // OSC remote control over UDP for live performance (`ardcell live --osc PORT`). A UDP socket
 // bound to 127.0.0.1 unless told otherwise; each datagram is decoded with liblo and turned
 // into a live-loop command or a stroke sample. Address space (README "OSC"):
-//   /ardcell/preset s NAME            switch preset (name or path), crossfaded
+//   /ardcell/preset s NAME            switch preset (built-in name, or NAME / NAME.toml found in
+//                                     a preset folder), crossfaded
 //   /ardcell/preset/next              /ardcell/preset/prev
 //   /ardcell/param s KEY f|d|i|T|F V  set a preset parameter (`ardcell live --keys`)
 //   /ardcell/param s KEY s CHOICE     ... a choice by name (output.colormap "magma")
@@ -10,13 +11,18 @@
 //   /ardcell/stroke f X f Y [f P]     stroke sample, x and y in [0, 1] from the top left;
 //                                     pressure P (default 1) > 0 touches
 //   /ardcell/stroke/end               lift the pen
-//   /ardcell/record/start [s PATH]    /ardcell/record/stop
-//   /ardcell/screenshot [s PATH]
+//   /ardcell/record/start    /ardcell/record/stop
+//   /ardcell/screenshot
 //   /ardcell/reset   /ardcell/pause [i 0|1]   /ardcell/hud
+// A sender cannot name files: presets come only from the preset folders (a symlink that leads
+// out of its folder is refused), screenshots and recordings get generated names in the output
+// folder. Rejected messages are logged at most kMaxLogLinesPerSecond a second (then one line
+// counting the rest), showing only a short escaped prefix of the sender's text.
 #include <atomic>
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "host/live/live_loop.h"
 #include "host/paint/stroke.h"
@@ -28,9 +34,14 @@ class OscServer {
   // Binds `bind_address`:port (port 0: any free port) and starts the receive thread; nullptr
   // with `error` set when the socket cannot be bound. Strokes go into `strokes` (single
   // producer: this server), everything else into `commands`.
+  // `preset_folders`: where /ardcell/preset may load .toml files from (none: built-in names
+  // only).
   static std::unique_ptr<OscServer> start(int port, const std::string& bind_address,
                                           CommandQueue& commands, StrokeRing& strokes,
-                                          Status& error);
+                                          Status& error,
+                                          std::vector<std::string> preset_folders = {});
+  static constexpr int kMaxLogLinesPerSecond = 5;
+  static constexpr size_t kMaxEchoedChars = 40;
   ~OscServer();
   int port() const { return port_; }
 
@@ -44,6 +55,9 @@ class OscServer {
  private:
   OscServer(CommandQueue& commands, StrokeRing& strokes) : commands_(commands), strokes_(strokes) {}
   bool reject(const std::string& why);
+  void log_line(const std::string& line);
+  // A preset the sender named, as a name or a real path inside a preset folder; "" + why.
+  std::string resolve_preset(const std::string& name, std::string& why) const;
   CommandQueue& commands_;
   StrokeRing& strokes_;
   int fd_ = -1;
@@ -54,6 +68,10 @@ class OscServer {
   mutable std::mutex error_mutex_;
   std::string last_error_;
   double start_time_ = 0;
+  std::vector<std::string> preset_folders_;
+  double log_window_ = 0;  // rate limit of the log (receive thread only)
+  int log_lines_ = 0;
+  int64_t log_dropped_ = 0;
 };
 
 }  // namespace ardcell

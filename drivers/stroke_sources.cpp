@@ -4,6 +4,7 @@
 #include "drivers/hid_recorder.h"
 #include "drivers/hid_report.h"
 #include "host/paint/stroke_io.h"
+#include "host/scenes/preset.h"
 #if defined(ARDCELL_WITH_HIDAPI)
 #include "drivers/tablet_hidapi.h"
 #endif
@@ -75,7 +76,15 @@ bool RunPaintOptions::make(const SceneConfig& scene, std::unique_ptr<StrokePlayb
     error = "--paint-mode " + mode + ": expected deposit, orient, push, obstacle or erase";
     return false;
   }
-  if (radius > 0) c.radius = float(radius);
+  if (radius != 0) {
+    // In cells here; the preset key input.brush_radius holds the same as a fraction of nx.
+    const std::string flag = "--paint-radius " + std::to_string(radius) + " cells is a brush of";
+    if (Status s = check_flag_param("input.brush_radius", radius / scene.size.x, flag); !s) {
+      error = s.message();
+      return false;
+    }
+    c.radius = float(radius);
+  }
   std::unique_ptr<StrokeSource> source = strokes.empty()
                                              ? open_hid_replay_source(replay, loop, error)
                                              : open_stroke_file_source(strokes, loop, error);

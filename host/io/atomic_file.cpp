@@ -1,6 +1,7 @@
 #include "host/io/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -10,6 +11,41 @@
 namespace ardcell {
 
 std::string errno_text(int err) { return std::strerror(err); }
+
+Status check_output_path(const std::filesystem::path& path, bool folder) {
+  namespace fs = std::filesystem;
+  const char* expected = folder ? "a folder to write into" : "a file name to write";
+  if (path.empty()) return Status::error(std::string("empty path (expected ") + expected + ")");
+  const std::string what = path.string();
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (folder && !S_ISDIR(st.st_mode))
+      return Status::error(what + ": exists and is not a folder (expected " + expected + ")");
+    if (!folder && S_ISDIR(st.st_mode))
+      return Status::error(what + ": is a folder (expected " + expected + ")");
+    if (!folder && !S_ISREG(st.st_mode))
+      return Status::error(what + ": is not a regular file (expected " + expected + ")");
+    if (folder && ::access(path.c_str(), W_OK | X_OK) != 0)
+      return Status::error(what + ": folder is not writable (" + errno_text(errno) + "; expected " +
+                           expected + ")");
+    if (folder) return Status::ok();
+  }
+  // The folder that will hold it: the parent, or the nearest ancestor that exists.
+  fs::path parent = fs::absolute(path).lexically_normal();
+  if (parent.filename().empty()) parent = parent.parent_path();  // "dir/"
+  parent = parent.parent_path();
+  std::error_code ec;
+  // A file's folder must exist (AtomicFile makes none); a folder's missing parents are made.
+  while (folder && !parent.empty() && !fs::exists(parent, ec) && parent != parent.root_path())
+    parent = parent.parent_path();
+  if (!fs::is_directory(parent, ec))
+    return Status::error(what + ": " + parent.string() +
+                         " is not a folder or does not exist (expected " + expected + ")");
+  if (::access(parent.c_str(), W_OK | X_OK) != 0)
+    return Status::error(what + ": folder " + parent.string() + " is not writable (" +
+                         errno_text(errno) + "; expected " + expected + ")");
+  return Status::ok();
+}
 
 std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
   static std::atomic<unsigned> counter{0};

@@ -37,6 +37,13 @@ class AtomicFile {
   int write_errno_ = 0;
 };
 
+// Checks, before anything is written, that `path` can be created or replaced by AtomicFile
+// (folder: false) or made as a folder of outputs (folder: true): not empty, not a folder where
+// a file is expected (nor a device or FIFO), and the folder that will hold it (for a file: its
+// existing parent; for a folder still to be made: its nearest existing ancestor) writable. One line
+// naming the path and what was expected.
+Status check_output_path(const std::filesystem::path& path, bool folder);
+
 // A name in `dir` for a temporary sibling of `name`, unique within this process.
 std::filesystem::path temporary_sibling(const std::filesystem::path& path);
 

@@ -1,11 +1,13 @@
 #include "host/io/npy.h"
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 
 #include "host/io/atomic_file.h"
+#include "host/io/user_file.h"
 
 namespace ardcell {
 namespace {
@@ -160,7 +162,12 @@ Status write_npy(const std::filesystem::path& path, View<const float> cells) {
   return file.commit(true);
 }
 
-Status parse_npy(std::span<const uint8_t> bytes, const std::string& what, NpyArray& out) {
+namespace {
+
+// The header at the start of `bytes` (which may hold only part of the payload): shape and the
+// offset of the data.
+Status parse_npy_header(std::span<const uint8_t> bytes, const std::string& what, int64_t& ny,
+                        int64_t& nx, std::size_t& data_offset) {
   if (bytes.size() < kMagicSize + 4 || std::memcmp(bytes.data(), kMagic, kMagicSize) != 0)
     return Status::error(what + ": not a NumPy .npy file (expected the magic \\x93NUMPY)");
   const uint8_t major = bytes[6], minor = bytes[7];
@@ -177,53 +184,77 @@ Status parse_npy(std::span<const uint8_t> bytes, const std::string& what, NpyArr
     return Status::error(what + ": .npy format version " + std::to_string(major) + "." +
                          std::to_string(minor) + " is not supported (expected 1.0 or 2.0)");
   }
+  if (header_len > kNpyMaxHeaderBytes)
+    return Status::error(what + ": .npy header of " + std::to_string(header_len) +
+                         " bytes (expected at most " + std::to_string(kNpyMaxHeaderBytes) + ")");
   if (header_len > bytes.size() - prefix) return Status::error(what + ": truncated .npy header");
   std::string_view dict(reinterpret_cast<const char*>(bytes.data()) + prefix, header_len);
   if (dict.empty() || dict.back() != '\n')
     return Status::error(what + ": bad .npy header (expected it to end with a newline)");
   dict.remove_suffix(1);
   while (!dict.empty() && dict.back() == ' ') dict.remove_suffix(1);
-  int64_t ny = 0, nx = 0;
   if (Status s = parse_header(dict, what, ny, nx); !s) return s;
-  const std::size_t data_bytes = std::size_t(ny * nx) * sizeof(float);
-  const std::size_t have = bytes.size() - prefix - header_len;
-  if (have != data_bytes)
-    return Status::error(what + ": holds " + std::to_string(have) + " data bytes (expected " +
-                         std::to_string(data_bytes) + " for shape (" + std::to_string(ny) + ", " +
-                         std::to_string(nx) + ") float32)");
-  out.ny = int(ny);
-  out.nx = int(nx);
-  out.data.resize(std::size_t(ny * nx));
-  std::memcpy(out.data.data(), bytes.data() + prefix + header_len, data_bytes);
+  data_offset = prefix + header_len;
   return Status::ok();
 }
 
-Status read_npy(const std::filesystem::path& path, NpyArray& out) {
+Status check_data_size(const std::string& what, std::uint64_t have, int64_t ny, int64_t nx) {
+  const std::uint64_t data_bytes = std::uint64_t(ny * nx) * sizeof(float);
+  if (have == data_bytes) return Status::ok();
+  return Status::error(what + ": holds " + std::to_string(have) + " data bytes (expected " +
+                       std::to_string(data_bytes) + " for shape (" + std::to_string(ny) + ", " +
+                       std::to_string(nx) + ") float32)");
+}
+
+}  // namespace
+
+Status parse_npy(std::span<const uint8_t> bytes, const std::string& what, NpyArray& out) {
+  int64_t ny = 0, nx = 0;
+  std::size_t offset = 0;
+  if (Status s = parse_npy_header(bytes, what, ny, nx, offset); !s) return s;
+  if (Status s = check_data_size(what, bytes.size() - offset, ny, nx); !s) return s;
+  out.ny = int(ny);
+  out.nx = int(nx);
+  out.data.resize(std::size_t(ny * nx));
+  std::memcpy(out.data.data(), bytes.data() + offset, std::size_t(ny * nx) * sizeof(float));
+  return Status::ok();
+}
+
+Status read_npy(const std::filesystem::path& path, NpyArray& out, const Int2* expected_shape) {
   const std::string what = path.string();
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) return Status::error(what + ": file not found");
-  if (!std::filesystem::is_regular_file(status))
-    return Status::error(what + ": not a regular file");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return Status::error(what + ": cannot read (" + ec.message() + ")");
-  if (size > std::uintmax_t(kNpyMaxElements) * sizeof(float) + (1u << 20))
-    return Status::error(what + ": file too large for one field");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::error(what + ": cannot open (" + errno_text(errno) + ")");
-  std::vector<uint8_t> bytes(size);
-  if (size && !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
-    return Status::error(what + ": read failed");
-  return parse_npy(bytes, what, out);
+  UserFile file;
+  if (Status s =
+          file.open(path, std::uint64_t(kNpyMaxElements) * sizeof(float) + kNpyMaxHeaderBytes + 12,
+                    "a float32 .npy file");
+      !s)
+    return s;
+  // The header first: its shape is checked against the file size (and the grid) before any
+  // of the payload is read.
+  std::vector<uint8_t> head(
+      std::size_t(std::min<std::uint64_t>(file.size(), 12 + kNpyMaxHeaderBytes)));
+  if (Status s = file.read(head.data(), head.size()); !s) return s;
+  int64_t ny = 0, nx = 0;
+  std::size_t offset = 0;
+  if (Status s = parse_npy_header(head, what, ny, nx, offset); !s) return s;
+  if (expected_shape && (ny != expected_shape->y || nx != expected_shape->x))
+    return Status::error(what + ": shape (" + std::to_string(ny) + ", " + std::to_string(nx) +
+                         ") does not match the grid (expected (" +
+                         std::to_string(expected_shape->y) + ", " +
+                         std::to_string(expected_shape->x) + "))");
+  if (Status s = check_data_size(what, file.size() - offset, ny, nx); !s) return s;
+  out.ny = int(ny);
+  out.nx = int(nx);
+  out.data.resize(std::size_t(ny * nx));
+  const std::size_t in_head = head.size() - offset;
+  std::memcpy(out.data.data(), head.data() + offset, in_head);
+  return file.read(reinterpret_cast<uint8_t*>(out.data.data()) + in_head,
+                   out.data.size() * sizeof(float) - in_head);
 }
 
 Status read_npy_into(const std::filesystem::path& path, FieldF& field) {
   NpyArray array;
-  if (Status s = read_npy(path, array); !s) return s;
-  if (array.ny != field.ny() || array.nx != field.nx())
-    return Status::error(path.string() + ": shape (" + std::to_string(array.ny) + ", " +
-                         std::to_string(array.nx) + ") does not match the grid (expected (" +
-                         std::to_string(field.ny()) + ", " + std::to_string(field.nx()) + "))");
+  const Int2 shape{field.nx(), field.ny()};
+  if (Status s = read_npy(path, array, &shape); !s) return s;
   for (int y = 0; y < array.ny; ++y)
     std::memcpy(field.row(y), array.data.data() + std::size_t(y) * array.nx,
                 std::size_t(array.nx) * sizeof(float));

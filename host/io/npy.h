@@ -23,6 +23,7 @@ struct NpyArray {
 // The largest side accepted on read (a guard against absurd headers, not a format limit).
 inline constexpr int64_t kNpyMaxSide = 1 << 20;
 inline constexpr int64_t kNpyMaxElements = int64_t(1) << 31;
+inline constexpr std::size_t kNpyMaxHeaderBytes = 1 << 16;
 
 // The complete header (magic, version, length, dict, padding, '\n'); its size is a multiple
 // of 64 bytes, so the data that follows is aligned.
@@ -36,7 +37,8 @@ Status write_npy(const std::filesystem::path& path, View<const float> cells);
 Status parse_npy(std::span<const uint8_t> bytes, const std::string& what, NpyArray& out);
 
 // Reads and parses path.
-Status read_npy(const std::filesystem::path& path, NpyArray& out);
+Status read_npy(const std::filesystem::path& path, NpyArray& out,
+                const Int2* expected_shape = nullptr);
 
 // Reads path and copies it into the interior of `field`, whose size must match the array.
 Status read_npy_into(const std::filesystem::path& path, FieldF& field);

@@ -10,6 +10,7 @@
 
 #include "host/io/atomic_file.h"
 #include "host/io/npy.h"
+#include "host/io/user_file.h"
 
 namespace ardcell {
 namespace {
@@ -29,9 +30,10 @@ bool is_saved_state_or_empty(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return false;
   if (fs::is_empty(dir, ec)) return true;
-  std::ifstream in(dir / "meta.json");
-  if (!in) return false;
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  std::string text;
+  if (!read_user_file(dir / "meta.json", kMaxTextConfigBytes, "a saved state's meta.json", text))
+    return false;
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   return j.is_object() && j.value("format", "") == kFormat;
 }
 
@@ -251,6 +253,21 @@ Status save_state(const fs::path& dir_in, const SimState& state, const SceneConf
   return Status::ok();
 }
 
+Status check_state_destination(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !is_saved_state_or_empty(dir))
+    return Status::error(dir.string() +
+                         ": exists and is not an ardcell saved state (expected a new folder, "
+                         "an empty one or a previous saved state)");
+  // The state is written as a temporary sibling and renamed: its folder must be writable.
+  fs::path norm = fs::absolute(dir).lexically_normal();
+  if (norm.filename().empty()) norm = norm.parent_path();
+  if (!fs::exists(norm, ec)) return check_output_path(norm, true);  // its nearest ancestor
+  if (Status s = check_output_path(norm.parent_path(), true); !s)
+    return Status::error(dir.string() + ": " + s.message());
+  return Status::ok();
+}
+
 Status read_state_meta(const fs::path& dir, SavedStateMeta& meta) {
   std::error_code ec;
   if (!fs::exists(dir, ec))
@@ -263,13 +280,12 @@ Status read_state_meta(const fs::path& dir, SavedStateMeta& meta) {
                          "--save-state)");
   const fs::path path = dir / "meta.json";
   const std::string what = path.string();
-  std::ifstream in(path);
-  if (!in) return Status::error(what + ": missing (expected the saved state's meta.json)");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
+  std::string text;
+  if (Status s = read_user_file(path, kMaxTextConfigBytes, "the saved state's meta.json", text); !s)
+    return s;
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(buffer.str());
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     return Status::error(what + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
   }
@@ -339,7 +355,7 @@ Status load_state_fields(const fs::path& dir, const SavedStateMeta& meta, SimSta
       return;
     }
     Loaded l{&f, {}};
-    if (Status s = read_npy(path, l.array); !s) {
+    if (Status s = read_npy(path, l.array, &state.size); !s) {
       status = s;
       return;
     }

@@ -48,6 +48,10 @@ Status apply_preset_parameters(const nlohmann::json& parameters, const std::stri
 Status save_state(const std::filesystem::path& dir, const SimState& state,
                   const SceneConfig& scene);
 
+// Checks before a run that save_state(dir, ...) can write there: dir new (its nearest existing
+// ancestor writable), an empty folder or a previous saved state, in a writable folder.
+Status check_state_destination(const std::filesystem::path& dir);
+
 // Reads and validates dir/meta.json.
 Status read_state_meta(const std::filesystem::path& dir, SavedStateMeta& meta);
 

@@ -290,8 +290,17 @@ void EngineSimulation::step() {
 
 void EngineSimulation::reset() {
   const auto lock = lock_device();
+  // Painted obstacles go too: the engine restores the scene's own solid cells (the obstacle
+  // scene's disc) and leaves the mask alone when the scene has none, so clear it first.
+  SimState& f = engine_->state();
+  if (!f.obstacle.empty()) {
+    f.obstacle.fill(0);
+    engine_->device().host_wrote(f.obstacle);
+  }
   engine_->reset();
-  if (level_ >= 0) sync_coarse_from_fine(*levels_[size_t(level_)], true);
+  for (size_t i = 0; i < levels_.size(); ++i)
+    if (int(i) == level_ || !levels_[i]->state.obstacle.empty())
+      sync_coarse_from_fine(*levels_[i], int(i) == level_);
 }
 
 void EngineSimulation::apply(const SceneConfig& config) {

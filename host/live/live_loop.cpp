@@ -6,9 +6,11 @@
 #include <cstdarg>
 #include <cstring>
 #include <ctime>
+#include <utility>
 
 #include "host/live/attract_mode.h"
 #include "host/render/frame_render.h"
+#include "host/run/offline_run.h"
 
 namespace ardcell {
 
@@ -200,9 +202,21 @@ void LiveLoop::notice(const char* fmt, ...) {
   hud_.message_until_frame = frame_ + 180;
 }
 
+namespace {
+
+// A preset by name or path whose grid fits in memory (the check `ardcell run` makes).
+Status load_live_preset(std::string_view name, Preset& p) {
+  if (Status s = load_preset(name, p); !s) return s;
+  if (Status s = check_memory_for_grid(p.scene); !s)
+    return Status::error("preset " + std::string(name) + ": " + s.message());
+  return Status::ok();
+}
+
+}  // namespace
+
 Status LiveLoop::start(std::string_view name) {
   Preset p;
-  Status s = load_preset(name, p);
+  Status s = load_live_preset(name, p);
   if (!s) return s;
   try {
     sim_ = factory_(p);
@@ -242,7 +256,9 @@ void LiveLoop::apply_level() {
 
 void LiveLoop::request_preset(std::string name) {
   if (builder_busy_) {
-    notice("preset %s: a switch is already in progress", name.c_str());
+    // The latest request runs once the one loading now is done.
+    notice("preset %s: queued after the switch in progress", name.c_str());
+    pending_preset_ = std::move(name);
     return;
   }
   build_ = std::make_unique<Build>();
@@ -251,7 +267,7 @@ void LiveLoop::request_preset(std::string name) {
   Build* b = build_.get();
   SimulationFactory factory = factory_;
   b->thread = std::thread([b, factory] {
-    b->status = load_preset(b->name, b->preset);
+    b->status = load_live_preset(b->name, b->preset);
     if (b->status) {
       try {
         b->sim = factory(b->preset);
@@ -275,15 +291,15 @@ void LiveLoop::poll_build() {
   if (!builder_busy_ || !build_->done.load(std::memory_order_acquire)) return;
   if (build_->thread.joinable()) build_->thread.join();
   builder_busy_ = false;
-  if (!build_->status) {
+  std::unique_ptr<Build> b = std::move(build_);
+  if (!b->status) {
     // A bad preset never takes the running one down: keep it, say why.
     ++preset_errors_;
-    notice("keeping %s: %s", preset_.scene.name.c_str(), build_->status.message().c_str());
-    build_.reset();
-    return;
+    notice("keeping %s: %s", preset_.scene.name.c_str(), b->status.message().c_str());
+  } else if (pending_preset_.empty()) {
+    begin_switch(std::move(b->sim), std::move(b->preset));
   }
-  std::unique_ptr<Build> b = std::move(build_);
-  begin_switch(std::move(b->sim), std::move(b->preset));
+  if (!pending_preset_.empty()) request_preset(std::exchange(pending_preset_, std::string()));
 }
 
 void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
@@ -471,6 +487,7 @@ void LiveLoop::handle(const LiveCommand& c) {
 }
 
 bool LiveLoop::run_frame() {
+  if (options_.stop && options_.stop->load(std::memory_order_relaxed)) quit_ = true;
   if (quit_) return false;
   clock_.begin_frame();
   if (take_report_request()) clock_.print_report(options_.log ? options_.log : stderr);

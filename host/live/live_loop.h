@@ -153,6 +153,7 @@ struct LiveOptions {
   FrameWriterFactory screenshotter;  // makes PNG writers
   int record_slots = 8;              // frames buffered between the loop and the writer thread
   TimeSource* time = nullptr;        // default: the monotonic clock
+  const std::atomic<bool>* stop = nullptr;  // set asynchronously (a signal): quit as Esc does
   std::FILE* log = stderr;
 };
 
@@ -248,6 +249,7 @@ class LiveLoop {
 
   std::unique_ptr<Build> build_;
   bool builder_busy_ = false;
+  std::string pending_preset_;  // the latest switch asked for while one was loading
   std::unique_ptr<Recorder> recorder_;
   mutable std::mutex message_mutex_;
   std::string message_;

@@ -8,7 +8,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "host/io/user_file.h"
+
 namespace ardcell {
+
+namespace {
+constexpr double kMaxStrokeCoordinate = 1000;
+constexpr double kMaxStrokeTime = 1e9;
+}  // namespace
 
 std::string stroke_sample_to_json(const StrokeSample& s) {
   // Fixed key order and plain numbers so that files diff well.
@@ -78,6 +85,15 @@ bool stroke_sample_from_json(std::string_view line, StrokeSample& out, std::stri
     error = "key \"pressure\" must be in [0, 1]";
     return false;
   }
+  // Off-canvas positions paint nothing, but must stay representable (x * nx as a float).
+  if (std::abs(x) > kMaxStrokeCoordinate || std::abs(y) > kMaxStrokeCoordinate) {
+    error = "keys \"x\" and \"y\" must be in [-1000, 1000] (0..1 is the canvas)";
+    return false;
+  }
+  if (std::abs(t) > kMaxStrokeTime || std::abs(tx) > 90 || std::abs(ty) > 90) {
+    error = "key \"t\" must be in [-1e9, 1e9] seconds and tilts in [-90, 90] degrees";
+    return false;
+  }
   if (b < 0 || b > 4294967295.0 || b != std::floor(b)) {
     error = "key \"buttons\" must be a non-negative integer (bit 0 = tip)";
     return false;
@@ -94,11 +110,12 @@ bool stroke_sample_from_json(std::string_view line, StrokeSample& out, std::stri
 }
 
 bool read_stroke_file(const std::string& path, std::vector<StrokeSample>& out, std::string& error) {
-  std::ifstream in(path);
-  if (!in) {
-    error = path + ": cannot open stroke file (" + std::strerror(errno) + ")";
+  std::string text;
+  if (Status s = read_user_file(path, kMaxRecordingBytes, "a stroke file (JSON lines)", text); !s) {
+    error = s.message();
     return false;
   }
+  std::istringstream in(text);
   std::vector<StrokeSample> samples;
   std::string line;
   int number = 0;

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include "host/scenes/preset.h"
+
 namespace ardcell {
 namespace {
 
@@ -79,32 +81,42 @@ Status parse_grid_size(const std::string& text, Int2& out) {
 }
 
 Status apply_overrides(const SceneOverrides& o, SceneConfig& scene) {
+  // Each flag goes through the range of the preset key it stands for (host/scenes/preset.h).
+  Preset p;
+  p.scene = scene;
   if (o.size) {
-    if (o.size->x < 1 || o.size->y < 1 || o.size->x > kMaxGridSide || o.size->y > kMaxGridSide)
-      return Status::error("--size " + std::to_string(o.size->x) + "x" + std::to_string(o.size->y) +
-                           ": expected positive sides up to " + std::to_string(kMaxGridSide));
-    scene.size = *o.size;
+    const std::string flag =
+        "--size " + std::to_string(o.size->x) + "x" + std::to_string(o.size->y) + ": a side of";
+    if (Status s = check_flag_param("grid.size", std::min(o.size->x, o.size->y), flag); !s)
+      return s;
+    if (Status s = check_flag_param("grid.size", std::max(o.size->x, o.size->y), flag); !s)
+      return s;
+    p.scene.size = *o.size;
   }
-  if (o.dt) {
-    if (!(std::isfinite(*o.dt) && *o.dt > 0))
-      return Status::error("--dt " + std::to_string(*o.dt) + ": expected a positive number");
-    scene.dt = *o.dt;
-  }
+  if (o.dt)
+    if (Status s = set_flag_param(p, "grid.dt", *o.dt, "--dt"); !s) return s;
   if (o.reynolds) {
     if (!(std::isfinite(*o.reynolds) && *o.reynolds > 0))
-      return Status::error("--re: expected a positive Reynolds number");
-    if (scene.fluid.kind == FluidSceneKind::kNone)
+      return Status::error("--re " + std::to_string(*o.reynolds) +
+                           ": expected a positive Reynolds number");
+    if (p.scene.fluid.kind == FluidSceneKind::kNone)
       return Status::error("--re: scene '" + scene.name +
                            "' has no fluid (expected a scene with a fluid)");
-    set_reynolds_number(scene.fluid, *o.reynolds, scene.domain_width);
+    FluidConfig fluid = p.scene.fluid;
+    set_reynolds_number(fluid, *o.reynolds, p.scene.domain_width);
+    char flag[96];
+    std::snprintf(flag, sizeof flag, "--re %g gives a viscosity of", *o.reynolds);
+    if (Status s = set_flag_param(p, "fluid.viscosity", fluid.viscosity, flag); !s) return s;
   }
-  if (o.sweeps && *o.sweeps < 1)
-    return Status::error("--sweeps " + std::to_string(*o.sweeps) + ": expected at least 1");
+  if (o.sweeps)
+    if (Status s = check_flag_param("fluid.pressure_solver.iterations", *o.sweeps, "--sweeps"); !s)
+      return s;
   if (o.solver || o.sweeps) {
-    const SolverKind kind = o.solver ? *o.solver : scene.fluid.pressure_solver.kind;
-    const int sweeps = o.sweeps ? *o.sweeps : scene.fluid.pressure_solver.max_iterations;
-    set_fluid_solver(scene.fluid, kind, sweeps);
+    const SolverKind kind = o.solver ? *o.solver : p.scene.fluid.pressure_solver.kind;
+    const int sweeps = o.sweeps ? *o.sweeps : p.scene.fluid.pressure_solver.max_iterations;
+    set_fluid_solver(p.scene.fluid, kind, sweeps);
   }
+  scene = std::move(p.scene);
   return Status::ok();
 }
 

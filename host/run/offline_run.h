@@ -29,7 +29,8 @@ struct SceneOverrides {
   std::optional<int> sweeps;
 };
 
-// Applies the overrides (validated: positive size and dt, Re > 0 on a scene with a fluid).
+// Applies the overrides, each validated by the range of the preset key it stands for (size:
+// grid.size, dt: grid.dt, Re: the fluid.viscosity it gives, sweeps: the solver iterations).
 Status apply_overrides(const SceneOverrides& overrides, SceneConfig& scene);
 
 // Parses "N" or "WxH" (positive integers, at most kMaxGridSide each).

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "host/io/user_file.h"
 #include "host/paint/paint.h"
 #include "host/render/colormap.h"
 #include "host/scenes/scene_registry.h"
@@ -345,7 +346,7 @@ std::string human_number(double v) {
   return buf;
 }
 
-std::string quoted(std::string_view s) {
+std::string toml_quoted(std::string_view s) {
   std::string out = "\"";
   for (char c : s) {
     if (c == '"' || c == '\\') {
@@ -381,7 +382,7 @@ double* emitter_field(FluidEmitter& e, std::string_view key) {
 }
 
 std::string describe_node(const toml::node& n) {
-  if (n.is_string()) return "the string " + quoted(*n.value<std::string>());
+  if (n.is_string()) return "the string " + toml_quoted(*n.value<std::string>());
   if (n.is_integer()) return "the integer " + std::to_string(*n.value<int64_t>());
   if (n.is_floating_point()) return "the number " + human_number(*n.value<double>());
   if (n.is_boolean()) return *n.value<bool>() ? "true" : "false";
@@ -483,7 +484,7 @@ class PresetParser {
           return error(line, spec.key, expected + ", got " + describe_node(node));
         const std::string s = *node.value<std::string>();
         const double i = choice_index(spec.choices, s);
-        if (i < 0) return error(line, spec.key, expected + ", got " + quoted(s));
+        if (i < 0) return error(line, spec.key, expected + ", got " + toml_quoted(s));
         spec.set(out_, i);
         return;
       }
@@ -648,11 +649,10 @@ Status parse_preset(std::string_view text, std::string_view source_name, Preset&
 }
 
 Status load_preset_file(const std::string& path, Preset& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::error(path + ": cannot open preset (expected a readable TOML file)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_preset(ss.str(), path, out);
+  std::string text;
+  if (Status s = read_user_file(path, kMaxTextConfigBytes, "a preset TOML file", text); !s)
+    return s;
+  return parse_preset(text, path, out);
 }
 
 Status load_preset(std::string_view name_or_path, Preset& out) {
@@ -711,12 +711,13 @@ std::string preset_to_toml(const Preset& preset) {
         break;
       case ParamKind::kChoice: {
         const double i = spec.get(p);
-        out += i >= 0 && size_t(i) < spec.choices.size() ? quoted(spec.choices[size_t(i)])
-                                                         : quoted(spec.text ? spec.text(p) : "");
+        out += i >= 0 && size_t(i) < spec.choices.size()
+                   ? toml_quoted(spec.choices[size_t(i)])
+                   : toml_quoted(spec.text ? spec.text(p) : "");
         break;
       }
       case ParamKind::kString:
-        out += quoted(spec.text(p));
+        out += toml_quoted(spec.text(p));
         break;
       case ParamKind::kSize: {
         const Int2 s = spec.size(p);
@@ -885,6 +886,26 @@ bool set_param(Preset& preset, const ParamSpec& spec, double value, std::string*
   }
   spec.set(preset, value);
   return true;
+}
+
+Status check_flag_param(std::string_view key, double value, std::string_view flag) {
+  const ParamSpec* spec = find_param(key);
+  if (!spec) return Status::error(std::string(flag) + ": unknown preset key " + std::string(key));
+  if (spec->kind == ParamKind::kInteger || spec->kind == ParamKind::kSize)
+    value = std::isfinite(value) && value == std::round(value) ? value : NAN;
+  if (value >= spec->min && value <= spec->max) return Status::ok();
+  return Status::error(std::string(flag) + " " + human_number(value) + ": expected " +
+                       param_expectation(*spec) + " (preset key " + std::string(key) + ")");
+}
+
+Status set_flag_param(Preset& preset, std::string_view key, double value, std::string_view flag) {
+  if (Status s = check_flag_param(key, value, flag); !s) return s;
+  const ParamSpec* spec = find_param(key);
+  if (!spec->set)
+    return Status::error(std::string(flag) + ": preset key " + std::string(key) +
+                         " is not a number");
+  spec->set(preset, value);
+  return Status::ok();
 }
 
 double get_param(const Preset& preset, const ParamSpec& spec) {

@@ -113,6 +113,12 @@ Status apply_param_override(SceneConfig& scene, std::string_view assignment);
 // Choices may be given by index. Returns false with a one-line reason in `why` when invalid.
 bool set_param(Preset& preset, const ParamSpec& spec, double value, std::string* why = nullptr);
 double get_param(const Preset& preset, const ParamSpec& spec);
+// A command-line flag that stands for a preset key (`--dt` for grid.dt): the same range check
+// as the key, the message naming the flag: "--dt 1e+308: expected a number in [1e-09, 100]
+// (preset key grid.dt)". set_flag_param also sets it; check_flag_param only validates (a
+// kSize key checks one side).
+Status check_flag_param(std::string_view key, double value, std::string_view flag);
+Status set_flag_param(Preset& preset, std::string_view key, double value, std::string_view flag);
 // Numeric parameters of `to` blended into `out` at weight t in [0, 1]: numbers interpolate,
 // integers round, the rest switch at t >= 0.5. Never allocates for numeric kinds.
 void blend_params(const Preset& from, const Preset& to, double t, Preset& out);

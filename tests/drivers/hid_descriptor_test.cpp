@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "drivers/hid_recorder.h"
+#include "drivers/hid_report.h"
 
 namespace ardcell {
 namespace {
@@ -238,6 +239,45 @@ TEST(HidDescriptor, SignedLogicalMaximumFollowsMinimum) {
   EXPECT_EQ(d.fields[0].logical_max, -1);
   ASSERT_TRUE(parse_hid_descriptor(b, d, error)) << error;
   EXPECT_EQ(d.fields[0].logical_max, 255);
+}
+
+// A pen opened as a top-level Physical collection with no Application collection anywhere
+// (Gaomon 1080 Pro, 256c:0064): Linux maps the top-level collection as the application, so
+// must we.
+//  05 0d 09 02 a1 00 -> Digitizer / Pen, Collection (Physical)
+//  85 07 09 42 09 32 15 00 25 01 75 01 95 02 81 02 -> report 7: Tip bit 0, In Range bit 1
+//  95 06 81 03 -> 6 constant bits
+//  05 01 09 30 09 31 26 ff 7f 75 10 95 02 81 02 -> X at 8, Y at 24, 0..32767
+//  05 0d 09 30 26 ff 1f 75 10 95 01 81 02 c0 -> Tip Pressure at 40, 0..8191
+TEST(HidDescriptor, TopLevelPhysicalPenWithoutApplicationIsAPen) {
+  std::vector<uint8_t> bytes = {0x05, 0x0d, 0x09, 0x02, 0xa1, 0x00, 0x85, 0x07, 0x09, 0x42, 0x09,
+                                0x32, 0x15, 0x00, 0x25, 0x01, 0x75, 0x01, 0x95, 0x02, 0x81, 0x02,
+                                0x95, 0x06, 0x81, 0x03, 0x05, 0x01, 0x09, 0x30, 0x09, 0x31, 0x26,
+                                0xff, 0x7f, 0x75, 0x10, 0x95, 0x02, 0x81, 0x02, 0x05, 0x0d, 0x09,
+                                0x30, 0x26, 0xff, 0x1f, 0x75, 0x10, 0x95, 0x01, 0x81, 0x02, 0xc0};
+  HidDescriptor d;
+  std::string error;
+  ASSERT_TRUE(parse_hid_descriptor(bytes, d, error)) << error;
+  const std::vector<HidPenLayout> pens = find_pens(d);
+  ASSERT_EQ(pens.size(), 1u);
+  EXPECT_EQ(pens[0].report_id, 7);
+  EXPECT_EQ(pens[0].application_usage, hid::kPen);
+  ASSERT_TRUE(pens[0].x && pens[0].y && pens[0].pressure && pens[0].tip);
+  // Tip and in range, x = 0x4000, y = 0x2000, pressure = 0x1000.
+  const uint8_t report[] = {0x07, 0x03, 0x00, 0x40, 0x00, 0x20, 0x00, 0x10};
+  HidPenState st;
+  ASSERT_TRUE(decode_pen(pens[0], d.uses_report_ids, report, st, error)) << error;
+  EXPECT_TRUE(st.tip);
+  EXPECT_TRUE(st.in_range);
+  const StrokeSample sample = pen_state_to_sample(pens[0], st, 0.0);
+  EXPECT_NEAR(sample.x, 0x4000 / 32767.0, 1e-4);
+  EXPECT_NEAR(sample.y, 0x2000 / 32767.0, 1e-4);
+  EXPECT_NEAR(sample.pressure, 0x1000 / 8191.0, 1e-4);
+
+  // The same collection beside an Application collection stays what it is: not a pen.
+  bytes.insert(bytes.begin(), {0x05, 0x01, 0x09, 0x02, 0xa1, 0x01, 0xc0});  // empty mouse app
+  ASSERT_TRUE(parse_hid_descriptor(bytes, d, error)) << error;
+  EXPECT_TRUE(find_pens(d).empty());
 }
 
 struct Malformed {

@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 #include <lo/lo.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "host/scenes/preset.h"
@@ -40,19 +44,19 @@ struct Osc {
 TEST(Osc, MessagesOverUdpBecomeCommands) {
   Osc osc;
   ASSERT_NE(osc.server->port(), 0);
-  lo_send(osc.to, "/ardcell/preset", "s", "gray_scott");
+  lo_send(osc.to, "/ardcell/preset", "s", "cavity");
   lo_send(osc.to, "/ardcell/preset/next", "");
   lo_send(osc.to, "/ardcell/param", "sf", "fluid.viscosity", 0.125f);
   lo_send(osc.to, "/ardcell/param", "ss", "output.colormap", "magma");
   lo_send(osc.to, "/ardcell/mode", "s", "push");
-  lo_send(osc.to, "/ardcell/record/start", "s", "/tmp/x.y4m");
+  lo_send(osc.to, "/ardcell/record/start", "");
   lo_send(osc.to, "/ardcell/record/stop", "");
   lo_send(osc.to, "/ardcell/pause", "i", 1);
   osc.settle(8);
   ASSERT_EQ(osc.server->handled(), 8);
   LiveCommand c = osc.next();
   EXPECT_EQ(c.kind, LiveCommandKind::kSelectPreset);
-  EXPECT_STREQ(c.text.data(), "gray_scott");
+  EXPECT_STREQ(c.text.data(), "cavity");
   EXPECT_EQ(osc.next().kind, LiveCommandKind::kNextPreset);
   c = osc.next();
   EXPECT_EQ(c.kind, LiveCommandKind::kSetParam);
@@ -66,7 +70,7 @@ TEST(Osc, MessagesOverUdpBecomeCommands) {
   EXPECT_EQ(c.value, 2);  // push
   c = osc.next();
   EXPECT_EQ(c.kind, LiveCommandKind::kRecordStart);
-  EXPECT_STREQ(c.text.data(), "/tmp/x.y4m");
+  EXPECT_STREQ(c.text.data(), "");  // a generated name in the output folder
   EXPECT_EQ(osc.next().kind, LiveCommandKind::kRecordStop);
   c = osc.next();
   EXPECT_EQ(c.kind, LiveCommandKind::kSetPause);
@@ -108,6 +112,60 @@ TEST(Osc, BadMessagesAreRejectedWithAReason) {
   // Garbage bytes through the same handler.
   const char junk[] = "/ardcell/param\0\0,sf\0\0\0\0";
   EXPECT_FALSE(osc.server->dispatch(junk, sizeof junk - 1));
+}
+
+TEST(Osc, SendersNameNoFilesOutsideThePresetFolders) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("ardcell_osc_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "presets");
+  std::ofstream(root / "presets" / "mine.toml") << "name = \"mine\"\n";
+  std::ofstream(root / "secret.toml") << "name = \"secret\"\n";
+  fs::create_symlink(root / "secret.toml", root / "presets" / "out.toml");
+  CommandQueue commands;
+  StrokeRing strokes{8};
+  Status st = Status::ok();
+  auto server =
+      OscServer::start(0, "127.0.0.1", commands, strokes, st, {(root / "presets").string()});
+  ASSERT_NE(server, nullptr) << st.message();
+  auto send = [&](const char* path, const char* types, auto... args) {
+    lo_message m = lo_message_new();
+    if (types[0] == 's') lo_message_add_string(m, args...);
+    char buf[2048];
+    size_t n = sizeof buf;
+    lo_message_serialise(m, path, buf, &n);
+    lo_message_free(m);
+    return server->dispatch(buf, n);
+  };
+  LiveCommand c;
+  // A built-in name, and a file of the preset folder (as its real path).
+  EXPECT_TRUE(send("/ardcell/preset", "s", "cavity"));
+  ASSERT_TRUE(commands.pop(c));
+  EXPECT_STREQ(c.text.data(), "cavity");
+  while (commands.pop(c)) {
+  }
+  EXPECT_TRUE(send("/ardcell/preset", "s", "mine.toml"));
+  ASSERT_TRUE(commands.pop(c));
+  EXPECT_EQ(std::string(c.text.data()), fs::canonical(root / "presets" / "mine.toml").string());
+  while (commands.pop(c)) {
+  }
+  // Paths, "..", a symlink out of the folder, files elsewhere: refused, nothing queued.
+  for (const char* bad : {"/etc/shadow", "../secret.toml", "out.toml", "secret", "/dev/zero"}) {
+    EXPECT_FALSE(send("/ardcell/preset", "s", bad)) << bad;
+    EXPECT_FALSE(commands.pop(c)) << bad;
+  }
+  EXPECT_FALSE(send("/ardcell/screenshot", "s", "/tmp/overwrite.png"));
+  EXPECT_FALSE(send("/ardcell/record/start", "s", "/tmp/overwrite.y4m"));
+  EXPECT_FALSE(commands.pop(c));
+  // The log shows a short escaped prefix of the sender's text, never all of it.
+  const std::string hostile = "\x1b[2J" + std::string(500, 'A');
+  EXPECT_FALSE(send("/ardcell/preset", "s", hostile.c_str()));
+  const std::string logged = server->last_error();
+  EXPECT_EQ(logged.find('\x1b'), std::string::npos) << logged;
+  EXPECT_NE(logged.find("\\x1b[2J"), std::string::npos) << logged;
+  EXPECT_LT(logged.size(), 250u) << logged;
+  server.reset();
+  fs::remove_all(root);
 }
 
 TEST(Osc, BindsToLocalhostAndRefusesBadAddresses) {

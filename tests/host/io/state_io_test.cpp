@@ -237,7 +237,7 @@ TEST_F(StateIoTest, EveryKindOfDamageGivesOneLineAndLeavesTheStateUntouched) {
          rewrite_meta(d, [](auto& j) { j["fields"] = {"u", "v", "p", "dye", "T"}; });
        },
        "\"fields\""},
-      {"missing npy", [](const fs::path& d) { fs::remove(d / "p.npy"); }, "p.npy: file not found"},
+      {"missing npy", [](const fs::path& d) { fs::remove(d / "p.npy"); }, "p.npy: not found"},
       {"truncated npy", [](const fs::path& d) { fs::resize_file(d / "v.npy", 100); }, "v.npy"},
       {"garbage npy", [](const fs::path& d) { std::ofstream(d / "dye.npy") << "hello"; },
        "dye.npy: not a NumPy"},

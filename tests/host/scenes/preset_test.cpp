@@ -182,7 +182,7 @@ TEST(Preset, UnknownNameListsWhatExists) {
   EXPECT_EQ(s.message().rfind("preset 'no-such-preset': no such file or preset; expected", 0), 0u)
       << s.message();
   const Status f = load_preset("/nonexistent/x.toml", p);
-  EXPECT_EQ(f.message(), "/nonexistent/x.toml: cannot open preset (expected a readable TOML file)");
+  EXPECT_EQ(f.message(), "/nonexistent/x.toml: not found (expected a preset TOML file)");
 }
 
 TEST(Preset, SetParamValidatesAndBlendInterpolates) {

@@ -1,0 +1,123 @@
+// Hostile input against the real binary (issue 18): files that are not regular files or are
+// far too large, values outside the preset keys' ranges, destinations that cannot be written.
+// Each case must give exit code 2, one line on stderr, and leave nothing behind; none may
+// read the whole of an oversized input (they finish in well under the time that would take).
+#include <sys/stat.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "tests/drivers/binary_run_fixture.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BadInputCli : public BinaryRunTest {
+ protected:
+  // `ardcell <args>` must be refused: exit 2, one line holding `expect`, nothing new in work().
+  void expect_refused(const std::string& args, const std::string& expect) {
+    std::vector<fs::path> before;
+    for (const auto& e : fs::directory_iterator(work())) before.push_back(e.path());
+    const auto t0 = std::chrono::steady_clock::now();
+    const BinaryRunResult r = run(args);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << args << "\n" << r.err;
+    EXPECT_LT(seconds, 20) << args;
+    std::vector<fs::path> after;
+    for (const auto& e : fs::directory_iterator(work())) after.push_back(e.path());
+    EXPECT_EQ(after.size(), before.size()) << args << ": left files behind";
+  }
+  void write(const std::string& name, const std::string& text) {
+    std::ofstream(work() / name, std::ios::binary) << text;
+  }
+  // A saved state of a 16 x 16 cavity in work()/st.
+  void make_state() {
+    const BinaryRunResult r = run("run cavity --size 16 --steps 1 --every 0 --save-state st");
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+};
+
+TEST_F(BadInputCli, FilesThatAreNotRegularFilesAreRefusedWithoutReading) {
+  fs::create_directories(work() / "dir.toml");
+  ASSERT_EQ(::mkfifo((work() / "fifo.toml").c_str(), 0644), 0);
+  expect_refused("run --scene ./dir.toml", "is a folder (expected a preset TOML file)");
+  expect_refused("run --scene ./fifo.toml", "is a FIFO (expected a preset TOML file)");
+  expect_refused("run --scene /dev/zero", "is a character device");
+  expect_refused("run cavity --strokes /dev/zero", "is a character device");
+  expect_refused("run cavity --strokes ./fifo.toml", "is a FIFO");
+  expect_refused("tablet decode /dev/zero", "is a character device");
+  expect_refused("tablet decode ./fifo.toml", "is a FIFO");
+  make_state();
+  fs::remove(work() / "st" / "meta.json");
+  fs::create_symlink("/dev/zero", work() / "st" / "meta.json");
+  expect_refused("run --load-state st --steps 1 --every 0", "is a character device");
+  fs::remove(work() / "st" / "meta.json");
+  ASSERT_EQ(::mkfifo((work() / "st" / "meta.json").c_str(), 0644), 0);
+  expect_refused("run --load-state st --steps 1 --every 0", "is a FIFO");
+}
+
+TEST_F(BadInputCli, OversizedFilesAreRefusedBeforeTheirPayload) {
+  // A preset of 2 MiB (the cap is 1 MiB).
+  write("big.toml", "# " + std::string(2 << 20, 'x') + "\n");
+  expect_refused("run --scene ./big.toml", "too large (expected a preset TOML file of at most");
+  // A sparse 2 GiB .npy whose header says 16 x 16: refused from the header and the size.
+  make_state();
+  const fs::path u = work() / "st" / "u.npy";
+  std::string head;
+  {
+    std::ifstream in(u, std::ios::binary);
+    head.assign(128, '\0');
+    in.read(head.data(), 128);
+  }
+  {
+    std::ofstream out(u, std::ios::binary | std::ios::trunc);
+    out.write(head.data(), 128);
+  }
+  fs::resize_file(u, std::uintmax_t(2) << 30);
+  expect_refused("run --load-state st --steps 1 --every 0", "u.npy: holds");
+}
+
+TEST_F(BadInputCli, FlagsGoThroughThePresetKeyRanges) {
+  expect_refused("run cavity --dt 1e308 --steps 1",
+                 "--dt 1e+308: expected a number in [1e-09, 100]");
+  expect_refused("run cavity --dt nan --steps 1", "--dt nan: expected");
+  expect_refused("run cavity --re 1e-300 --steps 1", "(preset key fluid.viscosity)");
+  expect_refused("run cavity --size 1 --steps 1", "(preset key grid.size)");
+  expect_refused("run cavity --size 9000 --steps 1", "(preset key grid.size)");
+  expect_refused("run cavity --sweeps 100000 --steps 1",
+                 "(preset key fluid.pressure_solver.iterations)");
+  write("s.jsonl", "{\"t\": 0, \"x\": 0.5, \"y\": 0.5}\n");
+  expect_refused("run cavity --strokes s.jsonl --paint-radius nan --steps 1",
+                 "(preset key input.brush_radius)");
+  write("far.jsonl", "{\"t\": 0, \"x\": 1e308, \"y\": 0.5}\n");
+  expect_refused("run cavity --strokes far.jsonl --steps 1", "far.jsonl:1:");
+  expect_refused("live --fps nan", "expected a finite number in [0");
+  expect_refused("live --playlist cavity,no-such-preset", "--playlist no-such-preset");
+  expect_refused("live --osc 0 --osc-bind 0.0.0.0", "--osc-remote");
+}
+
+TEST_F(BadInputCli, DestinationsAreCheckedBeforeTheFirstFrame) {
+  write("afile", "x");
+  fs::create_directories(work() / "adir");
+  expect_refused("run cavity --steps 1 --out ''", "--out: expected a path");
+  expect_refused("run cavity --steps 1 --every 0 --save-state ''", "--save-state: expected a path");
+  expect_refused("run cavity --steps 1 --video adir --no-png", "adir: is a folder");
+  expect_refused("run cavity --steps 1 --every 0 --save-state afile/state", "is not a folder");
+  write("adir/keep.txt", "mine");
+  expect_refused("run cavity --steps 1 --every 0 --save-state adir",
+                 "exists and is not an ardcell saved state");
+  expect_refused("run cavity --steps 1 --video afile/v.y4m --no-png", "is not a folder");
+  expect_refused("live --record adir", "--record");
+  expect_refused("live --screenshot-dir afile", "--screenshot-dir");
+  EXPECT_EQ(slurp(work() / "adir" / "keep.txt"), "mine");
+}
+
+}  // namespace
+}  // namespace ardcell
