@@ -205,7 +205,7 @@ TEST_F(StateIoTest, EveryKindOfDamageGivesOneLineAndLeavesTheStateUntouched) {
   };
   const Damage damages[] = {
       {"no folder", [](const fs::path& d) { fs::remove_all(d); }, "saved state not found"},
-      {"no meta", [](const fs::path& d) { fs::remove(d / "meta.json"); }, "meta.json: missing"},
+      {"no meta", [](const fs::path& d) { fs::remove(d / "meta.json"); }, "meta.json: not found"},
       {"bad json", [](const fs::path& d) { std::ofstream(d / "meta.json") << "{\"format\": "; },
        "not valid JSON"},
       {"other json",
