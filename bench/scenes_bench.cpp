@@ -1,24 +1,33 @@
 // Every embedded preset through the engine users run (host/engine/engine.h, the path of `ardcell
 // run` and `ardcell live`), per back end and grid size:
-//   Scenes/<preset>/<serial|threads>/<N>   one iteration = one frame; counters fps, cells_per_s
-//   SceneSpeedup/<preset>/<N>             serial and threads frames alternating in the same
-//                                          iteration; counters serial_ms, threads_ms, speedup
-// (the ratio from one run, so a slow spell of the machine hits both back ends alike).
+//   Scenes/<preset>/<serial|threads|opencl>/<N>   one iteration = one frame (finished);
+//                                                 counters fps, cells_per_s
+//   SceneSpeedup/<preset>/<N>   serial, threads and (with a device) opencl frames alternating in
+//                               the same iteration; counters serial_ms, threads_ms, opencl_ms,
+//                               speedup (serial / threads), opencl_speedup (serial / opencl)
+// (ratios from one run, so a slow spell of the machine hits every back end alike). The presets
+// run as they are: an op the device does not run (an ICCG or multigrid solve) runs on the CPU
+// for that op, as in `ardcell run`, and says so once on stderr.
 //
 // Environment: ARDCELL_BENCH_SIZES (default "256,512,1024") restricts the sizes;
-// ARDCELL_BENCH_PRESETS (comma-separated names) restricts the presets.
+// ARDCELL_BENCH_PRESETS (comma-separated names) restricts the presets; ARDCELL_CL_DEVICE=N picks
+// the OpenCL device (as --cl-device N; default the first), ARDCELL_CL_DEVICE=none leaves it out.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bench/bench_env.h"
 #include "host/engine/engine.h"
 #include "host/scenes/preset.h"
+#if defined(ARDCELL_WITH_OPENCL)
+#include "kernels/cl/opencl_kernels.h"
+#endif
 
 namespace ardcell {
 namespace {
@@ -26,6 +35,30 @@ namespace {
 std::vector<std::string> bench_presets() {
   const char* s = std::getenv("ARDCELL_BENCH_PRESETS");
   return s ? split_commas(s) : preset_names();
+}
+
+// The OpenCL context of the run (null: none, or ARDCELL_CL_DEVICE=none).
+OpenClContext* opencl() {
+#if defined(ARDCELL_WITH_OPENCL)
+  static std::unique_ptr<OpenClContext> ctx = [] {
+    const char* env = std::getenv("ARDCELL_CL_DEVICE");
+    if (env && std::string(env) == "none") return std::unique_ptr<OpenClContext>();
+    std::string error;
+    auto c = OpenClContext::open(env ? std::atoi(env) : -1, &error);
+    if (c && !OpenClKernels::prepare(*c, &error)) c.reset();
+    if (!c) std::fprintf(stderr, "scenes_bench: no OpenCL rows: %s\n", error.c_str());
+    return c;
+  }();
+  return ctx.get();
+#else
+  return nullptr;
+#endif
+}
+
+EngineOptions options_for(EngineOptions::Backend backend) {
+  EngineOptions o{backend, 0};
+  if (backend == EngineOptions::Backend::kOpenCl) o.opencl = opencl();
+  return o;
 }
 
 SceneConfig scene_at(const std::string& name, int n) {
@@ -43,9 +76,13 @@ SceneConfig scene_at(const std::string& name, int n) {
 void run_scene(benchmark::State& state, const std::string& name, EngineOptions::Backend backend,
                int n) {
   const SceneConfig scene = scene_at(name, n);
-  Engine engine(scene, {backend, 0});
-  engine.step();  // warm: first touch of every field
-  for (auto _ : state) engine.step();
+  Engine engine(scene, options_for(backend));
+  engine.step();  // warm: first touch of every field (and the device copies)
+  engine.finish();
+  for (auto _ : state) {
+    engine.step();
+    engine.finish();
+  }
   const double frames = double(state.iterations());
   state.counters["fps"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
   state.counters["cells_per_s"] =
@@ -56,27 +93,37 @@ void run_scene(benchmark::State& state, const std::string& name, EngineOptions::
 void run_speedup(benchmark::State& state, const std::string& name, int n) {
   using Clock = std::chrono::steady_clock;
   const SceneConfig scene = scene_at(name, n);
-  Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
-  Engine threads(scene, {EngineOptions::Backend::kThreads, 0});
-  serial.step();
-  threads.step();
-  double serial_s = 0, threads_s = 0;
-  bool serial_first = true;
+  std::vector<std::unique_ptr<Engine>> engines;
+  engines.push_back(std::make_unique<Engine>(scene, options_for(EngineOptions::Backend::kSerial)));
+  engines.push_back(std::make_unique<Engine>(scene, options_for(EngineOptions::Backend::kThreads)));
+  if (opencl())
+    engines.push_back(
+        std::make_unique<Engine>(scene, options_for(EngineOptions::Backend::kOpenCl)));
+  for (auto& e : engines) {
+    e->step();
+    e->finish();
+  }
+  double seconds[3] = {0, 0, 0};
+  std::size_t first = 0;  // the back end that goes first turns each iteration
   for (auto _ : state) {
-    for (int k = 0; k < 2; ++k) {
-      const bool run_serial = (k == 0) == serial_first;
+    for (std::size_t k = 0; k < engines.size(); ++k) {
+      const std::size_t i = (first + k) % engines.size();
       const auto t0 = Clock::now();
-      (run_serial ? serial : threads).step();
-      const double s = std::chrono::duration<double>(Clock::now() - t0).count();
-      (run_serial ? serial_s : threads_s) += s;
+      engines[i]->step();
+      engines[i]->finish();
+      seconds[i] += std::chrono::duration<double>(Clock::now() - t0).count();
     }
-    serial_first = !serial_first;
+    first = (first + 1) % engines.size();
   }
   const double frames = double(state.iterations());
-  state.counters["serial_ms"] = 1e3 * serial_s / frames;
-  state.counters["threads_ms"] = 1e3 * threads_s / frames;
-  state.counters["speedup"] = serial_s / threads_s;
-  state.counters["workers"] = threads.workers();
+  state.counters["serial_ms"] = 1e3 * seconds[0] / frames;
+  state.counters["threads_ms"] = 1e3 * seconds[1] / frames;
+  state.counters["speedup"] = seconds[0] / seconds[1];
+  state.counters["workers"] = engines[1]->workers();
+  if (engines.size() > 2) {
+    state.counters["opencl_ms"] = 1e3 * seconds[2] / frames;
+    state.counters["opencl_speedup"] = seconds[0] / seconds[2];
+  }
 }
 
 }  // namespace
@@ -88,12 +135,15 @@ int main(int argc, char** argv) {
   for (const std::string& name : bench_presets())
     for (int n : sizes) {
       for (auto [label, backend] : {std::pair{"serial", EngineOptions::Backend::kSerial},
-                                    std::pair{"threads", EngineOptions::Backend::kThreads}})
+                                    std::pair{"threads", EngineOptions::Backend::kThreads},
+                                    std::pair{"opencl", EngineOptions::Backend::kOpenCl}}) {
+        if (backend == EngineOptions::Backend::kOpenCl && !opencl()) continue;
         benchmark::RegisterBenchmark(
             ("Scenes/" + name + "/" + label + "/" + std::to_string(n)).c_str(),
             [name, backend = backend, n](benchmark::State& s) { run_scene(s, name, backend, n); })
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
+      }
       benchmark::RegisterBenchmark(("SceneSpeedup/" + name + "/" + std::to_string(n)).c_str(),
                                    [name, n](benchmark::State& s) { run_speedup(s, name, n); })
           ->Unit(benchmark::kMillisecond)

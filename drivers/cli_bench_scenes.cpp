@@ -1,7 +1,7 @@
-// `ardcell bench scenes`: every preset through the engine users run, serial against threads in
-// one run (bench/scenes_bench.cpp, SceneSpeedup/<preset>/<N>: the two back ends' frames
-// alternate, so a slow spell of the machine hits both). Prints a Markdown table and writes
-// scenes.md and scenes.csv in --out.
+// `ardcell bench scenes`: every preset through the engine users run, serial against threads and
+// (with an OpenCL device) opencl in one run (bench/scenes_bench.cpp, SceneSpeedup/<preset>/<N>:
+// the back ends' frames alternate, so a slow spell of the machine hits each). Prints a Markdown
+// table and writes scenes.md and scenes.csv in --out.
 #include <unistd.h>
 
 #include <cstdio>
@@ -25,6 +25,7 @@ struct ScenesOptions {
   double min_time = 0.3;
   std::string out = "bench-results";
   std::string binary;
+  int cl_device = -1;  // -1: the first device; -2: none (--cl-device none)
 };
 
 int run_scenes(const ScenesOptions& o, CliContext& ctx) {
@@ -57,9 +58,11 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
   std::string joined;
   for (const std::string& name : presets) joined += (joined.empty() ? "" : ",") + name;
   const std::string json = (fs::path(o.out) / ".scenes_bench.json").string();
-  const int rc =
-      run_bench_program(binary, "SceneSpeedup/", o.min_time, json,
-                        {{"ARDCELL_BENCH_SIZES", o.sizes}, {"ARDCELL_BENCH_PRESETS", joined}});
+  std::vector<std::pair<std::string, std::string>> env = {{"ARDCELL_BENCH_SIZES", o.sizes},
+                                                          {"ARDCELL_BENCH_PRESETS", joined}};
+  if (o.cl_device != -1)
+    env.emplace_back("ARDCELL_CL_DEVICE", o.cl_device >= 0 ? std::to_string(o.cl_device) : "none");
+  const int rc = run_bench_program(binary, "SceneSpeedup/", o.min_time, json, env);
   if (rc != 0) {
     std::fprintf(ctx.err, "ardcell bench scenes: %s exited with status %d\n", binary.c_str(), rc);
     return kExitFailure;
@@ -75,9 +78,13 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
     std::fprintf(ctx.err, "ardcell bench scenes: rows left out (%s)\n", skipped.c_str());
 
   std::ostringstream md, csv;
-  md << "| preset | N | serial FPS | threads FPS | threads / serial | workers |\n"
-        "|---|---|---|---|---|---|\n";
-  csv << "preset,n,serial_fps,threads_fps,speedup,workers\n";
+  bool with_opencl = false;
+  for (const BenchRow& row : rows) with_opencl = with_opencl || row.counters.count("opencl_ms");
+  md << "| preset | N | serial FPS | threads FPS | threads / serial | workers |"
+     << (with_opencl ? " opencl FPS | opencl / serial |\n|---|---|---|---|---|---|---|---|\n"
+                     : "\n|---|---|---|---|---|---|\n");
+  csv << "preset,n,serial_fps,threads_fps,speedup,workers"
+      << (with_opencl ? ",opencl_fps,opencl_speedup\n" : "\n");
   char line[256];
   for (const BenchRow& row : rows) {
     // SceneSpeedup/<preset>/<N>
@@ -90,12 +97,21 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
       return it == row.counters.end() ? 0.0 : it->second;
     };
     const double serial_fps = 1e3 / counter("serial_ms"), threads_fps = 1e3 / counter("threads_ms");
-    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2fx | %.0f |\n", preset.c_str(),
+    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2fx | %.0f |", preset.c_str(),
                   n.c_str(), serial_fps, threads_fps, counter("speedup"), counter("workers"));
     md << line;
-    std::snprintf(line, sizeof line, "%s,%s,%.4f,%.4f,%.4f,%.0f\n", preset.c_str(), n.c_str(),
+    std::snprintf(line, sizeof line, "%s,%s,%.4f,%.4f,%.4f,%.0f", preset.c_str(), n.c_str(),
                   serial_fps, threads_fps, counter("speedup"), counter("workers"));
     csv << line;
+    if (with_opencl) {
+      const double opencl_fps = counter("opencl_ms") > 0 ? 1e3 / counter("opencl_ms") : 0.0;
+      std::snprintf(line, sizeof line, " %.1f | %.2fx |", opencl_fps, counter("opencl_speedup"));
+      md << line;
+      std::snprintf(line, sizeof line, ",%.4f,%.4f", opencl_fps, counter("opencl_speedup"));
+      csv << line;
+    }
+    md << '\n';
+    csv << '\n';
   }
   const fs::path dir(o.out);
   Status st = write_text_atomically(dir / "scenes.md", md.str());
@@ -114,13 +130,30 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
 
 void add_bench_scenes_command(CLI::App& bench, CliContext& ctx) {
   auto* scenes = bench.add_subcommand(
-      "scenes", "Every preset on the engine: serial and threads FPS per size, in one run");
+      "scenes", "Every preset on the engine: serial, threads and OpenCL FPS per size, in one run");
   auto o = std::make_shared<ScenesOptions>();
   scenes->add_option("--sizes", o->sizes, "Grid widths N, comma-separated")->capture_default_str();
   scenes->add_option("--presets", o->presets, "Presets, comma-separated (default: every one)");
   scenes->add_option("--min-time", o->min_time, "Seconds per benchmark (at least)")
       ->capture_default_str();
   scenes->add_option("--out", o->out, "Folder for scenes.md and scenes.csv")->capture_default_str();
+  scenes
+      ->add_option_function<std::string>(
+          "--cl-device",
+          [o](const std::string& v) {
+            if (v == "none") {
+              o->cl_device = -2;
+              return;
+            }
+            char* end = nullptr;
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || n < 0 || n > 1000)
+              throw CLI::ValidationError("--cl-device",
+                                         "'" + v + "': expected a device index or none");
+            o->cl_device = int(n);
+          },
+          "OpenCL device for the opencl column (see ardcell devices), or none")
+      ->type_name("N|none");
   scenes->add_option("--bench-binary", o->binary,
                      "The scenes_bench program (default: beside ardcell)");
   scenes->callback([o, &ctx] { ctx.exit_code = run_scenes(*o, ctx); });
