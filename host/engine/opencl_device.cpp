@@ -415,9 +415,8 @@ SolveReport OpenClDevice::implicit_diffusion(ImplicitDiffusion& diffusion, Field
   }
   twin->device->set_sweeps(solver.max_iterations);
   const DeviceField* k = conductivity ? &in(*conductivity) : nullptr;
-  twin->device->step(out(field), k, s);
-  // Fixed sweeps stop on their count alone; the residual of the device's step is not measured.
-  return SolveReport{solver.max_iterations, std::numeric_limits<double>::quiet_NaN()};
+  const double residual = twin->device->step(out(field), k, s);
+  return SolveReport{solver.max_iterations, residual};
 }
 
 void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,

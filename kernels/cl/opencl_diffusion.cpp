@@ -1,6 +1,8 @@
 #if defined(ARDCELL_WITH_OPENCL)
 #include "kernels/cl/opencl_diffusion.h"
 
+#include <cmath>
+
 #include <utility>
 
 namespace ardcell {
@@ -18,6 +20,7 @@ OpenClDiffusion::OpenClDiffusion(OpenClKernels& cl, Int2 size, BoundaryKind boun
   op_ = ClStencilOperator::allocate(ctx, size, boundary, boundary);
   const FieldF like(size, 1);
   for (DeviceField* f : {&rhs_, &x_, &tmp_, &ax_}) *f = ctx.allocate_like(like);
+  partials_ = cl_.row_partials(size.y);
 }
 
 void OpenClDiffusion::set_sweeps(int sweeps) {
@@ -25,8 +28,8 @@ void OpenClDiffusion::set_sweeps(int sweeps) {
   sweeps_ = sweeps;
 }
 
-void OpenClDiffusion::step(DeviceField& field, const DeviceField* conductivity,
-                           const DiffusionStep& s) {
+double OpenClDiffusion::step(DeviceField& field, const DeviceField* conductivity,
+                             const DiffusionStep& s) {
   ARDCELL_CHECK(field.size == op_.size && field.halo == 1,
                 "OpenCL diffusion: field size differs from the solver's");
   OpenClContext& ctx = cl_.context();
@@ -65,6 +68,14 @@ void OpenClDiffusion::step(DeviceField& field, const DeviceField* conductivity,
     }
     copy(x_, field);
   }
+  // |rhs - A x| / |rhs| (the operator is the identity plus a diffusion: never singular), as the
+  // CPU solvers report it.
+  const int ny = op_.size.y;
+  cl_.row_sums_of_squares(rhs_, 0, ny, partials_);
+  const double bb = partials_.sum(ctx, 0, ny);
+  cl_.residual(op_, rhs_, field, nullptr, partials_);
+  const double rr = partials_.sum(ctx, 0, ny);
+  return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
 }
 
 }  // namespace ardcell

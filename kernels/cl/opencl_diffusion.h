@@ -20,8 +20,9 @@ class OpenClDiffusion {
                   const SolverSettings& solver);
 
   // One step in place on field's interior (its halo is not touched). conductivity: per-cell k,
-  // same layout as field (null: k = 1).
-  void step(DeviceField& field, const DeviceField* conductivity, const DiffusionStep& s);
+  // same layout as field (null: k = 1). Returns the relative residual |b - A x| / |b| of the
+  // solve, as the CPU solvers report it (waits for the step).
+  double step(DeviceField& field, const DeviceField* conductivity, const DiffusionStep& s);
   void set_sweeps(int sweeps);
 
   const ClStencilOperator& op() const { return op_; }
@@ -32,6 +33,7 @@ class OpenClDiffusion {
   int sweeps_;
   ClStencilOperator op_;
   DeviceField rhs_, x_, tmp_, ax_;
+  ClRowPartials partials_;
   // The last operator assembled (isotropic operators are reused from step to step).
   float last_scale_ = -1.0f;
   bool last_isotropic_ = false;

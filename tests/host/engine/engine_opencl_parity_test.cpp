@@ -25,6 +25,7 @@
 
 #include "host/engine/engine.h"
 #include "host/engine/opencl_device.h"
+#include "host/engine/rd_step.h"
 #include "host/scenes/preset.h"
 #include "tests/support/opencl_test_device.h"
 #include "tests/support/preset_params.h"
@@ -175,6 +176,28 @@ TEST(EngineOpenCl, FramesStayOnTheDeviceAndNoOpFallsBack) {
     // Looking at the state downloads it; writing into it uploads it again.
     (void)std::as_const(cl).state();
     EXPECT_GT(device.downloaded_bytes(), down) << name;
+  }
+}
+
+// The device's solves report what the CPU's do: the same sweep count and the relative residual
+// of the same system. Six sweeps bring it near float rounding (~6e-8), where the two fields'
+// last-bit differences move it by a few percent: a wrong system would be orders away.
+TEST(EngineOpenCl, DiffusionReportsTheCpusResidual) {
+  if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  for (SolverKind kind : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel}) {
+    const SceneConfig scene = fixed_sweeps("pearson", kind, 6);
+    Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
+    Engine cl(scene, on_device());
+    for (int k = 0; k < 3; ++k) {
+      serial.step();
+      cl.step();
+    }
+    const RdStepStats& a = *serial.rd_stats();
+    const RdStepStats& b = *cl.rd_stats();
+    EXPECT_EQ(b.diffusion_iterations_a, a.diffusion_iterations_a);
+    EXPECT_GT(a.diffusion_residual_a, 0.0);
+    EXPECT_NEAR(b.diffusion_residual_a, a.diffusion_residual_a, 0.05 * a.diffusion_residual_a);
+    EXPECT_NEAR(b.diffusion_residual_b, a.diffusion_residual_b, 0.05 * a.diffusion_residual_b);
   }
 }
 
