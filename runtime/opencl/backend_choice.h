@@ -4,6 +4,12 @@
 // else threads. When OpenCL was asked for (opencl, or auto with --cl-device) and cannot be had -
 // no platform, no such device, a failed context or program build - the choice falls back to
 // threads and `message` holds ONE line saying why; the caller prints it.
+// Asking the ICD loader for its devices loads every vendor's library (PoCL brings LLVM: a
+// quarter of a second), so auto first looks at the registered vendors and asks only when one of
+// them can be a GPU (any but PoCL, whose Debian build drives the CPU only).
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <string>
@@ -60,6 +66,24 @@ struct BackendChoice {
 // failure (the error may span lines: the first is the summary, the rest the build log).
 using OpenClPrepare = std::function<bool(OpenClContext&, std::string* error)>;
 
+// False when no registered OpenCL vendor can offer a GPU: the ICD loader's vendor files
+// (/etc/OpenCL/vendors/*.icd, or OCL_ICD_VENDORS when set) name PoCL's library only, or none.
+inline bool opencl_gpu_vendor_registered() {
+  namespace fs = std::filesystem;
+  const char* dir = std::getenv("OCL_ICD_VENDORS");
+  std::error_code ec;
+  const fs::path vendors = dir ? fs::path(dir) : fs::path("/etc/OpenCL/vendors");
+  if (dir && !fs::is_directory(vendors, ec)) return true;  // one vendor named directly
+  for (const fs::directory_entry& e : fs::directory_iterator(vendors, ec)) {
+    if (e.path().extension() != ".icd") continue;
+    std::ifstream in(e.path());
+    std::string library;
+    std::getline(in, library);
+    if (library.find("libpocl") == std::string::npos) return true;
+  }
+  return false;
+}
+
 // cl_device < 0: not given. `prepare` may be empty.
 inline BackendChoice choose_backend(BackendKind requested, int cl_device,
                                     const OpenClPrepare& prepare = {}) {
@@ -73,6 +97,7 @@ inline BackendChoice choose_backend(BackendKind requested, int cl_device,
   std::string why;
   if (requested == BackendKind::kAuto && cl_device < 0) {
     // Without a GPU, OpenCL on the CPU (PoCL) brings nothing the threads back end lacks.
+    if (!opencl_gpu_vendor_registered()) return choice;
     std::vector<OpenClDeviceInfo> devices = list_opencl_devices(&why);
     bool has_gpu = false;
     for (const OpenClDeviceInfo& d : devices) has_gpu = has_gpu || d.type == "gpu";

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string_view>
 
@@ -185,6 +186,29 @@ TEST(BackendChoice, ExplicitOpenClOnPoclGivesAContext) {
   EXPECT_EQ(c.kind, BackendKind::kOpenCl) << c.message;
   EXPECT_TRUE(c.opencl);
   EXPECT_TRUE(c.message.empty());
+}
+
+// auto asks the ICD loader only when a registered vendor can be a GPU (not PoCL alone).
+TEST(BackendChoice, AutoLooksForAGpuVendorBeforeLoadingTheVendors) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("ardcell_vendors_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const char* saved = std::getenv("OCL_ICD_VENDORS");
+  const std::string restore = saved ? saved : "";
+  setenv("OCL_ICD_VENDORS", dir.c_str(), 1);
+  EXPECT_FALSE(opencl_gpu_vendor_registered()) << "no vendor";
+  std::ofstream(dir / "pocl.icd") << "libpocl.so.2.10.0\n";
+  EXPECT_FALSE(opencl_gpu_vendor_registered()) << "PoCL alone drives the CPU";
+  BackendChoice c = choose_backend(BackendKind::kAuto, -1);
+  EXPECT_EQ(c.kind, BackendKind::kThreads);
+  EXPECT_TRUE(c.message.empty());
+  std::ofstream(dir / "nvidia.icd") << "libnvidia-opencl.so.1\n";
+  EXPECT_TRUE(opencl_gpu_vendor_registered());
+  if (saved)
+    setenv("OCL_ICD_VENDORS", restore.c_str(), 1);
+  else
+    unsetenv("OCL_ICD_VENDORS");
+  fs::remove_all(dir);
 }
 
 TEST(BackendChoice, InvalidDeviceFallsBackToThreadsWithOneLine) {
