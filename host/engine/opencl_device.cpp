@@ -57,22 +57,20 @@ OpenClDevice::Mirror& OpenClDevice::mirror(const FieldF& f) {
   return mirrors_.back();
 }
 
-const DeviceField& OpenClDevice::in(const FieldF& f) {
+OpenClDevice::Mirror& OpenClDevice::current_on_device(const FieldF& f) {
   Mirror& m = mirror(f);
   if (m.current == Current::kHost) {
     ctx_.upload(f, m.device);
     uploaded_ += std::int64_t(f.raw_size() * sizeof(float));
     m.current = Current::kBoth;
   }
-  return m.device;
+  return m;
 }
 
+const DeviceField& OpenClDevice::in(const FieldF& f) { return current_on_device(f).device; }
+
 DeviceField& OpenClDevice::out(FieldF& f) {
-  Mirror& m = mirror(f);
-  if (m.current == Current::kHost) {
-    ctx_.upload(f, m.device);
-    uploaded_ += std::int64_t(f.raw_size() * sizeof(float));
-  }
+  Mirror& m = current_on_device(f);
   m.current = Current::kDevice;
   return m.device;
 }

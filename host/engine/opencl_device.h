@@ -113,6 +113,8 @@ class OpenClDevice final : public Device {
   };
 
   Mirror& mirror(const FieldF& f);
+  // f's mirror, uploaded first when the host wrote f since.
+  Mirror& current_on_device(const FieldF& f);
   const DeviceField& mask(const Field<uint8_t>& m);
   OperatorTwin& operator_twin(const StencilOperator& op);
   // |f|^2 without its null-space component (stencil::NullSpace::consistent_part).

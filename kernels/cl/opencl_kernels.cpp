@@ -552,25 +552,13 @@ void OpenClKernels::copy_field(const DeviceField& from, DeviceField& to) {
                "clEnqueueCopyBuffer");
 }
 
-namespace {
-// Weight of a ghost rule per unit face weight (kernels/stencil_operator.cpp's rule_factor).
-double rule_factor(const EdgeFill& e) {
-  switch (e.rule) {
-    case EdgeRule::kFixed:
-      return 1.0;
-    case EdgeRule::kMirror:
-      return 2.0;
-    default:
-      return 0.0;
-  }
-}
-}  // namespace
-
 void OpenClKernels::add_boundary_values(DeviceField& b, const BoundaryFill& fill, double scale) {
   const int nx = b.size.x, ny = b.size.y;
   if (nx <= 0 || ny <= 0) return;
   // The amounts in double, rounded to float once per side, as the C++ does.
-  const auto amount = [&](const EdgeFill& e) { return float(rule_factor(e) * scale * e.value); };
+  const auto amount = [&](const EdgeFill& e) {
+    return float(boundary_rule_factor(e) * scale * e.value);
+  };
   const cl_float4 amounts = {
       {amount(fill.left), amount(fill.right), amount(fill.bottom), amount(fill.top)}};
   if (amounts.s[0] == 0.0f && amounts.s[1] == 0.0f && amounts.s[2] == 0.0f && amounts.s[3] == 0.0f)
@@ -720,17 +708,24 @@ void OpenClKernels::subtract_masked(DeviceField& f, const DeviceField& mask, flo
 
 // ---- Explicit reaction-diffusion ----------------------------------------------------------------
 
-void OpenClKernels::explicit_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
-                                DeviceField& b_out, Box2 region, const ExplicitRdParams& p,
-                                bool nine_point) {
+bool OpenClKernels::check_explicit_rd_args(const DeviceField& a, const DeviceField& b,
+                                           const DeviceField& a_out, const DeviceField& b_out,
+                                           Box2 region) const {
   check_same_layout(a, b);
   check_same_layout(a, a_out);
   check_same_layout(a, b_out);
   ARDCELL_CHECK(a_out.buffer.get() != a.buffer.get() && a_out.buffer.get() != b.buffer.get() &&
                     b_out.buffer.get() != a.buffer.get() && b_out.buffer.get() != b.buffer.get(),
                 "explicit RD: outputs alias inputs");
-  if (region.empty()) return;
+  if (region.empty()) return false;
   ARDCELL_CHECK(a.with_halo().contains(region.grown(1)), "explicit RD reads halo 1");
+  return true;
+}
+
+void OpenClKernels::explicit_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                DeviceField& b_out, Box2 region, const ExplicitRdParams& p,
+                                bool nine_point) {
+  if (!check_explicit_rd_args(a, b, a_out, b_out, region)) return;
   float q[5];
   reaction_args(p.reaction, q);
   cl_kernel k = kernel("explicit_rd");
@@ -753,14 +748,7 @@ void OpenClKernels::explicit_rd9(const DeviceField& a, const DeviceField& b, Dev
 void OpenClKernels::gray_scott9_explicit(const DeviceField& a, const DeviceField& b,
                                          DeviceField& a_out, DeviceField& b_out, Box2 region,
                                          const GrayScott9Params& p) {
-  check_same_layout(a, b);
-  check_same_layout(a, a_out);
-  check_same_layout(a, b_out);
-  ARDCELL_CHECK(a_out.buffer.get() != a.buffer.get() && a_out.buffer.get() != b.buffer.get() &&
-                    b_out.buffer.get() != a.buffer.get() && b_out.buffer.get() != b.buffer.get(),
-                "explicit RD: outputs alias inputs");
-  if (region.empty()) return;
-  ARDCELL_CHECK(a.with_halo().contains(region.grown(1)), "explicit RD reads halo 1");
+  if (!check_explicit_rd_args(a, b, a_out, b_out, region)) return;
   // The constants as kernels/explicit_rd.cpp's Gs9Row, in float.
   const float fk = p.F + p.k;
   const float ca = 0.05f * p.diffusion_a, cb = 0.05f * p.diffusion_b;

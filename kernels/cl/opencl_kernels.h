@@ -236,6 +236,9 @@ class OpenClKernels {
   // Work-groups for `tiles` tiles, and the global size.
   std::size_t groups_for(int tiles) const;
   void check_same_layout(const DeviceField& a, const DeviceField& b) const;
+  // The explicit RD twins' argument checks; false when the region is empty (nothing to do).
+  bool check_explicit_rd_args(const DeviceField& a, const DeviceField& b, const DeviceField& a_out,
+                              const DeviceField& b_out, Box2 region) const;
   void check_operator_layout(const ClStencilOperator& op, const DeviceField& f) const;
   // A tiled launch: persistent work-groups walk the region's tiles (common.cl).
   void enqueue_tiled(cl_kernel k, Box2 region);
