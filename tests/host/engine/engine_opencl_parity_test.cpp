@@ -146,7 +146,9 @@ TEST(EngineOpenCl, AnisotropicCookiesDriftNoMoreThanTheCpuUnderAnUlp) {
       cl.step();
       self = std::max(self, worst_error(cpu.state(), nudged.state()).first);
       device = std::max(device, worst_error(cpu.state(), std::as_const(cl).state()).first);
-      if (f <= 2) EXPECT_LE(device, kTolerance) << name << " frame " << f;
+      if (f <= 2) {
+        EXPECT_LE(device, kTolerance) << name << " frame " << f;
+      }
     }
     std::printf("%s: 60 frames, device drift %.3g, CPU ulp-perturbed drift %.3g\n", name, device,
                 self);
