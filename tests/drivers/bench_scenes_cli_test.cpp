@@ -22,6 +22,7 @@ bool scenes_bench_built() {
 
 TEST_F(BenchScenesCliTest, TinyRunWritesOneRowPerPresetAndSize) {
   if (!scenes_bench_built()) GTEST_SKIP() << "scenes_bench not built (ARDCELL_BUILD_BENCH=OFF)";
+  const bool device = run("devices").out.find("device 0:") != std::string::npos;
   const BinaryRunResult r =
       run("bench scenes --sizes 24,32 --presets turing-spots,cavity --min-time 0.01 --out res");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -33,13 +34,22 @@ TEST_F(BenchScenesCliTest, TinyRunWritesOneRowPerPresetAndSize) {
   std::istringstream in(csv);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "preset,n,serial_fps,threads_fps,speedup,workers");
+  // An OpenCL device (PoCL in CI) adds its column.
+  EXPECT_EQ(line, std::string("preset,n,serial_fps,threads_fps,speedup,workers") +
+                      (device ? ",opencl_fps,opencl_speedup" : ""));
   std::vector<std::string> rows;
   while (std::getline(in, line)) rows.push_back(line.substr(0, line.find(',', line.find(',') + 1)));
   EXPECT_EQ(rows, (std::vector<std::string>{"turing-spots,24", "turing-spots,32", "cavity,24",
                                             "cavity,32"}))
       << csv;
   EXPECT_FALSE(fs::exists(work() / "res" / ".scenes_bench.json")) << "the raw report stays";
+  // --cl-device none leaves the device out.
+  const BinaryRunResult cpu =
+      run("bench scenes --sizes 24 --presets cavity --min-time 0.01 --cl-device none --out res2");
+  ASSERT_EQ(cpu.code, 0) << cpu.err;
+  std::istringstream in2(slurp(work() / "res2" / "scenes.csv"));
+  std::getline(in2, line);
+  EXPECT_EQ(line, "preset,n,serial_fps,threads_fps,speedup,workers");
 }
 
 TEST_F(BenchScenesCliTest, BadInputExitsTwoWithOneLine) {
