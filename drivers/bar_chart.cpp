@@ -75,7 +75,8 @@ void draw(const BarChart& c) {
   }
   const int groups = std::max<int>(1, int(c.groups.size()));
   const int panels = std::max<int>(1, int(c.panels.size()));
-  const double left = 0.08, right = 0.78, gap = 0.07, bottom = 0.14, top = 0.86;
+  const double left = 0.08, right = 0.82, gap = 0.07, top = 0.86;
+  const double bottom = c.vertical_group_labels ? 0.42 : 0.14;
   const double width = (right - left - gap * (panels - 1)) / panels;
 
   pladv(0);
@@ -83,9 +84,9 @@ void draw(const BarChart& c) {
   plwind(0, 1, 0, 1);
   plcol0(kInk);
   plschr(0, 1.15);
-  plptex(0.5, 0.95, 1, 0, 0.5, c.title.c_str());
+  plptex(0.5, 0.955, 1, 0, 0.5, c.title.c_str());
   plschr(0, 0.85);
-  plptex(0.5 * (left + right), 0.035, 1, 0, 0.5, c.x_label.c_str());
+  plptex(0.5 * (left + right), 0.025, 1, 0, 0.5, c.x_label.c_str());
   plptex(0.015, 0.5 * (bottom + top), 0, 1, 0.5, c.y_label.c_str());
 
   for (int pi = 0; pi < int(c.panels.size()); ++pi) {
@@ -117,8 +118,11 @@ void draw(const BarChart& c) {
       }
     plschr(0, 0.8);
     plbox("bc", 0, 0, log_y ? "bcnstvl" : "bcnstv", 0, 0);
+    if (c.vertical_group_labels) plschr(0, 0.6);
     for (int g = 0; g < int(c.groups.size()); ++g)
-      plmtex("b", 1.3, (g + 0.5) / groups, 0.5, c.groups[std::size_t(g)].c_str());
+      plmtex(c.vertical_group_labels ? "bv" : "b", c.vertical_group_labels ? 0.5 : 1.3,
+             (g + 0.5) / groups, c.vertical_group_labels ? 1.0 : 0.5,
+             c.groups[std::size_t(g)].c_str());
     plschr(0, 0.9);
     plmtex("t", 0.8, 0.5, 0.5, p.title.c_str());
   }

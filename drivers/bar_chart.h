@@ -27,6 +27,7 @@ struct BarChart {
   std::vector<std::string> groups;  // x tick labels
   std::vector<BarPanel> panels;
   bool log_y = true;
+  bool vertical_group_labels = false;  // long names (presets): written upwards from the axis
 };
 
 // True when this build draws charts (PLplot found at configure time, ARDCELL_WITH_PLPLOT).
