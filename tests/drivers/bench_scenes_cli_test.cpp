@@ -25,7 +25,8 @@ bool scenes_bench_built() {
 TEST_F(BenchScenesCliTest, TinyRunWritesOneRowPerPresetAndSize) {
   if (!scenes_bench_built()) GTEST_SKIP() << "scenes_bench not built (ARDCELL_BUILD_BENCH=OFF)";
   const BinaryRunResult r =
-      run("bench scenes --sizes 24,32 --presets turing-spots,cavity --min-time 0.01 --out res");
+      run("bench scenes --sizes 24,32 --presets turing-spots,cavity --min-time 0.01 "
+          "--cl-device none --out res");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("| preset | N | serial FPS | threads FPS | threads / serial | workers |"),
             std::string::npos)
