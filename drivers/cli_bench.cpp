@@ -1,8 +1,8 @@
 // `ardcell bench table1` (`bench scenes`: drivers/cli_bench_scenes.cpp): runs the Table 1 benchmark
 // programs (bench/table1_bench.cpp for the CPU rows and bench/table1_opencl_bench.cpp for the
 // opencl-* rows, built next to the ardcell binary) and reports it beside the paper's Cell figures:
-// a Markdown table on stdout, and table1.md, table1.csv and table1.png (bar chart, log FPS) in
-// --out.
+// a Markdown table on stdout, and table1.md, table1.csv and table1.png (drivers/bar_chart.h, when
+// built with PLplot) in --out.
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,11 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "drivers/bar_chart.h"
 #include "drivers/bench_program.h"
 #include "drivers/cli.h"
-#include "drivers/png_writer.h"
 #include "host/io/atomic_file.h"
-#include "host/render/image.h"
 #include "runtime/local_store.h"
 
 namespace ardcell {
@@ -76,34 +75,6 @@ int run_table1_program(const BenchOptions& o, const std::string& binary, const s
       {"ARDCELL_BENCH_STORE_KIB", std::to_string(o.store_kib)}};
   if (o.cl_device >= 0) env.emplace_back("ARDCELL_CL_DEVICE", std::to_string(o.cl_device));
   return run_bench_program(binary, filter, o.min_time, json_path, env);
-}
-
-// A 3x5 digit font, enough to label the sizes and the decades of the chart.
-constexpr const char* kDigits[10] = {
-    "111101101101111", "010110010010111", "111001111100111", "111001111001111", "101101111001001",
-    "111100111001111", "111100111101111", "111001001001001", "111101111101111", "111101111001111"};
-
-void put_rect(ImageRgb8& img, int x0, int y0, int x1, int y1, const uint8_t rgb[3]) {
-  for (int y = std::max(0, y0); y < std::min(img.height, y1); ++y)
-    for (int x = std::max(0, x0); x < std::min(img.width, x1); ++x) {
-      uint8_t* p = img.row(y) + 3 * x;
-      p[0] = rgb[0];
-      p[1] = rgb[1];
-      p[2] = rgb[2];
-    }
-}
-
-void put_text(ImageRgb8& img, int x, int y, const std::string& s, int scale, const uint8_t rgb[3]) {
-  static constexpr const char* kDot = "000000000000010";
-  for (char c : s) {
-    const char* g = c == '.' ? kDot : kDigits[c - '0'];
-    for (int r = 0; r < 5; ++r)
-      for (int k = 0; k < 3; ++k)
-        if (g[r * 3 + k] == '1')
-          put_rect(img, x + k * scale, y + r * scale, x + (k + 1) * scale, y + (r + 1) * scale,
-                   rgb);
-    x += 4 * scale;
-  }
 }
 
 // Reads a Google Benchmark JSON report into results ("<schedule>/<fluid|ard>/<N>") and the
@@ -314,64 +285,43 @@ void add_bench_command(CLI::App& app, CliContext& ctx) {
       ctx.exit_code = kExitFailure;
       return;
     }
-    // The chart: per size, Cell then each schedule, fluid (light) and fluid+RD (dark) bars on a
-    // log scale from 0.1 to 10^4 FPS.
-    const int group = 2 * int(schedules.size() + 1) * 14 + 20, h = 300, base = h - 30;
-    ImageRgb8 img;
-    img.resize(60 + group * int(sizes.size()), h);
-    const uint8_t white[3] = {255, 255, 255}, grid[3] = {220, 220, 220}, ink[3] = {40, 40, 40};
-    put_rect(img, 0, 0, img.width, img.height, white);
-    // Decades 0.1 .. 10^4 FPS.
-    const auto y_of = [&](double fps) {
-      const double t = std::clamp((std::log10(std::max(fps, 0.1)) + 1.0) / 5.0, 0.0, 1.0);
-      return base - int(t * (base - 10));
-    };
-    const char* decades[] = {"0.1", "1", "10", "100", "1000", "10000"};
-    for (int d = -1; d <= 4; ++d) {
-      const int y = y_of(std::pow(10.0, d));
-      put_rect(img, 46, y, img.width, y + 1, grid);
-      put_text(img, 2, y - 5, decades[d + 1], 2, ink);
-    }
-    const uint8_t colours[6][2][3] = {{{190, 190, 190}, {110, 110, 110}},  // Cell
-                                      {{240, 180, 150}, {200, 90, 50}},    // serial
-                                      {{160, 200, 240}, {40, 110, 190}},   // stream
-                                      {{170, 230, 170}, {40, 150, 60}},    // blocked
-                                      {{220, 180, 240}, {130, 60, 180}},   // opencl-stream
-                                      {{240, 220, 150}, {190, 150, 20}}};  // opencl-blocked
-    for (std::size_t gi = 0; gi < sizes.size(); ++gi) {
-      const int n = sizes[gi];
-      int x = 60 + int(gi) * group;
-      const CellRow* c = cell_row(n);
-      for (int series = 0; series <= int(schedules.size()); ++series) {
-        for (int k = 0; k < 2; ++k) {
-          double fps = 0;
-          if (series == 0) {
-            fps = c ? (k ? c->ard : c->fluid) : 0;
-          } else {
-            const std::string& s = schedules[std::size_t(series - 1)];
-            fps = results[s + (k ? "/ard/" : "/fluid/") + std::to_string(n)].fps;
-          }
-          const std::string& name = series == 0 ? "" : schedules[std::size_t(series - 1)];
-          const int ci = series == 0               ? 0
-                         : name == "serial"        ? 1
-                         : name == "stream"        ? 2
-                         : name == "blocked"       ? 3
-                         : name == "opencl-stream" ? 4
-                                                   : 5;
-          if (fps > 0) put_rect(img, x, y_of(fps), x + 12, base, colours[ci][k]);
-          x += 14;
+    // The chart: fluid and fluid+RD FPS per size and schedule, the Cell's figures marked.
+    BarChart chart;
+    chart.title = "Table 1: frames per second, fluid alone and with Gray-Scott RD";
+    chart.x_label = "grid N (N x N cells)";
+    chart.y_label = "frames per second (log)";
+    chart.reference_label = "Cell (paper)";
+    for (int n : sizes) chart.groups.push_back(std::to_string(n));
+    for (const char* kind : {"fluid", "ard"}) {
+      BarPanel panel;
+      panel.title = std::string(kind) == "fluid" ? "fluid" : "fluid + RD";
+      for (const std::string& s : schedules) {
+        BarSeries series{s, {}};
+        for (int n : sizes) {
+          const Result& r = results[s + "/" + kind + "/" + std::to_string(n)];
+          series.values.push_back(r.present ? r.fps : NAN);
         }
+        panel.series.push_back(std::move(series));
       }
-      put_text(img, 60 + int(gi) * group, base + 8, std::to_string(n), 3, ink);
+      for (int n : sizes) {
+        const CellRow* c = cell_row(n);
+        panel.reference.push_back(c ? (std::string(kind) == "fluid" ? c->fluid : c->ard) : NAN);
+      }
+      chart.panels.push_back(std::move(panel));
     }
-    st = write_png(dir / "table1.png", img);
-    if (!st) {
-      std::fprintf(ctx.err, "ardcell bench table1: %s\n", st.message().c_str());
-      ctx.exit_code = kExitFailure;
-      return;
+    std::string written = (dir / "table1.md").string() + ", " + (dir / "table1.csv").string();
+    if (charts_available()) {
+      st = write_bar_chart(dir / "table1.png", chart);
+      if (!st) {
+        std::fprintf(ctx.err, "ardcell bench table1: %s\n", st.message().c_str());
+        ctx.exit_code = kExitFailure;
+        return;
+      }
+      written += ", " + (dir / "table1.png").string();
+    } else {
+      std::fprintf(ctx.err, "ardcell bench table1: note: built without PLplot, no table1.png\n");
     }
-    std::fprintf(ctx.err, "ardcell bench table1: wrote %s, %s, %s\n", (dir / "table1.md").c_str(),
-                 (dir / "table1.csv").c_str(), (dir / "table1.png").c_str());
+    std::fprintf(ctx.err, "ardcell bench table1: wrote %s\n", written.c_str());
     ctx.exit_code = kExitOk;
   });
 }

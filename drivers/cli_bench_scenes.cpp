@@ -1,15 +1,19 @@
 // `ardcell bench scenes`: every preset through the engine users run, serial against threads and
 // (with an OpenCL device) opencl in one run (bench/scenes_bench.cpp, SceneSpeedup/<preset>/<N>:
 // the back ends' frames alternate, so a slow spell of the machine hits each). Prints a Markdown
-// table and writes scenes.md and scenes.csv in --out.
+// table and writes scenes.md, scenes.csv and scenes.png (drivers/bar_chart.h, when built with
+// PLplot) in --out.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "drivers/bar_chart.h"
 #include "drivers/bench_program.h"
 #include "drivers/cli.h"
 #include "host/scenes/preset.h"
@@ -86,6 +90,11 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
   csv << "preset,n,serial_fps,threads_fps,speedup,workers"
       << (with_opencl ? ",opencl_fps,opencl_speedup\n" : "\n");
   char line[256];
+  struct ChartRow {
+    std::string preset, n;
+    double fps[3];  // serial, threads, opencl
+  };
+  std::vector<ChartRow> chart_rows;
   for (const BenchRow& row : rows) {
     // SceneSpeedup/<preset>/<N>
     const auto first = row.name.find('/'), last = row.name.rfind('/');
@@ -97,6 +106,8 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
       return it == row.counters.end() ? 0.0 : it->second;
     };
     const double serial_fps = 1e3 / counter("serial_ms"), threads_fps = 1e3 / counter("threads_ms");
+    const double opencl_fps_chart = counter("opencl_ms") > 0 ? 1e3 / counter("opencl_ms") : NAN;
+    chart_rows.push_back({preset, n, {serial_fps, threads_fps, opencl_fps_chart}});
     std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2fx | %.0f |", preset.c_str(),
                   n.c_str(), serial_fps, threads_fps, counter("speedup"), counter("workers"));
     md << line;
@@ -121,8 +132,44 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
     return kExitFailure;
   }
   std::fputs(md.str().c_str(), ctx.out);
-  std::fprintf(ctx.err, "ardcell bench scenes: wrote %s, %s\n", (dir / "scenes.md").c_str(),
-               (dir / "scenes.csv").c_str());
+  std::string written = (dir / "scenes.md").string() + ", " + (dir / "scenes.csv").string();
+  if (charts_available()) {
+    // One panel per size, one group per preset, a bar per back end.
+    BarChart chart;
+    chart.title = "Every preset on the engine: frames per second per back end";
+    chart.x_label = "";  // the presets label the bars, the panels say N
+    chart.y_label = "frames per second (log)";
+    chart.vertical_group_labels = true;
+    std::vector<std::string> sizes;
+    for (const ChartRow& r : chart_rows) {
+      if (std::find(chart.groups.begin(), chart.groups.end(), r.preset) == chart.groups.end())
+        chart.groups.push_back(r.preset);
+      if (std::find(sizes.begin(), sizes.end(), r.n) == sizes.end()) sizes.push_back(r.n);
+    }
+    const char* names[3] = {"serial", "threads", "opencl"};
+    for (const std::string& n : sizes) {
+      BarPanel panel;
+      panel.title = "N = " + n;
+      for (int k = 0; k < (with_opencl ? 3 : 2); ++k) {
+        BarSeries series{names[k], std::vector<double>(chart.groups.size(), NAN)};
+        for (const ChartRow& r : chart_rows)
+          if (r.n == n)
+            series
+                .values[std::size_t(std::find(chart.groups.begin(), chart.groups.end(), r.preset) -
+                                    chart.groups.begin())] = r.fps[k];
+        panel.series.push_back(std::move(series));
+      }
+      chart.panels.push_back(std::move(panel));
+    }
+    if (Status cs = write_bar_chart(dir / "scenes.png", chart, 1400, 680); !cs) {
+      std::fprintf(ctx.err, "ardcell bench scenes: %s\n", cs.message().c_str());
+      return kExitFailure;
+    }
+    written += ", " + (dir / "scenes.png").string();
+  } else {
+    std::fprintf(ctx.err, "ardcell bench scenes: note: built without PLplot, no scenes.png\n");
+  }
+  std::fprintf(ctx.err, "ardcell bench scenes: wrote %s\n", written.c_str());
   return kExitOk;
 }
 
@@ -136,7 +183,8 @@ void add_bench_scenes_command(CLI::App& bench, CliContext& ctx) {
   scenes->add_option("--presets", o->presets, "Presets, comma-separated (default: every one)");
   scenes->add_option("--min-time", o->min_time, "Seconds per benchmark (at least)")
       ->capture_default_str();
-  scenes->add_option("--out", o->out, "Folder for scenes.md and scenes.csv")->capture_default_str();
+  scenes->add_option("--out", o->out, "Folder for scenes.md, scenes.csv and scenes.png")
+      ->capture_default_str();
   scenes
       ->add_option_function<std::string>(
           "--cl-device",

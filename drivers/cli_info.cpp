@@ -6,6 +6,7 @@
 #include <string>
 #include <thread>
 
+#include "drivers/bar_chart.h"
 #include "drivers/cli.h"
 #include "host/scenes/preset.h"
 
@@ -98,7 +99,7 @@ int do_info(CliContext& ctx) {
   std::fprintf(o, "build: %s, %s, sanitizers %s, compiler %s\n", build,
                ARDCELL_CHECKS_ON ? "ARDCELL_DCHECK on" : "ARDCELL_DCHECK off",
                sanitized() ? "address+undefined" : "off", __VERSION__);
-  std::fprintf(o, "options: opencl=%s hidapi=%s gpiod=%s sdl2=%s liblo=%s systemd=%s\n",
+  std::fprintf(o, "options: opencl=%s hidapi=%s gpiod=%s sdl2=%s liblo=%s systemd=%s plplot=%s\n",
 #ifdef ARDCELL_WITH_OPENCL
                on_off(true),
 #else
@@ -125,11 +126,11 @@ int do_info(CliContext& ctx) {
                on_off(false),
 #endif
 #ifdef ARDCELL_WITH_SYSTEMD
-               on_off(true)
+               on_off(true),
 #else
-               on_off(false)
+               on_off(false),
 #endif
-  );
+               on_off(charts_available()));
   std::fprintf(o, "cpu: %s\n", cpu_model().c_str());
   std::fprintf(o, "cpu features: %s\n", cpu_features().c_str());
   std::fprintf(o, "compiled for: %s\n", compiled_for().c_str());

@@ -1,6 +1,6 @@
 // `ardcell live [PRESET]`: the real-time window (drivers/display_sdl.h) running the live loop
 // (host/live/live_loop.h) with presets, adaptive quality, attract mode, GPIO buttons, OSC and
-// recording. See README "Live display, presets and kiosk".
+// recording. See docs/live-and-kiosk.md.
 #include <arpa/inet.h>
 #include <sched.h>
 #include <sys/mman.h>

@@ -1,7 +1,7 @@
 #pragma once
 // OSC remote control over UDP for live performance (`ardcell live --osc PORT`). A UDP socket
 // bound to 127.0.0.1 unless told otherwise; each datagram is decoded with liblo and turned
-// into a live-loop command or a stroke sample. Address space (README "OSC"):
+// into a live-loop command or a stroke sample. Address space (docs/live-and-kiosk.md, "OSC"):
 //   /ardcell/preset s NAME            switch preset (built-in name, or NAME / NAME.toml found in
 //                                     a preset folder), crossfaded
 //   /ardcell/preset/next              /ardcell/preset/prev

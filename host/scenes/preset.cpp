@@ -686,7 +686,7 @@ Preset preset_from_scene(const SceneConfig& scene) {
 }
 
 std::string preset_to_toml(const Preset& preset) {
-  std::string out = "# ardcell preset (keys: README \"Live display, presets and kiosk\")\n";
+  std::string out = "# ardcell preset (keys: docs/presets.md)\n";
   std::string section;
   Preset& p = const_cast<Preset&>(preset);  // accessors are shared with the setters
   for (const ParamSpec& spec : kParams) {

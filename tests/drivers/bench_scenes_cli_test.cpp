@@ -1,6 +1,7 @@
 // `ardcell bench scenes` through the real binary: a tiny run prints the Markdown table and writes
 // scenes.md and scenes.csv with one row per preset and size, each with both back ends' FPS and
-// their ratio; bad sizes, presets and times exit 2 with one line and write nothing.
+// their ratio, and scenes.png when built with PLplot; bad sizes, presets and times exit 2 with one
+// line and write nothing.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/bar_chart.h"
 #include "tests/drivers/binary_run_fixture.h"
 
 namespace ardcell {
@@ -50,6 +52,8 @@ TEST_F(BenchScenesCliTest, TinyRunWritesOneRowPerPresetAndSize) {
   std::istringstream in2(slurp(work() / "res2" / "scenes.csv"));
   std::getline(in2, line);
   EXPECT_EQ(line, "preset,n,serial_fps,threads_fps,speedup,workers");
+  // The chart (PLplot): present exactly when this build draws charts.
+  EXPECT_EQ(fs::exists(work() / "res" / "scenes.png"), charts_available()) << r.err;
 }
 
 TEST_F(BenchScenesCliTest, BadInputExitsTwoWithOneLine) {

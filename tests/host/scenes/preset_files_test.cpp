@@ -87,7 +87,7 @@ TEST(PresetFiles, NamesFindTheEmbeddedFileWithTheBuiltinsValues) {
   }
 }
 
-// The README's key reference: one row per key of the table in host/scenes/preset.cpp.
+// docs/presets.md's key reference: one row per key of the table in host/scenes/preset.cpp.
 std::string key_reference() {
   std::string out = "| key | type and range | live | meaning |\n|---|---|---|---|\n";
   for (const ParamSpec& spec : preset_params()) {
@@ -102,12 +102,12 @@ std::string key_reference() {
   return out;
 }
 
-TEST(PresetFiles, ReadmeKeyReferenceListsEveryKey) {
-  const fs::path readme = ARDCELL_SOURCE_DIR "/README.md";
+TEST(PresetFiles, DocsKeyReferenceListsEveryKey) {
+  const fs::path readme = ARDCELL_SOURCE_DIR "/docs/presets.md";
   const std::string text = read_text(readme);
   const std::string begin = "<!-- preset keys begin -->\n", end = "<!-- preset keys end -->";
   const size_t b = text.find(begin), e = text.find(end);
-  ASSERT_NE(b, std::string::npos) << "README.md lost its preset key markers";
+  ASSERT_NE(b, std::string::npos) << "docs/presets.md lost its preset key markers";
   ASSERT_NE(e, std::string::npos);
   ASSERT_LT(b, e);
   const std::string current = text.substr(b + begin.size(), e - b - begin.size());
@@ -117,7 +117,7 @@ TEST(PresetFiles, ReadmeKeyReferenceListsEveryKey) {
       write_atomically(readme, text.substr(0, b + begin.size()) + expected + text.substr(e));
     return;
   }
-  EXPECT_EQ(current, expected) << "README.md key reference is stale; regenerate it";
+  EXPECT_EQ(current, expected) << "docs/presets.md key reference is stale; regenerate it";
 }
 
 }  // namespace

@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# Regenerates every image the docs show (docs/gallery/*.png) with the real ardcell binary:
+#   scripts/make_figures.sh            the gallery, into docs/gallery/ (minutes: Fig. 3 runs
+#                                      3200 frames at 256^2)
+#   scripts/make_figures.sh --small    every command at 64x64 (obstacles 32x64) and 4 frames,
+#                                      into a temporary folder that is removed (a smoke test, CI)
+# Options: --out DIR (keep the images there), --only GLOB (the images whose name matches, e.g.
+# 'fig4*'), ARDCELL=path/to/ardcell (default
+# build/release/ardcell; build it with `cmake --build build/release --target ardcell`).
+# Every run uses --backend serial, so the images are the same bits on any machine and load.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+small=0
+out=""
+only="*"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --small) small=1 ;;
+    --out) out=$2; shift ;;
+    --only) only=$2; shift ;;
+    *) echo "make_figures.sh: unknown argument '$1' (expected --small, --out DIR, --only GLOB)" >&2
+       exit 2 ;;
+  esac
+  shift
+done
+
+bin=${ARDCELL:-build/release/ardcell}
+if [ ! -x "$bin" ]; then
+  echo "make_figures.sh: no ardcell binary at $bin (build it: cmake --build build/release" \
+       "--target ardcell, or set ARDCELL=path)" >&2
+  exit 2
+fi
+bin=$(realpath "$bin")
+repo=$(pwd)
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+if [ -z "$out" ]; then
+  if [ $small -eq 1 ]; then out="$work/gallery"; else out=docs/gallery; fi
+fi
+mkdir -p "$out"
+out=$(realpath "$out")
+made=()
+
+# fig OUTNAME FRAME -- ardcell run ARGS...: runs the command (with --size/--steps replaced in
+# --small mode), then copies frame FRAME (the last one in --small mode) to OUT/OUTNAME.png.
+fig() {
+  local name=$1 frame=$2
+  shift 3
+  # shellcheck disable=SC2053
+  [[ $name == $only ]] || return 0
+  local args=("$@") dir="$work/run-$name"
+  if [ $small -eq 1 ]; then
+    local i
+    for i in "${!args[@]}"; do
+      case "${args[$i]}" in
+        --size) case "${args[$((i + 1))]}" in *x*) args[$((i + 1))]=32x64 ;; *) args[$((i + 1))]=64 ;; esac ;;
+        --steps) args[$((i + 1))]=4 ;;
+        --every) args[$((i + 1))]=4 ;;
+      esac
+    done
+    frame=4
+  fi
+  (cd "$repo" && "$bin" "${args[@]}" --out "$dir" --quiet --backend serial >/dev/null)
+  local file
+  file=$(ls "$dir"/*_"$(printf %08d "$frame")".png 2>/dev/null | head -n 1)
+  if [ -z "$file" ]; then
+    echo "make_figures.sh: $name: frame $frame not written by: ardcell ${args[*]}" >&2
+    exit 1
+  fi
+  cp "$file" "$out/$name.png"
+  made+=("$name.png")
+}
+
+spiral=presets/strokes/fig3_spiral.jsonl
+# Fig. 3: the spiral stroke, deposit only (top) and with the theta0 coupling (bottom).
+fig fig3_deposit 3000 -- run fig3-deposit --size 256 --strokes $spiral --paint-radius 8 --steps 3000 --every 200
+fig fig3_orient 200 -- run fig3-orient --size 256 --strokes $spiral --paint-radius 12 --steps 3200 --every 200
+if [[ fig3_orient == $only ]]; then
+  cp "$work/run-fig3_orient/"*_"$( [ $small -eq 1 ] && echo 00000004 || echo 00003200)".png \
+    "$out/fig3_orient_3200.png"
+  made+=(fig3_orient_3200.png)
+fi
+# Fig. 4: space cookies with 3, 4, 5 and 8 lobes (their own size: the seed is 6% of the width),
+# at frame 500, before the 3-lobed one fills the canvas.
+for j in 3 4 5 8; do
+  fig "fig4_space_cookie_$j" 500 -- run "space-cookie-$j" --size 200 --steps 500 --every 500
+done
+# Fig. 5: the lid-driven cavity, advection only and with three reaction models.
+for m in advect gray-scott fhn barkley; do
+  fig "fig5_cavity_$m" 1500 -- run "cavity-$m" --size 128 --steps 1500 --every 1500
+done
+# Fig. 6: flow past an obstacle, advection only and advection-reaction-diffusion.
+for m in advect ard-gray-scott ard-fhn ard-barkley; do
+  fig "fig6_obstacle_$m" 1500 -- run "obstacle-$m" --size 96x192 --steps 1500 --every 1500
+done
+# The plain cavity's dye.
+fig cavity 1000 -- run cavity --size 128 --steps 1000 --every 1000
+
+# The live window, painted by the attract mode replaying the spiral.
+live_frames=150
+[ $small -eq 1 ] && live_frames=4
+live=("$bin" live ink --frames "$live_frames" --attract 0 --attract-dir presets/strokes
+      --backend serial --no-vsync --screenshot "$out/live.png")
+if [[ live != $only ]]; then
+  :
+elif [ -n "${DISPLAY:-}" ]; then
+  "${live[@]}" >/dev/null 2>&1
+  made+=(live.png)
+elif command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s "-screen 0 800x600x24" "${live[@]}" >/dev/null 2>&1
+  made+=(live.png)
+else
+  echo "make_figures.sh: no X display and no xvfb-run: live.png not made" >&2
+fi
+
+for f in "${made[@]}"; do
+  [ -s "$out/$f" ] || { echo "make_figures.sh: $out/$f is missing or empty" >&2; exit 1; }
+done
+echo "make_figures.sh: ${#made[@]} images in $out"
