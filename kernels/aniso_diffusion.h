@@ -1,7 +1,7 @@
 #pragma once
 // Implicit (anisotropic) diffusion of one chemical, seed 000:
 //   Eqn 13 (isotropic):   (1 - s lap) A~ = A^,                 s = D dt / h^2
-//   Eqn 17/19:            A~ - s sum_faces (k_f (A~_nb - A~)) = A^,  k_f = (k_c + k_nb) / 2
+//   Eqn 17, Eqn 19:       A~ - s sum_faces (k_f (A~_nb - A~)) = A^,  k_f = (k_c + k_nb) / 2
 // k = a(theta) per cell (kernels/anisotropy.h); averaging it onto faces keeps the matrix
 // symmetric, so the StencilOperator solvers (Jacobi, RBGS, ICCG, multigrid) apply.
 // Crank-Nicolson option: (1 - s/2 L) A~ = (1 + s/2 L) A^.
