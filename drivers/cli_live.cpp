@@ -65,6 +65,7 @@ struct LiveArgs {
   std::vector<std::string> playlist;
   int crossfade = 30;
   bool keys = false;
+  bool markdown = false;
   bool list = false;
   std::string backend = "auto";
   int cl_device = -1;
@@ -137,6 +138,10 @@ void request_realtime(std::FILE* err) {
 }
 
 int run_live(const LiveArgs& a, CliContext& ctx) {
+  if (a.keys && a.markdown) {
+    std::fputs(preset_keys_markdown().c_str(), ctx.out);
+    return kExitOk;
+  }
   if (a.keys) {
     for (const ParamSpec& s : preset_params())
       std::fprintf(ctx.out, "%-36.*s %s; %.*s\n", int(s.key.size()), s.key.data(),
@@ -372,6 +377,9 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   live->add_option("--crossfade", args->crossfade, "Frames of crossfade on preset switch")
       ->check(CLI::Range(0, 10000));
   live->add_flag("--keys", args->keys, "List every preset key and exit");
+  live->add_flag("--markdown", args->markdown,
+                 "With --keys: print docs/presets.md (the key table as Markdown)")
+      ->needs("--keys");
   live->add_flag("--list", args->list, "List preset names and exit");
   live->add_option("--backend", args->backend,
                    "auto | threads | serial | opencl: threads runs every preset on every core, "

@@ -17,8 +17,8 @@
 //   [quality]  adaptive = true  min_sweeps = 4  max_sweeps = 20  min_rd_scale = 0.5
 //   [input]    mode = "deposit"  brush_radius = 0.03  strength = 1.0
 // Every key is optional; a missing key keeps the SceneConfig default. Every SceneConfig member
-// has a key (tests/host/scenes/preset_keys_test.cpp); the README's "Live display, presets and
-// kiosk" section lists them all (generated, `ardcell live --keys`).
+// has a key (tests/host/scenes/preset_keys_test.cpp); docs/presets.md lists them all
+// (generated: scripts/preset_keys.sh, `ardcell live --keys --markdown`).
 #include <cstdint>
 #include <span>
 #include <string>
@@ -85,6 +85,10 @@ const ParamSpec* find_param(std::string_view key);
 // "a number in [0, 10]", "one of gray|viridis", ... for messages and --keys.
 std::string param_expectation(const ParamSpec& spec);
 
+// docs/presets.md: every key with its type, range (as enforced), live or rebuild and meaning,
+// as Markdown (`ardcell live --keys --markdown`, scripts/preset_keys.sh).
+std::string preset_keys_markdown();
+
 // Parses TOML text. `source_name` is used in messages ("presets/x.toml:12: ..."). On failure
 // returns every problem, one per line, and leaves `out` unspecified.
 Status parse_preset(std::string_view text, std::string_view source_name, Preset& out);
@@ -108,6 +112,12 @@ bool presets_share_structure(const Preset& a, const Preset& b);
 // are refused. On failure `scene` is unchanged and the message is one line naming the key and
 // what was expected: "--set rd.reaction.f: expected a number in [0, 1], got 2".
 Status apply_param_override(SceneConfig& scene, std::string_view assignment);
+
+// The checks of one key against the others (parse_preset makes them with file:line): polar
+// anisotropy needs 2 or more samples, the explicit schemes are isotropic, a manual table range
+// is a non-empty box. One line per problem ("rd.scheme: expected implicit with ..."); for a
+// scene changed after parsing (--set, saved states).
+Status check_scene_keys(const SceneConfig& scene);
 
 // Validates and sets one numeric parameter (OSC, GPIO, crossfades); never allocates on success.
 // Choices may be given by index. Returns false with a one-line reason in `why` when invalid.
