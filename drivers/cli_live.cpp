@@ -177,11 +177,13 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                             : o.playlist.empty() ? std::string("cavity")
                                                  : o.playlist.front();
   Preset preset;
-  if (Status s = load_preset(first, preset); !s) return cli_usage_error(ctx, "live", s.message());
-  for (const std::string& name : a.playlist)
-    if (Preset p; !load_preset(name, p))
-      return cli_usage_error(ctx, "live",
-                             "--playlist " + name + ": " + load_preset(name, p).message());
+  if (Status s = load_live_preset(first, preset); !s)
+    return cli_usage_error(ctx, "live", s.message());
+  for (const std::string& name : a.playlist) {
+    Preset p;
+    if (Status s = load_live_preset(name, p); !s)
+      return cli_usage_error(ctx, "live", "--playlist " + name + ": " + s.message());
+  }
   // Every destination is checked before the window opens.
   if (!a.record.empty())
     if (Status s = check_output_path(a.record, false); !s)

@@ -193,26 +193,37 @@ void LiveLoop::notice(const char* fmt, ...) {
   va_start(args, fmt);
   std::vsnprintf(buf, sizeof buf, fmt, args);
   va_end(args);
-  if (options_.log) std::fprintf(options_.log, "live: %s\n", buf);
+  // One log line per problem: a preset's message lists each on its own line.
+  const char* first_end = std::strchr(buf, '\n');
+  if (options_.log) {
+    const char* prefix_end = first_end ? std::strstr(buf, ": ") : nullptr;
+    const int prefix = prefix_end && prefix_end < first_end ? int(prefix_end - buf + 2) : 0;
+    for (const char* line = buf; *line;) {
+      const char* end = std::strchr(line, '\n');
+      const int n = end ? int(end - line) : int(std::strlen(line));
+      // Lines after the first repeat the notice's lead ("keeping cavity: ").
+      if (line == buf)
+        std::fprintf(options_.log, "live: %.*s\n", n, line);
+      else if (n > 0)
+        std::fprintf(options_.log, "live: %.*s%.*s\n", prefix, buf, n, line);
+      line = end ? end + 1 : line + n;
+    }
+  }
   {
     std::lock_guard lock(message_mutex_);
-    message_.assign(buf);
+    message_.assign(buf, first_end ? size_t(first_end - buf) : std::strlen(buf));
   }
-  std::snprintf(hud_.message.data(), hud_.message.size(), "%s", buf);
+  std::snprintf(hud_.message.data(), hud_.message.size(), "%.*s",
+                first_end ? int(first_end - buf) : int(std::strlen(buf)), buf);
   hud_.message_until_frame = frame_ + 180;
 }
 
-namespace {
-
-// A preset by name or path whose grid fits in memory (the check `ardcell run` makes).
 Status load_live_preset(std::string_view name, Preset& p) {
   if (Status s = load_preset(name, p); !s) return s;
   if (Status s = check_memory_for_grid(p.scene); !s)
     return Status::error("preset " + std::string(name) + ": " + s.message());
   return Status::ok();
 }
-
-}  // namespace
 
 Status LiveLoop::start(std::string_view name) {
   Preset p;

@@ -255,6 +255,10 @@ class LiveLoop {
   std::string message_;
 };
 
+// A preset by name or path (load_preset) whose grid fits in memory (the check `ardcell run`
+// makes): what every preset of `ardcell live` goes through, the first, the playlist, switches.
+Status load_live_preset(std::string_view name, Preset& p);
+
 // The field a preset shows, as RGB through its colormap (host/render/frame_render.h, the same image
 // `ardcell run` writes). `out` must already have the state's size.
 void render_state(const SimState& state, const OutputConfig& output, ImageRgb8& out);
