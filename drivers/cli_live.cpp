@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <thread>
@@ -332,11 +333,16 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   const Status s = loop.run();
   running.store(false);
   if (watchdog.joinable()) watchdog.join();
-  if (!s) {
-    std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
-    return kExitFailure;
+  const int code = s ? StopSignals::exit_code(kExitOk) : kExitFailure;
+  if (!s) std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
+  if (loop.switch_abandoned()) {
+    // Quit while a preset was loading: its detached builder may still use the engine options
+    // and OpenCL context of this function, so end here; the recording, screenshot and report
+    // are finished (LiveLoop::run), nothing else holds the user's data.
+    std::fflush(nullptr);
+    std::_Exit(code);
   }
-  return StopSignals::exit_code(kExitOk);
+  return code;
 #endif
 }
 
