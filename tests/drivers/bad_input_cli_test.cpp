@@ -67,6 +67,11 @@ TEST_F(BadInputCli, FilesThatAreNotRegularFilesAreRefusedWithoutReading) {
   fs::remove(work() / "st" / "meta.json");
   ASSERT_EQ(::mkfifo((work() / "st" / "meta.json").c_str(), 0644), 0);
   expect_refused("run --load-state st --steps 1 --every 0", "is a FIFO");
+  // A number JSON cannot hold (nlohmann throws out_of_range, not parse_error): was exit 1.
+  fs::remove(work() / "st" / "meta.json");
+  write("st/meta.json", "{\"format\": \"ardcell-state\", \"version\": 1, \"dt\": 2e308}");
+  expect_refused("run --load-state st --steps 1 --every 0",
+                 "meta.json: not valid JSON (a number out of range)");
 }
 
 TEST_F(BadInputCli, OversizedFilesAreRefusedBeforeTheirPayload) {
