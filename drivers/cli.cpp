@@ -98,8 +98,20 @@ CLI::Validator finite_range(double lo, double hi) {
 }
 
 int cli_usage_error(CliContext& ctx, const std::string& command, const std::string& message) {
-  std::fprintf(ctx.err, "ardcell%s%s: %s\n", command.empty() ? "" : " ", command.c_str(),
-               one_line(message).c_str());
+  // One line per problem: a message listing several (a preset's) has one per line.
+  size_t begin = 0;
+  bool printed = false;
+  while (begin <= message.size()) {
+    size_t end = message.find('\n', begin);
+    if (end == std::string::npos) end = message.size();
+    const std::string line = one_line(message.substr(begin, end - begin));
+    if (!line.empty() || (!printed && end == message.size())) {
+      std::fprintf(ctx.err, "ardcell%s%s: %s\n", command.empty() ? "" : " ", command.c_str(),
+                   line.c_str());
+      printed = true;
+    }
+    begin = end + 1;
+  }
   std::fflush(ctx.err);
   return kExitUsage;
 }

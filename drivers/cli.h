@@ -26,8 +26,9 @@ struct CliContext {
 
 using CommandInstaller = void (*)(CLI::App& app, CliContext& ctx);
 
-// Prints "ardcell <command>: <message>" as one line on ctx.err (newlines in message become
-// spaces) and returns kExitUsage, so a callback can write `ctx.exit_code = cli_usage_error(...)`.
+// Prints "ardcell <command>: <message>" on ctx.err, one line per line of `message` (a preset
+// with several problems gives one line each, as parse_preset returns them; empty lines are
+// dropped) and returns kExitUsage, so a callback can write `ctx.exit_code = cli_usage_error(...)`.
 int cli_usage_error(CliContext& ctx, const std::string& command, const std::string& message);
 
 // SIGINT, SIGTERM and SIGHUP end `run`, `live` and `tablet record` the way Esc does: while a

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <thread>
@@ -65,6 +66,7 @@ struct LiveArgs {
   std::vector<std::string> playlist;
   int crossfade = 30;
   bool keys = false;
+  bool markdown = false;
   bool list = false;
   std::string backend = "auto";
   int cl_device = -1;
@@ -137,6 +139,10 @@ void request_realtime(std::FILE* err) {
 }
 
 int run_live(const LiveArgs& a, CliContext& ctx) {
+  if (a.keys && a.markdown) {
+    std::fputs(preset_keys_markdown().c_str(), ctx.out);
+    return kExitOk;
+  }
   if (a.keys) {
     for (const ParamSpec& s : preset_params())
       std::fprintf(ctx.out, "%-36.*s %s; %.*s\n", int(s.key.size()), s.key.data(),
@@ -172,11 +178,13 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                             : o.playlist.empty() ? std::string("cavity")
                                                  : o.playlist.front();
   Preset preset;
-  if (Status s = load_preset(first, preset); !s) return cli_usage_error(ctx, "live", s.message());
-  for (const std::string& name : a.playlist)
-    if (Preset p; !load_preset(name, p))
-      return cli_usage_error(ctx, "live",
-                             "--playlist " + name + ": " + load_preset(name, p).message());
+  if (Status s = load_live_preset(first, preset); !s)
+    return cli_usage_error(ctx, "live", s.message());
+  for (const std::string& name : a.playlist) {
+    Preset p;
+    if (Status s = load_live_preset(name, p); !s)
+      return cli_usage_error(ctx, "live", "--playlist " + name + ": " + s.message());
+  }
   // Every destination is checked before the window opens.
   if (!a.record.empty())
     if (Status s = check_output_path(a.record, false); !s)
@@ -325,11 +333,16 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   const Status s = loop.run();
   running.store(false);
   if (watchdog.joinable()) watchdog.join();
-  if (!s) {
-    std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
-    return kExitFailure;
+  const int code = s ? StopSignals::exit_code(kExitOk) : kExitFailure;
+  if (!s) std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
+  if (loop.switch_abandoned()) {
+    // Quit while a preset was loading: its detached builder may still use the engine options
+    // and OpenCL context of this function, so end here; the recording, screenshot and report
+    // are finished (LiveLoop::run), nothing else holds the user's data.
+    std::fflush(nullptr);
+    std::_Exit(code);
   }
-  return StopSignals::exit_code(kExitOk);
+  return code;
 #endif
 }
 
@@ -372,6 +385,9 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   live->add_option("--crossfade", args->crossfade, "Frames of crossfade on preset switch")
       ->check(CLI::Range(0, 10000));
   live->add_flag("--keys", args->keys, "List every preset key and exit");
+  live->add_flag("--markdown", args->markdown,
+                 "With --keys: print docs/presets.md (the key table as Markdown)")
+      ->needs("--keys");
   live->add_flag("--list", args->list, "List preset names and exit");
   live->add_option("--backend", args->backend,
                    "auto | threads | serial | opencl: threads runs every preset on every core, "

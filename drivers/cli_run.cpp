@@ -556,6 +556,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
   if (Status s = apply_overrides(o, scene); !s) return usage(s.message());
   for (const std::string& assignment : a.sets)
     if (Status s = apply_param_override(scene, assignment); !s) return usage(s.message());
+  if (Status s = check_scene_keys(scene); !s) return usage(s.message());
   const int64_t steps = a.steps_opt->count() ? a.steps : scene.default_steps;
   if (steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
   const int64_t every = a.every_opt->count() ? a.every : std::max<int64_t>(1, steps / 50);
@@ -592,7 +593,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
       options.opencl = choice.opencl.get();
     }
   }
-  auto engine = std::make_unique<Engine>(scene, options);
+  std::unique_ptr<Engine> engine;
+  if (Status s = make_engine(scene, options, engine); !s) return usage(s.message());
   SimState* state = &engine->state();
   if (!frame_field_available(*state, field))
     return usage("--show " + show + ": scene '" + scene.name + "' has no " + show +

@@ -10,7 +10,9 @@
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
 #include "host/engine/engine.h"
+#include "host/io/atomic_file.h"
 #include "host/render/frame_render.h"
+#include "host/run/offline_run.h"
 #include "host/scenes/preset.h"
 #if defined(ARDCELL_WITH_HIDAPI)
 #include "drivers/tablet_hidapi.h"
@@ -60,6 +62,10 @@ int list_command(CliContext& ctx) {
 
 int record_command(CliContext& ctx, const std::string& file, const std::string& device,
                    double seconds) {
+  // The destination is checked before any device is opened.
+  if (file.empty()) return cli_usage_error(ctx, "tablet record", "FILE: expected a path");
+  if (Status st = check_output_path(file, false); !st)
+    return cli_usage_error(ctx, "tablet record", st.message());
 #if defined(ARDCELL_WITH_HIDAPI)
   g_record_stop.store(false);
   std::signal(SIGINT, on_record_interrupt);
@@ -156,15 +162,24 @@ int play_command(CliContext& ctx, const PlayArgs& a) {
   if (!a.show.empty() && !parse_frame_field(a.show, field))
     return cli_usage_error(ctx, "tablet play",
                            "--show " + a.show + ": expected " + std::string(frame_field_names()));
-  Engine engine(preset.scene);
+  if (a.png.empty())
+    return cli_usage_error(ctx, "tablet play", "--png: expected a path, got an empty string");
+  if (Status st = check_output_path(a.png, false); !st)
+    return cli_usage_error(ctx, "tablet play", "--png " + st.message());
+  if (Status st = check_memory_for_grid(preset.scene); !st)
+    return cli_usage_error(ctx, "tablet play", st.message());
+  std::unique_ptr<Engine> made;
+  if (Status st = make_engine(preset.scene, EngineOptions{}, made); !st)
+    return cli_usage_error(ctx, "tablet play", st.message());
+  Engine& engine = *made;
+  if (!frame_field_available(engine.state(), field))
+    return cli_usage_error(ctx, "tablet play", "--show: the scene has no such field");
   const int64_t steps = a.steps > 0 ? a.steps : preset.scene.default_steps;
   int64_t painted = 0;
   for (int64_t i = 0; i < steps; ++i) {
     painted += int64_t(playback->before_step(engine.state(), double(i) * preset.scene.dt));
     engine.step();
   }
-  if (!frame_field_available(engine.state(), field))
-    return cli_usage_error(ctx, "tablet play", "--show: the scene has no such field");
   ImageRgb8 image;
   image.resize(engine.state().size.x, engine.state().size.y);
   render_frame(engine.state(), default_render_settings(field), image);

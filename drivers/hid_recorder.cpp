@@ -1,5 +1,6 @@
 #include "drivers/hid_recorder.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -74,7 +75,7 @@ bool parse_hid_recording(const std::string& text, HidRecording& out, std::string
   std::string line;
   int number = 0;
   auto fail = [&](const std::string& why) {
-    error = "line " + std::to_string(number) + ": " + why;
+    error = std::to_string(number) + ": " + why;  // read_hid_recording: "path:N: why"
     return false;
   };
   while (std::getline(lines, line)) {
@@ -162,7 +163,8 @@ bool read_hid_recording(const std::string& path, HidRecording& out, std::string&
   }
   std::string why;
   if (!parse_hid_recording(text, out, why)) {
-    error = path + ": " + why;
+    error = path + (why.empty() || !std::isdigit(static_cast<unsigned char>(why[0])) ? ": " : ":") +
+            why;
     return false;
   }
   return true;

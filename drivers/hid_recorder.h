@@ -28,7 +28,8 @@ struct HidRecording {
   std::vector<HidEvent> events;
 };
 
-// Parses the text; false with one line `error` naming the line number and what was expected.
+// Parses the text; false with one line `error` naming the line number and what was expected
+// ("2: E: bad timestamp ..."; read_hid_recording puts the path before it: "pen.txt:2: ...").
 bool parse_hid_recording(const std::string& text, HidRecording& out, std::string& error);
 bool read_hid_recording(const std::string& path, HidRecording& out, std::string& error);
 std::string format_hid_recording(const HidRecording& rec);

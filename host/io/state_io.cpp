@@ -288,6 +288,9 @@ Status read_state_meta(const fs::path& dir, SavedStateMeta& meta) {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     return Status::error(what + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  } catch (const nlohmann::json::exception&) {
+    // A number beyond double (out_of_range 406, e.g. 2e308): found by state_meta_fuzz.
+    return Status::error(what + ": not valid JSON (a number out of range)");
   }
   if (!j.is_object() || j.value("format", std::string()) != kFormat)
     return Status::error(what + ": not an ardcell saved state (expected \"format\": \"" + kFormat +

@@ -92,9 +92,12 @@ void crossfade_images(const ImageRgb8& from, double t, ImageRgb8& to) {
 }
 
 // The preset switch in flight: loaded and built on a worker thread.
+// Shared by the loop and the builder thread, so that a build let go of at quit (detached) is
+// freed by its thread when it ends.
 struct LiveLoop::Build {
   std::thread thread;
   std::atomic<bool> done{false};
+  std::atomic<bool> cancelled{false};  // quit: skip the build if it has not begun
   std::string name;
   Preset preset;
   std::unique_ptr<LiveSimulation> sim;
@@ -179,6 +182,7 @@ LiveLoop::LiveLoop(LiveOptions options, SimulationFactory factory, LiveDisplay& 
 
 LiveLoop::~LiveLoop() {
   if (recorder_) (void)recorder_->close();
+  if (build_ && build_->thread.joinable()) build_->thread.join();
   build_.reset();
 }
 
@@ -193,26 +197,37 @@ void LiveLoop::notice(const char* fmt, ...) {
   va_start(args, fmt);
   std::vsnprintf(buf, sizeof buf, fmt, args);
   va_end(args);
-  if (options_.log) std::fprintf(options_.log, "live: %s\n", buf);
+  // One log line per problem: a preset's message lists each on its own line.
+  const char* first_end = std::strchr(buf, '\n');
+  if (options_.log) {
+    const char* prefix_end = first_end ? std::strstr(buf, ": ") : nullptr;
+    const int prefix = prefix_end && prefix_end < first_end ? int(prefix_end - buf + 2) : 0;
+    for (const char* line = buf; *line;) {
+      const char* end = std::strchr(line, '\n');
+      const int n = end ? int(end - line) : int(std::strlen(line));
+      // Lines after the first repeat the notice's lead ("keeping cavity: ").
+      if (line == buf)
+        std::fprintf(options_.log, "live: %.*s\n", n, line);
+      else if (n > 0)
+        std::fprintf(options_.log, "live: %.*s%.*s\n", prefix, buf, n, line);
+      line = end ? end + 1 : line + n;
+    }
+  }
   {
     std::lock_guard lock(message_mutex_);
-    message_.assign(buf);
+    message_.assign(buf, first_end ? size_t(first_end - buf) : std::strlen(buf));
   }
-  std::snprintf(hud_.message.data(), hud_.message.size(), "%s", buf);
+  std::snprintf(hud_.message.data(), hud_.message.size(), "%.*s",
+                first_end ? int(first_end - buf) : int(std::strlen(buf)), buf);
   hud_.message_until_frame = frame_ + 180;
 }
 
-namespace {
-
-// A preset by name or path whose grid fits in memory (the check `ardcell run` makes).
 Status load_live_preset(std::string_view name, Preset& p) {
   if (Status s = load_preset(name, p); !s) return s;
   if (Status s = check_memory_for_grid(p.scene); !s)
     return Status::error("preset " + std::string(name) + ": " + s.message());
   return Status::ok();
 }
-
-}  // namespace
 
 Status LiveLoop::start(std::string_view name) {
   Preset p;
@@ -261,13 +276,14 @@ void LiveLoop::request_preset(std::string name) {
     pending_preset_ = std::move(name);
     return;
   }
-  build_ = std::make_unique<Build>();
+  build_ = std::make_shared<Build>();
   build_->name = std::move(name);
   builder_busy_ = true;
-  Build* b = build_.get();
+  std::shared_ptr<Build> b = build_;
   SimulationFactory factory = factory_;
-  b->thread = std::thread([b, factory] {
+  build_->thread = std::thread([b, factory] {
     b->status = load_live_preset(b->name, b->preset);
+    if (b->status && b->cancelled.load()) b->status = Status::error(b->name + ": cancelled");
     if (b->status) {
       try {
         b->sim = factory(b->preset);
@@ -291,7 +307,7 @@ void LiveLoop::poll_build() {
   if (!builder_busy_ || !build_->done.load(std::memory_order_acquire)) return;
   if (build_->thread.joinable()) build_->thread.join();
   builder_busy_ = false;
-  std::unique_ptr<Build> b = std::move(build_);
+  std::shared_ptr<Build> b = std::move(build_);
   if (!b->status) {
     // A bad preset never takes the running one down: keep it, say why.
     ++preset_errors_;
@@ -561,6 +577,7 @@ Status LiveLoop::run() {
   if (!sim_) return Status::error("live: no preset started");
   while (run_frame()) {
   }
+  abandon_switch();  // quitting never waits for a preset still loading
   if (!options_.exit_screenshot.empty()) {
     ImageRgb8 shot;
     if (!display_.read_back(shot)) shot = image_;
@@ -577,6 +594,22 @@ Status LiveLoop::run() {
   stop_recording();
   if (options_.log) clock_.print_report(options_.log);
   return Status::ok();
+}
+
+void LiveLoop::abandon_switch() {
+  if (!builder_busy_) return;
+  pending_preset_.clear();
+  builder_busy_ = false;
+  std::shared_ptr<Build> b = std::move(build_);
+  if (b->done.load(std::memory_order_acquire)) {
+    if (b->thread.joinable()) b->thread.join();
+    return;
+  }
+  // Quitting never waits for a load: the thread runs on, detached, and frees the build.
+  b->cancelled.store(true);
+  b->thread.detach();
+  switch_abandoned_ = true;
+  notice("quit without waiting for preset %s (still loading)", b->name.c_str());
 }
 
 }  // namespace ardcell

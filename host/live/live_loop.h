@@ -199,6 +199,11 @@ class LiveLoop {
 
   // Blocks until a pending preset switch has been built (tests).
   void wait_for_switch();
+  // True once run() quit while a preset switch was still loading: its builder thread was
+  // detached (and skips the build if it had not begun) instead of waited for. It may still be
+  // running the SimulationFactory, so whatever that uses must outlive it: `ardcell live` ends
+  // the process at once (_Exit, after the recording and report are finished).
+  bool switch_abandoned() const { return switch_abandoned_; }
 
  private:
   struct Recorder;
@@ -206,6 +211,7 @@ class LiveLoop {
   void handle(const LiveCommand& c);
   void request_preset(std::string name);
   void poll_build();
+  void abandon_switch();
   void begin_switch(std::unique_ptr<LiveSimulation> sim, Preset preset);
   void render();
   void notice(const char* fmt, ...);
@@ -247,13 +253,18 @@ class LiveLoop {
   std::atomic<int64_t> heartbeat_{0};
   int screenshot_counter_ = 0;
 
-  std::unique_ptr<Build> build_;
+  std::shared_ptr<Build> build_;
   bool builder_busy_ = false;
+  bool switch_abandoned_ = false;
   std::string pending_preset_;  // the latest switch asked for while one was loading
   std::unique_ptr<Recorder> recorder_;
   mutable std::mutex message_mutex_;
   std::string message_;
 };
+
+// A preset by name or path (load_preset) whose grid fits in memory (the check `ardcell run`
+// makes): what every preset of `ardcell live` goes through, the first, the playlist, switches.
+Status load_live_preset(std::string_view name, Preset& p);
 
 // The field a preset shows, as RGB through its colormap (host/render/frame_render.h, the same image
 // `ardcell run` writes). `out` must already have the state's size.

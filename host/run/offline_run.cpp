@@ -8,6 +8,9 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <memory>
+#include <new>
+#include <stdexcept>
 #include <string>
 
 #include "host/scenes/preset.h"
@@ -164,6 +167,20 @@ Status check_memory_for_grid(const SceneConfig& scene) {
                          std::to_string(scene.size.y) + ": needs about " +
                          human_bytes(double(need)) + " but only " + human_bytes(double(have)) +
                          " of memory is available (expected a smaller grid)");
+  return Status::ok();
+}
+
+Status make_engine(const SceneConfig& scene, const EngineOptions& options,
+                   std::unique_ptr<Engine>& out) {
+  try {
+    out = std::make_unique<Engine>(scene, options);
+  } catch (const std::invalid_argument& e) {
+    return Status::error(e.what());
+  } catch (const std::bad_alloc&) {
+    return Status::error("--size " + std::to_string(scene.size.x) + "x" +
+                         std::to_string(scene.size.y) +
+                         ": out of memory (expected a smaller grid)");
+  }
   return Status::ok();
 }
 

@@ -43,6 +43,11 @@ uint64_t estimated_bytes_for_grid(const SceneConfig& scene);
 uint64_t available_memory_bytes();
 // Error when the grid needs more memory than is available.
 Status check_memory_for_grid(const SceneConfig& scene);
+// The Engine for a scene given by the user (`run`, `tablet play`; check_memory_for_grid first):
+// a parameter the engine refuses (std::invalid_argument, one line naming it) or a
+// failed allocation is an error, never an exception.
+Status make_engine(const SceneConfig& scene, const EngineOptions& options,
+                   std::unique_ptr<Engine>& out);
 
 // What the run loop steps: an Engine (the general scenes), or another workload (the Table 1
 // scenes) that shows its fields as a SimState for rendering.

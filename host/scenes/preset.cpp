@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -176,11 +177,11 @@ const ParamSpec kParams[] = {
     ARD_BOOL("rd.diffuse", scene.rd.diffuse, true, "diffuse the chemicals"),
     ARD_BOOL("rd.advect", scene.rd.advect, false, "carry the chemicals with the fluid (Eqn 20)"),
     ARD_ENUM("rd.scheme", scene.rd.scheme, kSchemes, true,
-             "implicit (Eqns 6, 19) | explicit5 | explicit9 (forward Euler)"),
+             "implicit (Eqns 6, 19) | explicit5 | explicit9 (forward Euler; isotropic only)"),
     ARD_NUMBER("rd.dt", scene.rd.dt, 0, 1e6, false, "RD time step; 0: grid.dt"),
     ARD_NUMBER("rd.cell_size", scene.rd.cell_size, 0, 1e6, false,
                "RD cell size h; 0: the grid's h"),
-    ARD_INTEGER("rd.steps_per_frame", scene.rd.steps_per_frame, 1, 10000, false,
+    ARD_INTEGER("rd.steps_per_frame", scene.rd.steps_per_frame, 1, 1000, false,
                 "RD steps per frame"),
     ARD_NUMBER("rd.diffusion_a", scene.rd.diffusion_a, 0, 1e6, false, "D_A"),
     ARD_NUMBER("rd.diffusion_b", scene.rd.diffusion_b, 0, 1e6, false, "D_B"),
@@ -212,22 +213,24 @@ const ParamSpec kParams[] = {
                "FitzHugh-Nagumo epsilon"),
     ARD_NUMBER("rd.reaction.fhn_a0", scene.rd.reaction.fhn_a0, -1e3, 1e3, false,
                "FitzHugh-Nagumo a0"),
-    ARD_NUMBER("rd.reaction.fhn_a1", scene.rd.reaction.fhn_a1, 0, 1e3, false,
-               "FitzHugh-Nagumo a1 (>= 0)"),
+    ARD_NUMBER("rd.reaction.fhn_a1", scene.rd.reaction.fhn_a1, 1e-9, 1e3, false,
+               "FitzHugh-Nagumo a1 (> 0)"),
     ARD_NUMBER("rd.reaction.barkley_epsilon", scene.rd.reaction.barkley_epsilon, 1e-9, 1e3, false,
                "Barkley epsilon"),
     ARD_NUMBER("rd.reaction.barkley_a", scene.rd.reaction.barkley_a, 1e-9, 1e3, false, "Barkley a"),
     ARD_NUMBER("rd.reaction.barkley_b", scene.rd.reaction.barkley_b, -1e3, 1e3, false, "Barkley b"),
     ARD_BOOL("rd.table.enabled", scene.rd.use_table, true,
              "precomputed implicit reaction table (kernels/reaction_table.h)"),
-    ARD_INTEGER("rd.table.resolution", scene.rd.table_resolution, 2, 65536, true,
+    ARD_INTEGER("rd.table.resolution", scene.rd.table_resolution, 2, 4096, true,
                 "table samples per axis"),
     ARD_BOOL("rd.table.range_auto", scene.rd.table_range_auto, true,
              "true: the model's typical range; false: a_min..b_max"),
     ARD_NUMBER("rd.table.a_min", scene.rd.table_range.a_lo, -1e6, 1e6, true, "table range of A"),
-    ARD_NUMBER("rd.table.a_max", scene.rd.table_range.a_hi, -1e6, 1e6, true, "table range of A"),
+    ARD_NUMBER("rd.table.a_max", scene.rd.table_range.a_hi, -1e6, 1e6, true,
+               "table range of A (above a_min)"),
     ARD_NUMBER("rd.table.b_min", scene.rd.table_range.b_lo, -1e6, 1e6, true, "table range of B"),
-    ARD_NUMBER("rd.table.b_max", scene.rd.table_range.b_hi, -1e6, 1e6, true, "table range of B"),
+    ARD_NUMBER("rd.table.b_max", scene.rd.table_range.b_hi, -1e6, 1e6, true,
+               "table range of B (above b_min)"),
     ARD_ENUM("rd.anisotropy.kind", scene.rd.anisotropy.kind, kAnisotropies, false,
              "isotropic (Eqn 13) | witkin-kass (Eqn 15) | lobes (Eqn 16) | polar (samples)"),
     ARD_NUMBER("rd.anisotropy.isotropic_value", scene.rd.anisotropy.isotropic_value, 0, 1e3, false,
@@ -239,7 +242,7 @@ const ParamSpec kParams[] = {
     ARD_FLOATS("rd.anisotropy.lobe_speed", scene.rd.anisotropy.lobe_speed, 0, 1e3, 1.0,
                "speed of each lobe, up to 16 (missing: 1)"),
     ARD_INTEGER("rd.anisotropy.samples", scene.rd.anisotropy.samples, 0, kMaxPolarSamples, false,
-                "polar samples used"),
+                "polar samples used; kind polar needs at least 2"),
     ARD_FLOATS("rd.anisotropy.sample", scene.rd.anisotropy.sample, 0, 1e3, 0.0,
                "a at 2 pi i / samples, up to 64 (missing: 0)"),
     ARD_NUMBER("rd.anisotropy.theta0", scene.rd.anisotropy.theta0, -1e3, 1e3, false,
@@ -263,7 +266,7 @@ const ParamSpec kParams[] = {
     ARD_INTEGER("rd.initial.spots", scene.rd.spots, 0, 1e6, false, "random-spots: count"),
     ARD_NUMBER("rd.initial.seed_radius", scene.rd.seed_radius, 0, 8192, false,
                "random-spots: radius in cells"),
-    ARD_NUMBER("rd.initial.noise", scene.rd.noise, 0, 10, false, "relative noise (Pearson: 0.01)"),
+    ARD_NUMBER("rd.initial.noise", scene.rd.noise, 0, 1, false, "relative noise (Pearson: 0.01)"),
     ARD_INTEGER("rd.initial.seed", scene.rd.seed, 0, 9007199254740992.0, false,
                 "random seed of the noise and spots"),
     ARD_NAMED("output.show", scene.output.show, kShows, false,
@@ -570,6 +573,41 @@ class PresetParser {
   Preset& out_;
 };
 
+// A problem of one key given the others (what the engine's rd_config_problem refuses).
+struct KeyProblem {
+  std::string_view key, depends_on;
+  std::string what;
+};
+
+std::vector<KeyProblem> scene_key_problems(const SceneConfig& scene) {
+  std::vector<KeyProblem> out;
+  const RdConfig& rd = scene.rd;
+  if (!rd.enabled) return out;
+  const auto kind_name = [&] { return kAnisotropies[size_t(rd.anisotropy.kind)]; };
+  if (rd.anisotropy.kind == AnisotropyKind::kPolarSamples && rd.anisotropy.samples < 2)
+    out.push_back({"rd.anisotropy.samples", "rd.anisotropy.kind",
+                   "expected an integer in [2, " + std::to_string(kMaxPolarSamples) +
+                       "] with rd.anisotropy.kind polar, got " +
+                       std::to_string(rd.anisotropy.samples)});
+  if (rd.scheme != RdScheme::kImplicit && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+    out.push_back({"rd.scheme", "rd.anisotropy.kind",
+                   "expected implicit with rd.anisotropy.kind " + std::string(kind_name()) +
+                       " (the explicit schemes are isotropic), got " +
+                       std::string(kSchemes[size_t(rd.scheme)])});
+  if (rd.use_table && !rd.table_range_auto) {
+    const ConcentrationBox& r = rd.table_range;
+    if (!(r.a_hi > r.a_lo))
+      out.push_back({"rd.table.a_max", "rd.table.range_auto",
+                     "expected more than rd.table.a_min (" + human_number(r.a_lo) + "), got " +
+                         human_number(r.a_hi)});
+    if (!(r.b_hi > r.b_lo))
+      out.push_back({"rd.table.b_max", "rd.table.range_auto",
+                     "expected more than rd.table.b_min (" + human_number(r.b_lo) + "), got " +
+                         human_number(r.b_hi)});
+  }
+  return out;
+}
+
 std::string file_stem(std::string_view path) {
   const size_t slash = path.rfind('/');
   if (slash != std::string_view::npos) path.remove_prefix(slash + 1);
@@ -627,16 +665,28 @@ Status parse_preset(std::string_view text, std::string_view source_name, Preset&
   }
   PresetParser parser(source_name, out);
   parser.table(root, "");
-  // Cross-key checks.
-  if (parser.errors.empty() && out.quality.min_sweeps > out.quality.max_sweeps) {
-    const auto* n = root.at_path("quality.min_sweeps").node();
-    const int line = n ? int(n->source().begin.line) : 0;
-    parser.errors.push_back(std::string(source_name) + ":" + std::to_string(line) +
-                            ": quality.min_sweeps: expected at most quality.max_sweeps (" +
-                            std::to_string(out.quality.max_sweeps) + "), got " +
-                            std::to_string(out.quality.min_sweeps));
+  // Cross-key checks, each at the line of its key (else of the first key it depends on).
+  if (parser.errors.empty()) {
+    std::vector<KeyProblem> problems = scene_key_problems(out.scene);
+    if (out.quality.min_sweeps > out.quality.max_sweeps)
+      problems.push_back({"quality.min_sweeps", "",
+                          "expected at most quality.max_sweeps (" +
+                              std::to_string(out.quality.max_sweeps) + "), got " +
+                              std::to_string(out.quality.min_sweeps)});
+    for (const KeyProblem& p : problems) {
+      const toml::node* n = root.at_path(p.key).node();
+      if (!n && !p.depends_on.empty()) n = root.at_path(p.depends_on).node();
+      const int line = n ? int(n->source().begin.line) : 0;
+      parser.errors.push_back(std::string(source_name) + ":" + std::to_string(line) + ": " +
+                              std::string(p.key) + ": " + p.what);
+    }
   }
   if (!parser.errors.empty()) {
+    // In file order (a TOML table iterates its keys by name); the first ones are the lines.
+    std::stable_sort(parser.errors.begin(), parser.errors.end(),
+                     [n = source_name.size() + 1](const std::string& a, const std::string& b) {
+                       return std::atoi(a.c_str() + n) < std::atoi(b.c_str() + n);
+                     });
     std::string all;
     for (const std::string& e : parser.errors) {
       if (!all.empty()) all += '\n';
@@ -869,6 +919,13 @@ Status apply_param_override(SceneConfig& scene, std::string_view assignment) {
   if (!parser.errors.empty()) return Status::error("--set " + parser.errors.front());
   scene = std::move(edited.scene);
   return Status::ok();
+}
+
+Status check_scene_keys(const SceneConfig& scene) {
+  std::string all;
+  for (const KeyProblem& p : scene_key_problems(scene))
+    all += (all.empty() ? "" : "\n") + std::string(p.key) + ": " + p.what;
+  return all.empty() ? Status::ok() : Status::error(all);
 }
 
 bool set_param(Preset& preset, const ParamSpec& spec, double value, std::string* why) {

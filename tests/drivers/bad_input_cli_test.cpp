@@ -1,7 +1,9 @@
 // Hostile input against the real binary (issue 18): files that are not regular files or are
 // far too large, values outside the preset keys' ranges, destinations that cannot be written.
 // Each case must give exit code 2, one line on stderr, and leave nothing behind; none may
-// read the whole of an oversized input (they finish in well under the time that would take).
+// read the whole of an oversized input (they finish in well under the time that would take),
+// and every run has its memory bounded to 2 GiB (limit_memory): a case that allocated what the
+// input asks for would fail (std::bad_alloc, or ASan's limits abort it) instead of exit 2.
 #include <sys/stat.h>
 
 #include <chrono>
@@ -18,6 +20,10 @@ namespace fs = std::filesystem;
 
 class BadInputCli : public BinaryRunTest {
  protected:
+  void SetUp() override {
+    BinaryRunTest::SetUp();
+    limit_memory(2048);
+  }
   // `ardcell <args>` must be refused: exit 2, one line holding `expect`, nothing new in work().
   void expect_refused(const std::string& args, const std::string& expect) {
     std::vector<fs::path> before;
@@ -61,6 +67,11 @@ TEST_F(BadInputCli, FilesThatAreNotRegularFilesAreRefusedWithoutReading) {
   fs::remove(work() / "st" / "meta.json");
   ASSERT_EQ(::mkfifo((work() / "st" / "meta.json").c_str(), 0644), 0);
   expect_refused("run --load-state st --steps 1 --every 0", "is a FIFO");
+  // A number JSON cannot hold (nlohmann throws out_of_range, not parse_error): was exit 1.
+  fs::remove(work() / "st" / "meta.json");
+  write("st/meta.json", "{\"format\": \"ardcell-state\", \"version\": 1, \"dt\": 2e308}");
+  expect_refused("run --load-state st --steps 1 --every 0",
+                 "meta.json: not valid JSON (a number out of range)");
 }
 
 TEST_F(BadInputCli, OversizedFilesAreRefusedBeforeTheirPayload) {
@@ -117,6 +128,62 @@ TEST_F(BadInputCli, DestinationsAreCheckedBeforeTheFirstFrame) {
   expect_refused("live --record adir", "--record");
   expect_refused("live --screenshot-dir afile", "--screenshot-dir");
   EXPECT_EQ(slurp(work() / "adir" / "keep.txt"), "mine");
+}
+
+// Every usage error exits 2 with one line, naming file:line where a file is involved: also the
+// values the engine refuses (they used to escape as exit 1 with no file:line), wherever a scene
+// is made (run, live, tablet play), and grids too large for the memory.
+TEST_F(BadInputCli, EveryUsageErrorIsExitTwoWithOneLine) {
+  write("spf.toml", "[rd]\nenabled = true\nsteps_per_frame = 5000\n");
+  write("res.toml", "[rd]\nenabled = true\n[rd.table]\nenabled = true\nresolution = 65536\n");
+  write("polar.toml", "[rd]\nenabled = true\n[rd.anisotropy]\nkind = \"polar\"\n");
+  write("big.toml", "[grid]\nsize = [8192, 8192]\n[rd]\nenabled = true\n");
+  write("s.jsonl", "{\"t\": 0, \"x\": 0.5, \"y\": 0.5}\n");
+  write("pen.txt", "R: 1 05\nE: soon 1 0a\n");
+  const std::pair<const char*, const char*> cases[] = {
+      {"run --scene ./spf.toml --steps 1 --every 0",
+       "./spf.toml:3: rd.steps_per_frame: expected an integer in [1, 1000], got 5000"},
+      {"run --scene ./res.toml --steps 1 --every 0",
+       "./res.toml:5: rd.table.resolution: expected an integer in [2, 4096], got 65536"},
+      {"run --scene ./polar.toml --steps 1 --every 0",
+       "./polar.toml:4: rd.anisotropy.samples: expected an integer in [2, 64] with"},
+      {"run cavity-gray-scott --set rd.steps_per_frame=5000 --steps 1 --every 0",
+       "--set rd.steps_per_frame: expected an integer in [1, 1000], got 5000"},
+      {"run cavity-gray-scott --set rd.anisotropy.kind=polar --steps 1 --every 0",
+       "ardcell run: rd.anisotropy.samples: expected an integer in [2, 64] with"},
+      {"run cavity-gray-scott --set rd.scheme=explicit9 --set rd.anisotropy.kind=lobes --steps 1 "
+       "--every 0",
+       "ardcell run: rd.scheme: expected implicit with rd.anisotropy.kind lobes"},
+      {"run --scene ./big.toml --steps 1 --every 0", "needs about"},
+      {"live ./spf.toml --frames 1", "./spf.toml:3: rd.steps_per_frame"},
+      {"live ./big.toml --frames 1", "needs about"},
+      {"tablet play ./spf.toml --strokes s.jsonl --png o.png", "./spf.toml:3: rd.steps_per_frame"},
+      {"tablet play ./big.toml --strokes s.jsonl --png o.png", "needs about"},
+      {"tablet play cavity --strokes s.jsonl --png nodir/o.png", "--png nodir/o.png"},
+      {"tablet play cavity --strokes s.jsonl --png ''", "--png: expected a path"},
+      {"tablet record nodir/pen.txt --seconds 1", "nodir/pen.txt"},
+      {"tablet decode pen.txt", "ardcell tablet decode: pen.txt:2: E: bad timestamp"},
+  };
+  for (const auto& [args, expect] : cases) expect_refused(args, expect);
+}
+
+// A preset with several problems gives one line for each, every line in the same form.
+TEST_F(BadInputCli, PresetProblemsGiveOneLineEach) {
+  write("three.toml", "[fluid]\nviscosity = \"x\"\nlid = 1\n[rd]\nsteps_per_frame = 0\n");
+  for (const char* cmd : {"run --scene ./three.toml --steps 1 --every 0", "live ./three.toml"}) {
+    const BinaryRunResult r = run(cmd);
+    EXPECT_EQ(r.code, 2) << cmd;
+    const std::string who = std::string("ardcell ") + (cmd[0] == 'r' ? "run" : "live") + ": ";
+    EXPECT_EQ(r.err, who + "./three.toml:2: fluid.viscosity: expected a number in [0, 1000], " +
+                         "got the string \"x\"\n" + who +
+                         "./three.toml:3: fluid.lid: unknown key; expected one of: scene, " +
+                         "viscosity, lid_speed, dye_diffusion, conserve_dye, inflow_speed, " +
+                         "obstacle_x, obstacle_y, obstacle_radius, inflow_dye_stripes, walls, " +
+                         "emitters, viscosity_solver, pressure_solver\n" + who +
+                         "./three.toml:5: rd.steps_per_frame: expected an integer in [1, 1000], " +
+                         "got 0\n")
+        << cmd;
+  }
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #pragma once
 // A test fixture that runs the real `ardcell` binary (ARDCELL_BINARY) in a fresh working folder
 // per test, capturing its exit code, stdout and stderr. Every CLI test uses it.
+// limit_memory(MiB) bounds the memory of the runs that follow: RLIMIT_AS (`ulimit -v`), or in a
+// sanitizer build, whose shadow memory reserves terabytes of address space, ASan's own limits
+// (resident memory, largest allocation); a run that goes beyond them fails, or ASan aborts it.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -38,11 +41,19 @@ class BinaryRunTest : public ::testing::Test {
     std::ifstream in(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), {}};
   }
+  void limit_memory(int mib) {
+#if defined(__SANITIZE_ADDRESS__)
+    limits_ = "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:hard_rss_limit_mb=" + std::to_string(mib) +
+              ":max_allocation_size_mb=" + std::to_string(mib) + "\" ";
+#else
+    limits_ = "ulimit -v " + std::to_string(mib * 1024) + " && ";
+#endif
+  }
   // Runs `ardcell <args>` in work() (args are shell words).
   BinaryRunResult run(const std::string& args) {
-    const std::string cmd = "cd '" + work().string() + "' && exec '" ARDCELL_BINARY "' " + args +
-                            " >'" + (dir_ / "stdout").string() + "' 2>'" +
-                            (dir_ / "stderr").string() + "' </dev/null";
+    const std::string cmd =
+        "cd '" + work().string() + "' && " + limits_ + "exec '" ARDCELL_BINARY "' " + args + " >'" +
+        (dir_ / "stdout").string() + "' 2>'" + (dir_ / "stderr").string() + "' </dev/null";
     const int status = std::system(cmd.c_str());
     BinaryRunResult r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -54,6 +65,7 @@ class BinaryRunTest : public ::testing::Test {
 
  private:
   std::filesystem::path dir_;
+  std::string limits_;  // put before the command: limit_memory()
 };
 
 }  // namespace ardcell

@@ -72,22 +72,22 @@ TEST(HidRecorder, MalformedLinesNameTheLine) {
   };
   const Case cases[] = {
       {"N: x\n", "no R: line"},
-      {"R: 3 05 0d\n", "line 1: R: says 3 bytes but has 2"},
-      {"R: 2 05 zz\n", "line 1: R: \"zz\" is not a hex byte"},
-      {"R: 1 05\nR: 1 05\n", "line 2: a second R: line"},
-      {"R: 1 05\nI: 3 256c\n", "line 2: I: expected three hex numbers"},
-      {"R: 1 05\nE: 1.0 2 0a\n", "line 2: E: says 2 bytes but has 1"},
-      {"R: 1 05\nE: 2.0 1 0a\nE: 1.0 1 0a\n", "line 3: E: timestamp goes backwards"},
-      {"R: 1 05\nE: abc 1 0a\n", "line 2: E: bad timestamp"},
-      {"R: 1 05\nE: 1.0 0\n", "line 2: E: an event needs at least one byte"},
-      {"R: 1 05\nX: what\n", "line 2: unknown line kind"},
-      {"R: 1 05\nhello\n", "line 2: expected a line starting"},
+      {"R: 3 05 0d\n", "1: R: says 3 bytes but has 2"},
+      {"R: 2 05 zz\n", "1: R: \"zz\" is not a hex byte"},
+      {"R: 1 05\nR: 1 05\n", "2: a second R: line"},
+      {"R: 1 05\nI: 3 256c\n", "2: I: expected three hex numbers"},
+      {"R: 1 05\nE: 1.0 2 0a\n", "2: E: says 2 bytes but has 1"},
+      {"R: 1 05\nE: 2.0 1 0a\nE: 1.0 1 0a\n", "3: E: timestamp goes backwards"},
+      {"R: 1 05\nE: abc 1 0a\n", "2: E: bad timestamp"},
+      {"R: 1 05\nE: 1.0 0\n", "2: E: an event needs at least one byte"},
+      {"R: 1 05\nX: what\n", "2: unknown line kind"},
+      {"R: 1 05\nhello\n", "2: expected a line starting"},
   };
   for (const Case& c : cases) {
     HidRecording rec;
     std::string error;
     EXPECT_FALSE(parse_hid_recording(c.text, rec, error)) << c.text;
-    EXPECT_NE(error.find(c.expect), std::string::npos) << c.text << " -> " << error;
+    EXPECT_EQ(error.rfind(c.expect, 0), 0u) << c.text << " -> " << error;
   }
   HidRecording rec;
   std::string error;

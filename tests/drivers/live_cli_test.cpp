@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -145,6 +147,19 @@ TEST(LiveCli, ListsPresetKeys) {
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.output.find("fluid.viscosity"), std::string::npos);
   EXPECT_NE(r.output.find("quality.min_sweeps"), std::string::npos);
+}
+
+// docs/presets.md is what the generator (scripts/preset_keys.sh) writes: the key table that
+// validates, so the documented ranges cannot drift from the enforced ones.
+TEST(LiveCli, PresetKeysDocMatchesTheSchema) {
+  const Result r = run("live --keys --markdown");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(ARDCELL_SOURCE_DIR "/docs/presets.md", std::ios::binary);
+  const std::string doc{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_EQ(r.output, doc) << "docs/presets.md differs from `ardcell live --keys --markdown`; "
+                              "run scripts/preset_keys.sh";
+  EXPECT_NE(doc.find("| `rd.steps_per_frame` | an integer in [1, 1000] |"), std::string::npos);
+  EXPECT_EQ(run("live --markdown").code, 2);  // --markdown needs --keys
 }
 
 }  // namespace

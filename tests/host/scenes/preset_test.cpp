@@ -112,6 +112,25 @@ TEST(Preset, BrokenPresetsGiveFileLineKeyAndExpectation) {
       {"name = \"a\"\nname = \"b\"\n",
        "bad.toml:2: Error while parsing key-value pair: cannot redefine existing string 'name'"},
       {"[grid\n", "bad.toml:1: Error while parsing table header: expected ']', saw '\\n'"},
+      // The ranges are the engine's (rd_config_problem), so nothing in range is refused later.
+      {"[rd]\nsteps_per_frame = 5000\n",
+       "bad.toml:2: rd.steps_per_frame: expected an integer in [1, 1000], got 5000"},
+      {"[rd.table]\nresolution = 8192\n",
+       "bad.toml:2: rd.table.resolution: expected an integer in [2, 4096], got 8192"},
+      {"[rd.initial]\nnoise = 5.0\n",
+       "bad.toml:2: rd.initial.noise: expected a number in [0, 1], got 5"},
+      {"[rd.reaction]\nfhn_a1 = 0.0\n",
+       "bad.toml:2: rd.reaction.fhn_a1: expected a number in [1e-09, 1000], got 0"},
+      // Keys checked against others, at the key's line (else the line of what it depends on).
+      {"[rd]\nenabled = true\n[rd.anisotropy]\nkind = \"polar\"\n",
+       "bad.toml:4: rd.anisotropy.samples: expected an integer in [2, 64] with "
+       "rd.anisotropy.kind polar, got 0"},
+      {"[rd]\nenabled = true\nscheme = \"explicit5\"\n[rd.anisotropy]\nkind = \"lobes\"\n",
+       "bad.toml:3: rd.scheme: expected implicit with rd.anisotropy.kind lobes (the explicit "
+       "schemes are isotropic), got explicit5"},
+      {"[rd]\nenabled = true\n[rd.table]\nenabled = true\nrange_auto = false\na_min = 2.0\n"
+       "a_max = 1.0\n",
+       "bad.toml:7: rd.table.a_max: expected more than rd.table.a_min (2), got 1"},
   };
   for (const Broken& c : cases) {
     Preset p;
@@ -119,6 +138,21 @@ TEST(Preset, BrokenPresetsGiveFileLineKeyAndExpectation) {
     ASSERT_FALSE(s.is_ok()) << c.text;
     EXPECT_EQ(s.message(), c.message) << c.text;
   }
+}
+
+TEST(Preset, SceneKeysAreCheckedAgainstEachOtherAfterOverrides) {
+  SceneConfig scene;
+  scene.rd.enabled = true;
+  ASSERT_TRUE(apply_param_override(scene, "rd.anisotropy.kind=polar").is_ok());
+  ASSERT_TRUE(apply_param_override(scene, "rd.scheme=explicit9").is_ok());
+  const Status s = check_scene_keys(scene);
+  ASSERT_FALSE(s.is_ok());
+  EXPECT_EQ(s.message(),
+            "rd.anisotropy.samples: expected an integer in [2, 64] with rd.anisotropy.kind polar, "
+            "got 0\nrd.scheme: expected implicit with rd.anisotropy.kind polar (the explicit "
+            "schemes are isotropic), got explicit9");
+  scene.rd.enabled = false;  // the engine checks RD parameters only when RD runs
+  EXPECT_TRUE(check_scene_keys(scene).is_ok());
 }
 
 TEST(Preset, ReportsEveryProblemOnItsOwnLine) {
