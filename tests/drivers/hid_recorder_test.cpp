@@ -92,7 +92,8 @@ TEST(HidRecorder, MalformedLinesNameTheLine) {
   HidRecording rec;
   std::string error;
   EXPECT_FALSE(read_hid_recording("/nonexistent/file.hid.txt", rec, error));
-  EXPECT_NE(error.find("/nonexistent/file.hid.txt: not found (expected a hid-recorder file)"), std::string::npos);
+  EXPECT_NE(error.find("/nonexistent/file.hid.txt: not found (expected a hid-recorder file)"),
+            std::string::npos);
 }
 
 }  // namespace
