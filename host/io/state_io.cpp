@@ -26,6 +26,15 @@ bool known_field(const std::string& name) {
   return false;
 }
 
+// Whether j is a saved state's meta.json: an object whose "format" is ours. Any other type of
+// "format" (an array, a number) is not ours either, never an exception (found by
+// state_meta_fuzz).
+bool is_saved_state_meta(const nlohmann::json& j) {
+  if (!j.is_object()) return false;
+  const auto format = j.find("format");
+  return format != j.end() && format->is_string() && format->get<std::string>() == kFormat;
+}
+
 bool is_saved_state_or_empty(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return false;
@@ -33,8 +42,7 @@ bool is_saved_state_or_empty(const fs::path& dir) {
   std::string text;
   if (!read_user_file(dir / "meta.json", kMaxTextConfigBytes, "a saved state's meta.json", text))
     return false;
-  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  return j.is_object() && j.value("format", "") == kFormat;
+  return is_saved_state_meta(nlohmann::json::parse(text, nullptr, false));
 }
 
 // Puts the finished temporary folder in place of dir.
@@ -292,7 +300,7 @@ Status read_state_meta(const fs::path& dir, SavedStateMeta& meta) {
     // A number beyond double (out_of_range 406, e.g. 2e308): found by state_meta_fuzz.
     return Status::error(what + ": not valid JSON (a number out of range)");
   }
-  if (!j.is_object() || j.value("format", std::string()) != kFormat)
+  if (!is_saved_state_meta(j))
     return Status::error(what + ": not an ardcell saved state (expected \"format\": \"" + kFormat +
                          "\")");
   int version = 0;

@@ -211,6 +211,12 @@ TEST_F(StateIoTest, EveryKindOfDamageGivesOneLineAndLeavesTheStateUntouched) {
       {"other json",
        [&](const fs::path& d) { rewrite_meta(d, [](auto& j) { j["format"] = "x"; }); },
        "not an ardcell saved state"},
+      // found by state_meta_fuzz: a "format" of another type threw out of the reader
+      {"format array",
+       [&](const fs::path& d) { rewrite_meta(d, [](auto& j) {
+                                  j["format"] = {7540840, 2};
+                                }); },
+       "not an ardcell saved state"},
       {"version", [&](const fs::path& d) { rewrite_meta(d, [](auto& j) { j["version"] = 99; }); },
        "unsupported version"},
       {"size text", [&](const fs::path& d) { rewrite_meta(d, [](auto& j) { j["size"] = "big"; }); },
