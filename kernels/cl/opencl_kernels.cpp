@@ -618,13 +618,19 @@ void OpenClKernels::check_partials(const ClRowPartials& partials, int y1) const 
                 "row partials: too few rows, or from another device");
 }
 
-void OpenClKernels::row_sums(const DeviceField& f, int y0, int y1, ClRowPartials& partials) {
+// A kernel (f, nx, y0, y1, partials) writing one partial per row of [y0, y1).
+void OpenClKernels::row_reduction(const char* name, const DeviceField& f, int y0, int y1,
+                                  ClRowPartials& partials) {
   check_partials(partials, y1);
-  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_sums: rows outside the field");
+  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row reduction: rows outside the field");
   if (y1 <= y0 || f.size.x <= 0) return;
-  cl_kernel k = kernel("row_sums");
+  cl_kernel k = kernel(name);
   set_kernel_args(k, f, f.size.x, y0, y1, partials.data);
   enqueue_rows(k, y0, y1);
+}
+
+void OpenClKernels::row_sums(const DeviceField& f, int y0, int y1, ClRowPartials& partials) {
+  row_reduction("row_sums", f, y0, y1, partials);
 }
 
 void OpenClKernels::row_ranges(const DeviceField& f, int y0, int y1, ClRowPartials& sum,
@@ -690,12 +696,7 @@ void OpenClKernels::residual(const ClStencilOperator& op, const DeviceField& b,
 
 void OpenClKernels::row_sums_of_squares(const DeviceField& f, int y0, int y1,
                                         ClRowPartials& partials) {
-  check_partials(partials, y1);
-  ARDCELL_CHECK(y0 >= 0 && y1 <= f.size.y, "row_sums_of_squares: rows outside the field");
-  if (y1 <= y0 || f.size.x <= 0) return;
-  cl_kernel k = kernel("row_sums_of_squares");
-  set_kernel_args(k, f, f.size.x, y0, y1, partials.data);
-  enqueue_rows(k, y0, y1);
+  row_reduction("row_sums_of_squares", f, y0, y1, partials);
 }
 
 void OpenClKernels::subtract_masked(DeviceField& f, const DeviceField& mask, float mean) {

@@ -246,6 +246,8 @@ class OpenClKernels {
   void enqueue_cells(cl_kernel k, Box2 region);
   // One work-item per row of [y0, y1) (1D), for the row reductions.
   void enqueue_rows(cl_kernel k, int y0, int y1);
+  void row_reduction(const char* name, const DeviceField& f, int y0, int y1,
+                     ClRowPartials& partials);
   void check_partials(const ClRowPartials& partials, int y1) const;
   void explicit_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                    DeviceField& b_out, Box2 region, const ExplicitRdParams& p, bool nine_point);

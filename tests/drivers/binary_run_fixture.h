@@ -25,14 +25,21 @@ struct BinaryRunResult {
 
 inline int count_lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
+// An empty folder for the running test: PREFIX_<pid>_<suite>_<test> in the temp directory.
+inline std::filesystem::path fresh_test_dir(const std::string& prefix) {
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()) + "_" +
+                                                test->test_suite_name() + "_" + test->name());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 class BinaryRunTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("ardcell_binary_run_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
+    dir_ = fresh_test_dir("ardcell_binary_run");
     std::filesystem::create_directories(dir_ / "work");
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }

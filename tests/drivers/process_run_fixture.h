@@ -18,18 +18,13 @@
 #include <thread>
 #include <vector>
 
+#include "tests/drivers/binary_run_fixture.h"
+
 namespace ardcell {
 
 class ProcessRunTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("ardcell_process_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = fresh_test_dir("ardcell_process"); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   // Starts `ardcell args...` in dir_ (stdout, stderr to files); `ignore_sigint` as a shell's `&`;
