@@ -72,6 +72,10 @@ StopSignals::StopSignals() {
 }
 
 StopSignals::~StopSignals() {
+  // Once a signal asked the command to stop, it is on its way out with 128 + that signal: a
+  // later one (a second Ctrl-C, systemd repeating SIGTERM) must not kill it between here and
+  // the exit, so the handlers stay.
+  if (g_stop_signal.load() != 0) return;
   for (int i = 0; i < 3; ++i) ::sigaction(kStopSignals[i], &previous_[i], nullptr);
 }
 

@@ -37,7 +37,8 @@ int cli_usage_error(CliContext& ctx, const std::string& command, const std::stri
 // exit_code(). Installed with sigaction, so a disposition inherited as ignored (a script's `&`)
 // is replaced too. Keep it alive until the files are finished and renamed: a second signal
 // during finishing is recorded, never cuts the rename short. The destructor restores what was
-// there before.
+// there before - unless a signal asked to stop: the command is exiting then, and a later signal
+// must not kill it on the way out.
 class StopSignals {
  public:
   StopSignals();
