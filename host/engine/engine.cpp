@@ -81,6 +81,12 @@ int Engine::workers() const {
   return device_->fields_on_host() ? backend_->workers() : device_->workers();
 }
 
+namespace {
+bool named(std::span<const std::string_view> fields, std::string_view name) {
+  return std::find(fields.begin(), fields.end(), name) != fields.end();
+}
+}  // namespace
+
 SimState& Engine::state() {
   if (!device_->fields_on_host())
     state_.for_each_field([&](std::string_view, FieldF& f) {
@@ -93,6 +99,24 @@ SimState& Engine::state() {
 const SimState& Engine::state() const {
   if (!device_->fields_on_host())
     state_.for_each_field([&](std::string_view, const FieldF& f) { device_->sync_to_host(f); });
+  return state_;
+}
+
+SimState& Engine::state(std::span<const std::string_view> fields) {
+  if (!device_->fields_on_host())
+    state_.for_each_field([&](std::string_view name, FieldF& f) {
+      if (!named(fields, name)) return;
+      device_->sync_to_host(f);
+      device_->host_wrote(f);
+    });
+  return state_;
+}
+
+const SimState& Engine::state(std::span<const std::string_view> fields) const {
+  if (!device_->fields_on_host())
+    state_.for_each_field([&](std::string_view name, const FieldF& f) {
+      if (named(fields, name)) device_->sync_to_host(f);
+    });
   return state_;
 }
 

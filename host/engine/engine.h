@@ -8,7 +8,9 @@
 // `serial` and `threads` with any number of workers give the same bits
 // (tests/host/engine/engine_backend_parity_test.cpp).
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
@@ -67,6 +69,11 @@ class Engine {
   // the device before the next frame (painting, a loaded state).
   SimState& state();
   const SimState& state() const;
+  // The same for the named fields only (SimState::for_each_field names: "u", "v", "p", "dye",
+  // "A", "B", "theta0"); the others may be stale on such a device, and sizes are always right.
+  // For a caller that looks at a few fields each frame, as the live display draws one.
+  SimState& state(std::span<const std::string_view> fields);
+  const SimState& state(std::span<const std::string_view> fields) const;
   const SceneConfig& config() const { return config_; }
   // "serial", "threads" or "opencl", and its number of workers (compute units for OpenCL).
   const char* backend_name() const;
@@ -74,6 +81,7 @@ class Engine {
   // What the engine's stages run on (for a caller that steps more on the same workers, as the
   // live display's coarse RD grids do): the Device and its CPU executor.
   Device& device() { return *device_; }
+  const Device& device() const { return *device_; }
   RowExecutor& executor() { return *executor_; }
   // What the last RD step's solves did (iterations, residuals); nullptr when the scene has no RD.
   const RdStepStats* rd_stats() const;

@@ -216,6 +216,11 @@ const SimState& EngineSimulation::state() const {
   return std::as_const(*engine_).state();
 }
 
+const SimState& EngineSimulation::state(std::span<const std::string_view> fields) const {
+  const auto lock = lock_device();
+  return std::as_const(*engine_).state(fields);
+}
+
 double EngineSimulation::lowest_rd_scale() const {
   return levels_.empty() ? 1.0 : levels_.back()->scale;
 }
@@ -271,7 +276,11 @@ void EngineSimulation::step() {
   }
   RdLevel& l = *levels_[size_t(level_)];
   engine_->step_without_rd();
-  SimState& f = engine_->state();
+  // The coarse grid reads the velocity and gives back A and B (written whole on the host): only
+  // those move, and only A and B go back to the device.
+  static constexpr std::string_view kVelocity[] = {"u", "v"}, kChemicals[] = {"A", "B"};
+  std::as_const(*engine_).state(kVelocity);
+  SimState& f = engine_->state(kChemicals);
   SimState& c = l.state;
   if (!c.u.empty()) {
     transfer(engine_->executor(), l.down_x, l.down_y, f.u, l.down_tmp, c.u);

@@ -53,6 +53,7 @@ class EngineSimulation final : public LiveSimulation {
   void step() override;
   void reset() override;
   const SimState& state() const override;
+  const SimState& state(std::span<const std::string_view> fields) const override;
   // Refused changes (structural ones) keep the current parameters: the live loop switches
   // presets for those.
   void apply(const SceneConfig& config) override;

@@ -61,15 +61,7 @@ bool CommandQueue::pop(LiveCommand& c) {
 }
 
 void render_state(const SimState& state, const OutputConfig& output, ImageRgb8& out) {
-  FrameField field = FrameField::kDye;
-  if (!parse_frame_field(output.show, field) || !frame_field_available(state, field)) {
-    // The first field the state has (an RD-only scene has no dye).
-    for (FrameField f : {FrameField::kDye, FrameField::kB, FrameField::kA, FrameField::kSpeed})
-      if (frame_field_available(state, f)) {
-        field = f;
-        break;
-      }
-  }
+  const FrameField field = shown_frame_field(state, output.show);
   RenderSettings settings = default_render_settings(field);
   Colormap map;
   if (parse_colormap(output.colormap, map) && !colormap_is_diverging(settings.colormap))
@@ -246,7 +238,7 @@ Status LiveLoop::start(std::string_view name) {
   apply_level();
   for (size_t i = 0; i < options_.playlist.size(); ++i)
     if (options_.playlist[i] == name) playlist_index_ = int(i);
-  image_.resize(sim_->state().size.x, sim_->state().size.y);
+  image_.resize(sim_->state({}).size.x, sim_->state({}).size.y);
   hud_.preset.fill(0);
   std::snprintf(hud_.preset.data(), hud_.preset.size(), "%s", preset_.scene.name.c_str());
   std::snprintf(hud_.backend.data(), hud_.backend.size(), "%.*s", int(sim_->backend().size()),
@@ -331,7 +323,7 @@ void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
     fade_image_ = image_;  // frozen last image of the old preset
     sim_ = std::move(sim);
     preset_ = next;
-    image_.resize(sim_->state().size.x, sim_->state().size.y);
+    image_.resize(sim_->state({}).size.x, sim_->state({}).size.y);
   }
   quality_.set_bounds(bounds_for(next));
   quality_.restore_full();
@@ -540,7 +532,10 @@ bool LiveLoop::run_frame() {
   if (!paused_) sim_->step();
   clock_.mark(FrameStage::kSimulate);
 
-  render_state(sim_->state(), preset_.scene.output, image_);
+  // Only what the shown field is drawn from comes to the host (on OpenCL: one or two fields a
+  // frame, not the whole state).
+  const FrameField shown = shown_frame_field(sim_->state({}), preset_.scene.output.show);
+  render_state(sim_->state(frame_field_inputs(shown)), preset_.scene.output, image_);
   if (fading() && image_fade_) {
     ++fade_frame_;
     crossfade_images(fade_image_, double(fade_frame_) / fade_frames_, image_);

@@ -38,6 +38,13 @@ class LiveSimulation {
   virtual void step() = 0;
   virtual void reset() = 0;
   virtual const SimState& state() const = 0;
+  // The state with at least the named fields current (SimState::for_each_field names): what the
+  // display draws from. The others, and every field when `fields` is empty, may be stale on a
+  // device that keeps its own copies; sizes are always right.
+  virtual const SimState& state(std::span<const std::string_view> fields) const {
+    (void)fields;
+    return state();
+  }
   // Non-structural parameters (viscosity, dt, solver iterations, ...) for the next step().
   // Must not allocate.
   virtual void apply(const SceneConfig& config) = 0;

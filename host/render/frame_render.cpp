@@ -101,6 +101,33 @@ bool frame_field_available(const SimState& s, FrameField field) {
   return false;
 }
 
+std::span<const std::string_view> frame_field_inputs(FrameField field) {
+  static constexpr std::string_view kDye[] = {"dye"}, kPressure[] = {"p"}, kA[] = {"A"},
+                                    kB[] = {"B"}, kVelocity[] = {"u", "v"};
+  switch (field) {
+    case FrameField::kDye:
+      return kDye;
+    case FrameField::kPressure:
+      return kPressure;
+    case FrameField::kA:
+      return kA;
+    case FrameField::kB:
+      return kB;
+    case FrameField::kSpeed:
+    case FrameField::kVorticity:
+      return kVelocity;
+  }
+  return kDye;
+}
+
+FrameField shown_frame_field(const SimState& state, std::string_view show) {
+  FrameField field = FrameField::kDye;
+  if (parse_frame_field(show, field) && frame_field_available(state, field)) return field;
+  for (FrameField f : {FrameField::kDye, FrameField::kB, FrameField::kA, FrameField::kSpeed})
+    if (frame_field_available(state, f)) return f;
+  return field;
+}
+
 float frame_field_value(const SimState& state, FrameField field, int x, int y) {
   return Sampler(state, field)(x, y);
 }

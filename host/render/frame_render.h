@@ -4,6 +4,7 @@
 // are drawn in kNonFiniteRgb and counted, obstacle cells in kObstacleRgb. render_frame writes
 // into a caller-owned image and allocates nothing.
 #include <cstdint>
+#include <span>
 #include <string_view>
 
 #include "host/config/sim_state.h"
@@ -18,8 +19,15 @@ enum class FrameField : uint8_t { kDye, kSpeed, kVorticity, kPressure, kA, kB };
 bool parse_frame_field(std::string_view name, FrameField& out);
 std::string_view frame_field_name(FrameField field);
 std::string_view frame_field_names();  // "dye|speed|vorticity|pressure|A|B"
-// Whether `state` holds what the field is drawn from (speed and vorticity need u and v).
+// Whether `state` holds what the field is drawn from (speed and vorticity need u and v). Looks
+// at the fields' sizes only, not their values.
 bool frame_field_available(const SimState& state, FrameField field);
+// The SimState fields the field is drawn from, by their SimState::for_each_field names ("u" and
+// "v" for speed and vorticity): what a device must bring to the host to draw it.
+std::span<const std::string_view> frame_field_inputs(FrameField field);
+// The field `show` names when `state` holds it, else the first of dye, B, A, speed it holds (an
+// RD-only scene has no dye).
+FrameField shown_frame_field(const SimState& state, std::string_view show);
 
 // How values map to [0, 1] before the colormap.
 enum class RangeMode : uint8_t {

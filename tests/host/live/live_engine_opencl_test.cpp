@@ -13,6 +13,8 @@
 #include <fstream>
 #include <functional>
 
+#include "host/engine/engine.h"
+#include "host/engine/opencl_device.h"
 #include "host/live/live_engine.h"
 #include "host/scenes/preset.h"
 #include "tests/support/field_compare.h"
@@ -229,6 +231,38 @@ TEST(LiveOpenCl, OrientStrokeReachesTheDevice) {
   on_device.run_frame();
   on_cpu.run_frame();
   EXPECT_LE(max_relative_error(shown(on_device), shown(on_cpu)), kTolerance);
+}
+
+// The live display brings only the field it shows to the host: a steady frame of a fluid preset
+// on OpenCL (real-time solvers, nothing painted) downloads the dye alone, or u and v for speed,
+// and uploads nothing.
+TEST(LiveOpenCl, AFrameDownloadsOnlyTheShownField) {
+  Device* dev = device();
+  if (!dev) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  Fixture fx;
+  const Int2 grid{31, 27};
+  for (const char* show : {"dye", "speed", "B"}) {
+    const std::string path = fx.preset("cavity-gray-scott", grid, [&](Preset& p) {
+      p.scene.fluid.pressure_solver = {SolverKind::kJacobi, 6, 0.0};
+      p.scene.fluid.viscosity_solver = {SolverKind::kJacobi, 4, 0.0};
+      p.scene.rd.diffusion_solver = {SolverKind::kRedBlackGaussSeidel, 3, 0.0};
+      p.scene.output.show = show;
+    });
+    NoDisplay display;
+    LiveLoop loop(options(), on_opencl(), display);
+    ASSERT_TRUE(loop.start(path).is_ok());
+    for (int i = 0; i < 2; ++i) loop.run_frame();
+    const Engine& engine = static_cast<const EngineSimulation&>(loop.simulation()).engine();
+    const auto& cl = static_cast<const OpenClDevice&>(engine.device());
+    const std::int64_t up = cl.uploaded_bytes(), down = cl.downloaded_bytes();
+    constexpr int kFrames = 4;
+    for (int i = 0; i < kFrames; ++i) loop.run_frame();
+    // A field's whole allocation (halo and row padding) moves.
+    const std::int64_t field_bytes = std::int64_t(engine.state({}).dye.raw_size() * sizeof(float));
+    const int fields = std::string_view(show) == "speed" ? 2 : 1;
+    EXPECT_EQ(cl.uploaded_bytes(), up) << show;
+    EXPECT_EQ(cl.downloaded_bytes() - down, kFrames * fields * field_bytes) << show;
+  }
 }
 
 }  // namespace
