@@ -12,7 +12,8 @@ struct SimState {
   Int2 size;
   double h = 0;  // cell size; the domain is size * h
   double dt = 0;
-  double time = 0;
+  double time = 0;     // the scene's time: frames x dt
+  double rd_time = 0;  // the RD's own time: rd.dt x rd.steps_per_frame per frame (0: no RD)
   int64_t step = 0;
 
   FieldF u, v, p, dye;      // fluid: velocity, pressure, passive dye

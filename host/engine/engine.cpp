@@ -122,6 +122,7 @@ const SimState& Engine::state(std::span<const std::string_view> fields) const {
 
 void Engine::reset() {
   state_.time = 0.0;
+  state_.rd_time = 0.0;
   state_.step = 0;
   state_.dt = config_.dt;
   if (solvers_->fluid) solvers_->fluid->reset(state_);

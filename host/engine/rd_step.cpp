@@ -312,6 +312,7 @@ void RdStepper::step(SimState& s) {
     }
   }
   if (rd_.advect && !s.u.empty() && !s.v.empty() && s.u.size() == scene_.size) advect(s);
+  s.rd_time += dt_ * rd_.steps_per_frame;
 }
 
 }  // namespace ardcell

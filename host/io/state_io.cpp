@@ -233,6 +233,7 @@ Status save_state(const fs::path& dir_in, const SimState& state, const SceneConf
   meta["h"] = state.h;
   meta["dt"] = state.dt;
   meta["time"] = state.time;
+  meta["rd_time"] = state.rd_time;
   meta["step"] = state.step;
   meta["layout"] =
       "float32 little-endian .npy, C order, shape [ny][nx], row y = grid row y "
@@ -327,6 +328,10 @@ Status read_state_meta(const fs::path& dir, SavedStateMeta& meta) {
     return bad("dt", "a positive number");
   if (!get_number(j, "time", m.time) || !std::isfinite(m.time) || m.time < 0)
     return bad("time", "a number >= 0");
+  m.rd_time = m.time;
+  if (j.contains("rd_time") &&
+      (!get_number(j, "rd_time", m.rd_time) || !std::isfinite(m.rd_time) || m.rd_time < 0))
+    return bad("rd_time", "a number >= 0");
   if (!get_number(j, "step", m.step) || m.step < 0) return bad("step", "an integer >= 0");
   const nlohmann::json& fields = j.value("fields", nlohmann::json());
   if (!fields.is_array() || fields.empty()) return bad("fields", "a list of field names");
@@ -399,6 +404,7 @@ Status load_state_fields(const fs::path& dir, const SavedStateMeta& meta, SimSta
     for (int y = 0; y < l.array.ny; ++y)
       std::copy_n(l.array.data.data() + std::size_t(y) * l.array.nx, l.array.nx, l.field->row(y));
   state.time = meta.time;
+  state.rd_time = meta.rd_time;
   state.step = meta.step;
   return Status::ok();
 }

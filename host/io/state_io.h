@@ -5,6 +5,8 @@
 //
 //   { "format": "ardcell-state", "version": 1, "ardcell_version": "0.1.0",
 //     "scene": "cavity", "size": [nx, ny], "h": ..., "dt": ..., "time": ..., "step": ...,
+//     "rd_time": ... (the RD's own time, rd.dt x rd.steps_per_frame per frame; absent in
+//     states saved before it was recorded: taken as "time"),
 //     "fields": ["u", "v", "p", "dye"],
 //     "parameters": { "grid.size": [nx, ny], "fluid.viscosity": 0.01, ... } }
 //
@@ -30,7 +32,7 @@ inline constexpr int kStateFormatVersion = 1;
 struct SavedStateMeta {
   std::string scene;  // the scene or preset name it was made from
   Int2 size;
-  double h = 0, dt = 0, time = 0;
+  double h = 0, dt = 0, time = 0, rd_time = 0;
   int64_t step = 0;
   std::vector<std::string> fields;  // the .npy files present, by field name
   nlohmann::json parameters;        // preset key -> value

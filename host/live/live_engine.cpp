@@ -290,7 +290,9 @@ void EngineSimulation::step() {
     engine_->device().host_wrote(c.u);
     engine_->device().host_wrote(c.v);
   }
+  const double rd_time = c.rd_time;
   l.rd->step(c);
+  f.rd_time += c.rd_time - rd_time;
   engine_->device().sync_to_host(c.A);
   engine_->device().sync_to_host(c.B);
   transfer(engine_->executor(), l.up_x, l.up_y, c.A, l.up_tmp, f.A);

@@ -136,5 +136,24 @@ TEST(EngineUpdate, StructuralChangesAreRefusedAndChangeNothing) {
   EXPECT_EQ(max_difference(engine.state().u, reference.state().u), 0.0);
 }
 
+// The state keeps the RD's own time beside the scene's: rd.dt x rd.steps_per_frame per frame
+// (seed 001 runs 20 unit steps a frame), and a live change of either counts from the next frame.
+TEST(EngineUpdate, RdTimeCountsTheRdStepsOfEveryFrame) {
+  SceneConfig config = small("pearson", {24, 24});
+  config.dt = 0.5;
+  config.rd.dt = 2.0;
+  config.rd.steps_per_frame = 10;
+  Engine engine(config);
+  for (int i = 0; i < 3; ++i) engine.step();
+  EXPECT_DOUBLE_EQ(engine.state().time, 1.5);
+  EXPECT_DOUBLE_EQ(engine.state().rd_time, 60.0);
+  config.rd.steps_per_frame = 4;
+  ASSERT_TRUE(engine.update_parameters(config));
+  engine.step();
+  EXPECT_DOUBLE_EQ(engine.state().rd_time, 68.0);
+  engine.reset();
+  EXPECT_EQ(engine.state().rd_time, 0.0);
+}
+
 }  // namespace
 }  // namespace ardcell

@@ -27,6 +27,7 @@ SimState make_state(Int2 size, float seed) {
   s.h = 1.0 / size.x;
   s.dt = 0.0123456789;
   s.time = 1.2345678901234567;
+  s.rd_time = 24.691357802469134;
   s.step = 100;
   s.u = FieldF(size, 1);
   s.v = FieldF(size, 1);
@@ -110,6 +111,7 @@ TEST_F(StateIoTest, RoundTripIsBitExactAndMetaDescribesTheState) {
   EXPECT_EQ(meta.h, s.h);
   EXPECT_EQ(meta.dt, s.dt);
   EXPECT_EQ(meta.time, s.time);  // doubles survive JSON exactly
+  EXPECT_EQ(meta.rd_time, s.rd_time);
   EXPECT_EQ(meta.step, 100);
   EXPECT_EQ(meta.fields, (std::vector<std::string>{"u", "v", "p", "dye"}));
   EXPECT_EQ(meta.parameters.at("fluid.viscosity").get<double>(), 0.0025);
@@ -118,10 +120,12 @@ TEST_F(StateIoTest, RoundTripIsBitExactAndMetaDescribesTheState) {
 
   SimState t = make_state({9, 6}, -7.0f);
   t.time = 0;
+  t.rd_time = 0;
   t.step = 0;
   ASSERT_TRUE(load_state_fields(dir_, meta, t));
   EXPECT_TRUE(same_fields(s, t));
   EXPECT_EQ(t.time, s.time);
+  EXPECT_EQ(t.rd_time, s.rd_time);
   EXPECT_EQ(t.step, s.step);
 
   // The arrays are (ny, nx) with row y = grid row y.
@@ -130,6 +134,19 @@ TEST_F(StateIoTest, RoundTripIsBitExactAndMetaDescribesTheState) {
   EXPECT_EQ(u.ny, 6);
   EXPECT_EQ(u.nx, 9);
   EXPECT_EQ(u.at(8, 5), s.u(8, 5));
+}
+
+// A state saved before the RD's own time was recorded has no "rd_time": it is taken as "time".
+TEST_F(StateIoTest, AStateWithoutRdTimeTakesTheSceneTime) {
+  const SimState s = make_state({9, 6}, 0.5f);
+  ASSERT_TRUE(save_state(dir_, s, make_scene()));
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(dir_ / "meta.json"));
+  ASSERT_EQ(j.at("rd_time").get<double>(), s.rd_time);
+  j.erase("rd_time");
+  std::ofstream(dir_ / "meta.json") << j.dump();
+  SavedStateMeta meta;
+  ASSERT_TRUE(read_state_meta(dir_, meta));
+  EXPECT_EQ(meta.rd_time, s.time);
 }
 
 TEST_F(StateIoTest, PresetParametersRoundTrip) {
@@ -228,6 +245,9 @@ TEST_F(StateIoTest, EveryKindOfDamageGivesOneLineAndLeavesTheStateUntouched) {
        "does not match the scene's 9x6"},
       {"negative dt", [&](const fs::path& d) { rewrite_meta(d, [](auto& j) { j["dt"] = -1; }); },
        "\"dt\""},
+      {"rd_time text",
+       [&](const fs::path& d) { rewrite_meta(d, [](auto& j) { j["rd_time"] = "late"; }); },
+       "\"rd_time\""},
       {"no u listed",
        [&](const fs::path& d) {
          rewrite_meta(d, [](auto& j) { j["fields"] = {"v", "p", "dye"}; });
