@@ -78,48 +78,6 @@ inline void back_trace(const View<const float>& u, const View<const float>& v, c
 
 }  // namespace
 
-void advect_scalar(View<const float> q0, View<const float> u, View<const float> v, View<float> q,
-                   Box2 region, const AdvectParams& params) {
-  if (region.empty()) return;
-  const Box2 b = q0.box().intersected(u.box()).intersected(v.box());
-  ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
-  const AxisLimits ax = axis_limits(b.min.x, b.max.x, params.domain.x, params.periodic);
-  const AxisLimits ay = axis_limits(b.min.y, b.max.y, params.domain.y, params.periodic);
-  const float k = params.dt_over_h;
-  for (int y = region.min.y; y < region.max.y; ++y) {
-    const float* ur = u.row(y);
-    const float* vr = v.row(y);
-    float* out = q.row(y);
-    for (int x = region.min.x; x < region.max.x; ++x) {
-      Sample s;
-      back_trace(u, v, ax, ay, k, x, y, ur[x], vr[x], s);
-      out[x] = bilinear(q0, s);
-    }
-  }
-}
-
-void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, View<float> v,
-                     Box2 region, const AdvectParams& params) {
-  if (region.empty()) return;
-  const Box2 b = u0.box().intersected(v0.box());
-  ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
-  const AxisLimits ax = axis_limits(b.min.x, b.max.x, params.domain.x, params.periodic);
-  const AxisLimits ay = axis_limits(b.min.y, b.max.y, params.domain.y, params.periodic);
-  const float k = params.dt_over_h;
-  for (int y = region.min.y; y < region.max.y; ++y) {
-    const float* ur = u0.row(y);
-    const float* vr = v0.row(y);
-    float* uo = u.row(y);
-    float* vo = v.row(y);
-    for (int x = region.min.x; x < region.max.x; ++x) {
-      Sample s;
-      back_trace(u0, v0, ax, ay, k, x, y, ur[x], vr[x], s);
-      uo[x] = bilinear(u0, s);
-      vo[x] = bilinear(v0, s);
-    }
-  }
-}
-
 namespace {
 
 #if defined(ARDCELL_ADVECT_AVX2)
@@ -298,12 +256,50 @@ void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const fl
   const AxisLimits ax = axis_limits(b.min.x, b.max.x, n.x, periodic);
   const AxisLimits ay = axis_limits(b.min.y, b.max.y, n.y, periodic);
   const float k = params.dt_over_h;
+#if defined(ARDCELL_ADVECT_AVX2)
+  // advect_fields' 8 lanes: the same operations as the scalar loop below, the products that
+  // GCC contracts there as the fused multiply-adds here.
+  const bool vector =
+      !ax.wrap && !ay.wrap && !su.ax.wrap && !su.ay.wrap && !sv.ax.wrap && !sv.ay.wrap;
+  const AxisLanes lx(ax), ly(ay), lux(su.ax), luy(su.ay), lvx(sv.ax), lvy(sv.ay);
+  const GatherView gq(q0), gu(uf), gv(vf);
+  const __m256 half = _mm256_set1_ps(0.5f), half_k = _mm256_set1_ps(0.5f * k),
+               kk = _mm256_set1_ps(k);
+  const __m256 oux = _mm256_set1_ps(su.ox), ouy = _mm256_set1_ps(su.oy),
+               ovx = _mm256_set1_ps(sv.ox), ovy = _mm256_set1_ps(sv.oy);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+#endif
   for (int y = region.min.y; y < region.max.y; ++y) {
     const float* ul = uf.row(y);
     const float* vb = vf.row(y);
     const float* va = vf.row(y + 1);
     float* out = q.row(y);
-    for (int x = region.min.x; x < region.max.x; ++x) {
+    int x = region.min.x;
+#if defined(ARDCELL_ADVECT_AVX2)
+    if (vector) {
+      const __m256 fy = _mm256_set1_ps(float(y));
+      for (; x + 8 <= region.max.x; x += 8) {
+        const __m256 fx = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), lane));
+        const __m256 ux = _mm256_mul_ps(
+            half, _mm256_add_ps(_mm256_loadu_ps(ul + x), _mm256_loadu_ps(ul + x + 1)));
+        const __m256 vy =
+            _mm256_mul_ps(half, _mm256_add_ps(_mm256_loadu_ps(vb + x), _mm256_loadu_ps(va + x)));
+        const __m256 mx = _mm256_fnmadd_ps(half_k, ux, fx), my = _mm256_fnmadd_ps(half_k, vy, fy);
+        __m256i fi, fj, i0, j0;
+        __m256 fs, ft, s1, t1;
+        locate8(lux, _mm256_add_ps(mx, oux), fi, fs);
+        locate8(luy, _mm256_add_ps(my, ouy), fj, ft);
+        const __m256 um = gu.at(fi, fj, fs, ft);
+        locate8(lvx, _mm256_add_ps(mx, ovx), fi, fs);
+        locate8(lvy, _mm256_add_ps(my, ovy), fj, ft);
+        const __m256 vm = gv.at(fi, fj, fs, ft);
+        locate8(lx, _mm256_fnmadd_ps(kk, um, fx), i0, s1);
+        locate8(ly, _mm256_fnmadd_ps(kk, vm, fy), j0, t1);
+        _mm256_storeu_ps(out + x, gq.at(i0, j0, s1, t1));
+      }
+    }
+#endif
+    for (; x < region.max.x; ++x) {
       const float ux = 0.5f * (ul[x] + ul[x + 1]), vy = 0.5f * (vb[x] + va[x]);
       const float mx = float(x) - 0.5f * k * ux, my = float(y) - 0.5f * k * vy;
       Sample s;
@@ -312,6 +308,22 @@ void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const fl
       out[x] = bilinear(q0, s);
     }
   }
+}
+
+// One field, and the velocity itself: the shared back-trace with one or two fields (the
+// vectorised path, the same bits as the scalar one).
+void advect_scalar(View<const float> q0, View<const float> u, View<const float> v, View<float> q,
+                   Box2 region, const AdvectParams& params) {
+  const View<const float> in[] = {q0};
+  const View<float> out[] = {q};
+  advect_fields(u, v, in, out, region, params);
+}
+
+void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, View<float> v,
+                     Box2 region, const AdvectParams& params) {
+  const View<const float> in[] = {u0, v0};
+  const View<float> out[] = {u, v};
+  advect_fields(u0, v0, in, out, region, params);
 }
 
 }  // namespace ardcell

@@ -2,6 +2,7 @@
 // the RowExecutor. Each band writes its own rows only, and reductions store one partial per
 // row and add them in row order, so any number of workers gives the serial reference's bits.
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <type_traits>
 #include <utility>
@@ -165,10 +166,19 @@ void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, F
   });
 }
 
-void CpuDevice::advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
-                              const AdvectParams& p) {
-  for_bands(q.size(), [&](Box2 rows) {
-    ardcell::advect_scalar(q0.view(), u.view(), v.view(), q.view(), rows, p);
+void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& u, const FieldF& v,
+                               std::span<FieldF* const> q, const AdvectParams& p) {
+  ARDCELL_CHECK(q0.size() == q.size() && q.size() <= std::size_t(kMaxAdvectFields) && !q.empty(),
+                "advect_scalars: one output per input, 1 to kMaxAdvectFields");
+  std::array<View<const float>, kMaxAdvectFields> in;
+  std::array<View<float>, kMaxAdvectFields> out;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    in[i] = q0[i]->view();
+    out[i] = q[i]->view();
+  }
+  for_bands(q[0]->size(), [&](Box2 rows) {
+    ardcell::advect_fields(u.view(), v.view(), std::span(in.data(), q.size()),
+                           std::span(out.data(), q.size()), rows, p);
   });
 }
 

@@ -12,6 +12,7 @@
 // (sync_to_host / host_wrote). swap() exchanges two fields on every side, as std::swap does on
 // the host.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "kernels/advect.h"
@@ -112,8 +113,9 @@ class Device {
                                  const ProjectParams& params) = 0;
   virtual void advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                                const AdvectParams& p) = 0;
-  virtual void advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
-                             const AdvectParams& p) = 0;
+  // q[i] from q0[i] for every i (at most kMaxAdvectFields): one back-trace for all of them.
+  virtual void advect_scalars(std::span<const FieldF* const> q0, const FieldF& u, const FieldF& v,
+                              std::span<FieldF* const> q, const AdvectParams& p) = 0;
   virtual void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                                  const AdvectParams& p) = 0;
   // The interior's sum (rows added in order), minimum and maximum.
@@ -186,8 +188,8 @@ class CpuDevice final : public Device {
                          const ProjectParams& params) override;
   void advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                        const AdvectParams& p) override;
-  void advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
-                     const AdvectParams& p) override;
+  void advect_scalars(std::span<const FieldF* const> q0, const FieldF& u, const FieldF& v,
+                      std::span<FieldF* const> q, const AdvectParams& p) override;
   void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                          const AdvectParams& p) override;
   FieldRange range(const FieldF& f) override;

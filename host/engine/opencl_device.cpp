@@ -231,12 +231,16 @@ void OpenClDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u
   cl_->advect_velocity(du0, dv0, du, out(v), box_of_size(u.size()), p);
 }
 
-void OpenClDevice::advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
-                                 const AdvectParams& p) {
-  const DeviceField& dq0 = in(q0);
+void OpenClDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& u,
+                                  const FieldF& v, std::span<FieldF* const> q,
+                                  const AdvectParams& p) {
   const DeviceField& du = in(u);
   const DeviceField& dv = in(v);
-  cl_->advect_scalar(dq0, du, dv, out(q), box_of_size(q.size()), p);
+  // One kernel per field: each recomputes the back-trace, which is cheap beside the gathers.
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const DeviceField& dq0 = in(*q0[i]);
+    cl_->advect_scalar(dq0, du, dv, out(*q[i]), box_of_size(q[i]->size()), p);
+  }
 }
 
 void OpenClDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf,

@@ -62,8 +62,8 @@ class OpenClDevice final : public Device {
                          const ProjectParams& params) override;
   void advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                        const AdvectParams& p) override;
-  void advect_scalar(const FieldF& q0, const FieldF& u, const FieldF& v, FieldF& q,
-                     const AdvectParams& p) override;
+  void advect_scalars(std::span<const FieldF* const> q0, const FieldF& u, const FieldF& v,
+                      std::span<FieldF* const> q, const AdvectParams& p) override;
   void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                          const AdvectParams& p) override;
   FieldRange range(const FieldF& f) override;

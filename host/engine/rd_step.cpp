@@ -290,8 +290,10 @@ void RdStepper::advect(SimState& s) {
   const double scene_h = scene_.domain_width / scene_.size.x;
   const AdvectParams p{float(scene_.dt / scene_h), scene_.size,
                        rd_.boundary == BoundaryKind::kPeriodic};
-  dev_->advect_scalar(s.A, s.u, s.v, scratch_a_, p);
-  dev_->advect_scalar(s.B, s.u, s.v, scratch_b_, p);
+  // A and B share one back-trace.
+  const FieldF* const from[] = {&s.A, &s.B};
+  FieldF* const to[] = {&scratch_a_, &scratch_b_};
+  dev_->advect_scalars(from, s.u, s.v, to, p);
   dev_->swap(s.A, scratch_a_);
   dev_->swap(s.B, scratch_b_);
 }

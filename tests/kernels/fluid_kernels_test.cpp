@@ -78,11 +78,12 @@ TEST(Advect, BackTraceClampsAtWalls) {
     for (int i = 0; i < n.x; ++i) ASSERT_FLOAT_EQ(q(i, j), 0.5f * (q0(-1, j) + q0(0, j)));
 }
 
-// The multi-field advection shares one back-trace (vectorised 8 cells at a time where the build
-// allows): every field bit for bit as its own advect_scalar call, on whole fields (velocities
-// large enough to hit the wall clamps, a NaN that must land on the wall) and on a tile copy
-// whose width leaves a scalar tail; with q0 = {u, v}, as advect_velocity.
-TEST(Advect, SharedBackTraceEqualsSeparateCalls) {
+// The multi-field advection shares one back-trace, vectorised 8 cells at a time where the build
+// allows, with a scalar tail: every cell gets the same bits from either path (regions starting
+// at each of 8 offsets put every cell once in a tail and otherwise in a vector), every field
+// as its own call, and with q0 = {u, v} as advect_velocity - on whole fields (velocities large
+// enough to hit the wall clamps, a NaN that must land on the wall) and on a tile copy.
+TEST(Advect, SharedBackTraceAndVectorPathGiveTheSameBits) {
   const Int2 n{77, 45};
   const FieldF q0a = random_field(n, 21), q0b = random_field(n, 22, 0.0f, 1.0f),
                q0c = random_field(n, 23, -5.0f, 5.0f);
@@ -97,12 +98,18 @@ TEST(Advect, SharedBackTraceEqualsSeparateCalls) {
         ASSERT_EQ(std::memcmp(&g, &w, sizeof g), 0) << what << " at " << x << "," << y;
       }
   };
-  const Box2 tile{{13, 6}, {13 + 37, 40}};  // 37 wide: four 8-lane groups and a tail of 5
-  for (const Box2 region : {box_of_size(n), tile}) {
-    FieldF wa(n, 1), wb(n, 1), wc(n, 1), ga(n, 1), gb(n, 1), gc(n, 1);
-    advect_scalar(q0a.view(), u.view(), v.view(), wa.view(), region, ap);
-    advect_scalar(q0b.view(), u.view(), v.view(), wb.view(), region, ap);
-    advect_scalar(q0c.view(), u.view(), v.view(), wc.view(), region, ap);
+  // The reference: one field at a time, the regions' cells in 7-wide strips (all scalar tail).
+  FieldF wa(n, 1), wb(n, 1), wc(n, 1), wu(n, 1), wv(n, 1);
+  for (int x0 = 0; x0 < n.x; x0 += 7) {
+    const Box2 strip{{x0, 0}, {std::min(x0 + 7, n.x), n.y}};
+    advect_scalar(q0a.view(), u.view(), v.view(), wa.view(), strip, ap);
+    advect_scalar(q0b.view(), u.view(), v.view(), wb.view(), strip, ap);
+    advect_scalar(q0c.view(), u.view(), v.view(), wc.view(), strip, ap);
+    advect_velocity(u.view(), v.view(), wu.view(), wv.view(), strip, ap);
+  }
+  for (int offset = 0; offset < 8; ++offset) {
+    const Box2 region{{offset, 0}, n};  // vectors from `offset`, a tail of (77 - offset) % 8
+    FieldF ga(n, 1), gb(n, 1), gc(n, 1);
     const View<const float> in[] = {q0a.view(), q0b.view(), q0c.view()};
     const View<float> out[] = {ga.view(), gb.view(), gc.view()};
     advect_fields(u.view(), v.view(), in, out, region, ap);
@@ -110,25 +117,23 @@ TEST(Advect, SharedBackTraceEqualsSeparateCalls) {
     expect_bitwise(gb.view(), wb, region, "field 1");
     expect_bitwise(gc.view(), wc, region, "field 2");
 
-    FieldF wu(n, 1), wv(n, 1), gu(n, 1), gv(n, 1);
-    advect_velocity(u.view(), v.view(), wu.view(), wv.view(), region, ap);
-    const View<const float> uv[] = {u.view(), v.view()};
-    const View<float> uv_out[] = {gu.view(), gv.view()};
-    advect_fields(u.view(), v.view(), uv, uv_out, region, ap);
+    FieldF gu(n, 1), gv(n, 1);
+    advect_velocity(u.view(), v.view(), gu.view(), gv.view(), region, ap);
     expect_bitwise(gu.view(), wu, region, "velocity u");
     expect_bitwise(gv.view(), wv, region, "velocity v");
   }
-  // Views of a tile copy (another origin and stride): the same cells.
+  // Views of a tile copy (another origin and stride, clamps at the view): vector and tail agree.
   const Box2 core{{13, 6}, {50, 40}};
   const Box2 reach = core.grown(3).intersected(box_of_size(n).grown(1));
   TileCopy tq(q0a, reach), tu(u, reach), tv(v, reach);
-  FieldF whole(n, 1), local(n, 1);
+  FieldF strips(n, 1), vectors(n, 1);
   const AdvectParams short_trace{1.5f, n, false};
-  advect_scalar(tq.view, tu.view, tv.view, whole.view(), core, short_trace);
-  const View<const float> tin[] = {tq.view};
-  const View<float> tout[] = {local.view()};
-  advect_fields(tu.view, tv.view, tin, tout, core, short_trace);
-  expect_bitwise(local.view(), whole, core, "tile copy");
+  for (int x0 = core.min.x; x0 < core.max.x; x0 += 7) {
+    const Box2 strip{{x0, core.min.y}, {std::min(x0 + 7, core.max.x), core.max.y}};
+    advect_scalar(tq.view, tu.view, tv.view, strips.view(), strip, short_trace);
+  }
+  advect_scalar(tq.view, tu.view, tv.view, vectors.view(), core, short_trace);
+  expect_bitwise(vectors.view(), strips, core, "tile copy");
 }
 
 // Every kernel gives the same cells on a tile copy (local store) as on the whole field.
@@ -216,6 +221,29 @@ TEST(FluidKernels, FaceVelocitiesAndMacAdvection) {
   advect_scalar_mac(tq.view, tuf, tvf, tout.view, core, ap);
   for (int y = core.min.y; y < core.max.y; ++y)
     for (int x = core.min.x; x < core.max.x; ++x) ASSERT_EQ(tout.view(x, y), whole(x, y));
+
+  // Vectorised 8 cells at a time where the build allows, with a scalar tail: the same bits.
+  // Faces fast enough to hit the wall clamps (dt/h 0.3), and a NaN that must land on a wall.
+  FieldF fast_uf = uf, fast_vf = vf;
+  fast_uf(12, 7) = std::nanf("");
+  fast_vf(3, 19) = std::nanf("");
+  const AdvectParams far{0.3f, n, false};
+  FieldF strips(n, 1);
+  for (int x0 = 0; x0 < n.x; x0 += 7) {  // 7 wide: every cell in a scalar tail
+    const Box2 strip{{x0, 0}, {std::min(x0 + 7, n.x), n.y}};
+    advect_scalar_mac(r0.view(), fast_uf.view(), fast_vf.view(), strips.view(), strip, far);
+  }
+  for (int offset = 0; offset < 8; ++offset) {
+    FieldF vectors(n, 1);
+    const Box2 region{{offset, 0}, n};
+    advect_scalar_mac(r0.view(), fast_uf.view(), fast_vf.view(), vectors.view(), region, far);
+    for (int y = 0; y < n.y; ++y)
+      for (int x = offset; x < n.x; ++x) {
+        const float g = vectors(x, y), w = strips(x, y);
+        ASSERT_EQ(std::memcmp(&g, &w, sizeof g), 0)
+            << "offset " << offset << " at " << x << "," << y;
+      }
+  }
 }
 
 TEST(FluidKernels, StamJacobiSweepFormula) {
