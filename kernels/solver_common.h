@@ -14,7 +14,9 @@ namespace ardcell::solver_detail {
 inline double relative_residual(const StencilOperator& op, const FieldF& b, const FieldF& x,
                                 FieldF& r, const stencil::NullSpace& null_space, RowExecutor& ex,
                                 double bb) {
-  const double rr = null_space.consistent_part(stencil::residual(op, b, x, &r, ex), r, ex);
+  // The residual field is needed only to take out its null-space component.
+  const double rr = null_space.consistent_part(
+      stencil::residual(op, b, x, null_space.singular() ? &r : nullptr, ex), r, ex);
   return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
 }
 

@@ -72,15 +72,16 @@ __kernel void restore_mass_rows(__global float* f, int stride, int origin, int4 
   f[g] = q;
 }
 
-// partials[j] = sum_x f(x, j)^2, the square in double (norm2_squared).
+// partials[j] = sum_x f(x, j)^2, the square in double, cell i into running sum i % 4 and
+// then (s0 + s1) + (s2 + s3) (norm2_squared's order).
 __kernel void row_sums_of_squares(__global const float* f, int stride, int origin, int nx, int y0,
                                   int y1, __global real* out) {
   const int j = y0 + get_global_id(0);
   if (j >= y1) return;
   __global const float* r = row_of(f, stride, origin, j);
-  real total = 0;
-  for (int i = 0; i < nx; ++i) total += (real)r[i] * (real)r[i];
-  out[j] = total;
+  real sum[4] = {0, 0, 0, 0};
+  for (int i = 0; i < nx; ++i) sum[i % 4] += (real)r[i] * (real)r[i];
+  out[j] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
 
 // partials[j] = sum of f(x, j) over the cells with mask != 0 (NullSpace::null_sum).
