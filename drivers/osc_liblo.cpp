@@ -64,19 +64,7 @@ bool is_string(char type) { return type == LO_STRING || type == LO_SYMBOL; }
 
 // The sender's text as logged: at most kMaxEchoedChars, non-printable bytes as \xNN.
 std::string echoed(std::string_view text) {
-  std::string out;
-  for (size_t i = 0; i < text.size() && i < OscServer::kMaxEchoedChars; ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f && c != '\\') {
-      out += char(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
-    }
-  }
-  if (text.size() > OscServer::kMaxEchoedChars) out += "...";
-  return out;
+  return escaped_prefix(text, OscServer::kMaxEchoedChars);
 }
 
 // A preset as a sender may name it: letters, digits, '.', '-', '_'; no path, no "..".
