@@ -612,6 +612,7 @@ Status LiveLoop::run() {
     if (!s) return Status::error(options_.exit_screenshot + ": " + s.message());
   }
   stop_recording();
+  remote_log_.finish();
   if (options_.log) clock_.print_report(options_.log);
   return Status::ok();
 }

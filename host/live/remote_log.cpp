@@ -15,7 +15,9 @@ RemoteLog::RemoteLog(std::FILE* out, TimeSource* time)
   window_start_ns_ = time_.now_ns();
 }
 
-RemoteLog::~RemoteLog() {
+RemoteLog::~RemoteLog() { finish(); }
+
+void RemoteLog::finish() {
   std::lock_guard lock(mutex_);
   print_summary();
 }

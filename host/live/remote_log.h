@@ -36,6 +36,9 @@ class RemoteLog {
   // does it too; the live loop calls this each frame so that a flood's count appears as soon
   // as it ends, not at the next line.
   void tick();
+  // Prints the count not yet summed up, even mid-second: the loop is ending (the destructor
+  // does it too; `ardcell live` may end with _Exit, which runs no destructor).
+  void finish();
 
   int64_t printed() const;  // lines printed, summaries included
   int64_t dropped() const;  // lines not printed, in all

@@ -42,6 +42,22 @@ TEST(RemoteLog, AFloodPrintsAFewLinesASecondThenOneLineCountingTheRest) {
   std::fclose(f);
 }
 
+TEST(RemoteLog, FinishSumsUpMidSecond) {
+  ManualTime time;
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  RemoteLog log(f, &time);
+  for (int i = 0; i < 8; ++i) log.line("osc", "rejected");
+  log.finish();  // the loop ends before the second is over
+  std::vector<std::string> lines = logged_lines(f);
+  ASSERT_EQ(lines.size(), size_t(RemoteLog::kMaxLinesPerSecond + 1));
+  EXPECT_EQ(lines.back().rfind("osc: 3 more lines caused by remote commands not logged", 0), 0u)
+      << lines.back();
+  log.finish();  // nothing more to say
+  EXPECT_EQ(logged_lines(f).size(), lines.size());
+  std::fclose(f);
+}
+
 TEST(RemoteLog, LinesAreEscapedAndCutShort) {
   ManualTime time;
   std::FILE* f = std::tmpfile();
