@@ -296,8 +296,8 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   std::unique_ptr<OscServer> osc;
   if (a.osc_port >= 0) {
     Status os = Status::ok();
-    osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(), os,
-                           a.preset_dirs);
+    osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(),
+                           loop.remote_log(), os, a.preset_dirs);
     if (!osc) return cli_usage_error(ctx, "live", os.message());
     std::fprintf(ctx.err, "ardcell live: OSC on udp://%s:%d\n", a.osc_bind.c_str(), osc->port());
     if (is_remote_address(a.osc_bind))

@@ -509,17 +509,14 @@ int do_run(RunArgs& a, CliContext& ctx) {
     if (Status s = read_state_meta(a.load_state, meta); !s)
       return usage("--load-state " + s.message());
     if (!scene_name.empty() && scene_name != meta.scene)
-      return usage("--load-state " + a.load_state + " holds scene '" + meta.scene +
-                   "' but the scene given is '" + scene_name + "' (expected the same or none)");
+      return usage("--load-state " + a.load_state + " holds scene '" +
+                   escaped_prefix(meta.scene, 60) + "' but the scene given is '" + scene_name +
+                   "' (expected the same or none)");
     scene_name = meta.scene;
-    if (!load_preset(scene_name, preset)) {
-      preset = preset_from_scene(SceneConfig{});
-      preset.scene.name = scene_name;
-    }
-    const std::string what = (fs::path(a.load_state) / "meta.json").string();
-    if (Status s = apply_preset_parameters(meta.parameters, what, preset); !s)
+    std::string notice;
+    if (Status s = saved_state_preset(a.load_state, meta, preset, notice); !s)
       return usage("--load-state " + s.message());
-    preset.scene.size = meta.size;
+    if (!notice.empty()) std::fprintf(ctx.err, "ardcell: %s\n", notice.c_str());
   } else {
     if (scene_name.empty()) scene_name = "cavity";
     if (Status s = load_preset(scene_name, preset); !s) {

@@ -1,6 +1,5 @@
 // `ardcell tablet`: list pen tablets, record one in hid-recorder format, decode a recording
 // (JSON lines), and play strokes into a scene to a PNG.
-#include <csignal>
 #include <nlohmann/json.hpp>
 
 #include "drivers/cli.h"
@@ -20,9 +19,6 @@
 
 namespace ardcell {
 namespace {
-
-std::atomic<bool> g_record_stop{false};
-extern "C" void on_record_interrupt(int) { g_record_stop.store(true); }
 
 int list_command(CliContext& ctx) {
 #if defined(ARDCELL_WITH_HIDAPI)
@@ -67,14 +63,15 @@ int record_command(CliContext& ctx, const std::string& file, const std::string& 
   if (Status st = check_output_path(file, false); !st)
     return cli_usage_error(ctx, "tablet record", st.message());
 #if defined(ARDCELL_WITH_HIDAPI)
-  g_record_stop.store(false);
-  std::signal(SIGINT, on_record_interrupt);
-  std::signal(SIGTERM, on_record_interrupt);
+  // SIGINT, SIGTERM and SIGHUP end the recording as --seconds does: what was recorded is
+  // written and renamed into place; a second signal meanwhile cannot cut that short.
+  const StopSignals stop_signals;
   std::string error;
-  if (!record_tablet(device, file, g_record_stop, seconds > 0 ? seconds : 1e12, ctx.err, error))
+  if (!record_tablet(device, file, StopSignals::requested(), seconds > 0 ? seconds : 1e12, ctx.err,
+                     error))
     return cli_usage_error(ctx, "tablet record", error);
   std::fprintf(ctx.out, "wrote %s\n", file.c_str());
-  return kExitOk;
+  return StopSignals::exit_code(kExitOk);
 #else
   (void)file;
   (void)device;
@@ -206,7 +203,9 @@ void add_tablet_command(CLI::App& app, CliContext& ctx) {
   auto device = std::make_shared<std::string>();
   auto seconds = std::make_shared<double>(0);
   CLI::App* record = tablet->add_subcommand(
-      "record", "record the first tablet's reports in hid-recorder format until Ctrl-C");
+      "record",
+      "record the first tablet's reports in hid-recorder format until Ctrl-C (or SIGTERM, "
+      "SIGHUP, --seconds)");
   record->add_option("FILE", *file, "output file (written atomically)")->required();
   record->add_option("--device", *device, "a /dev/hidrawN path (default: the first tablet)");
   record->add_option("--seconds", *seconds, "stop after this many seconds");

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/io/atomic_file.h"
 #include "host/io/user_file.h"
 
 namespace ardcell {
@@ -207,28 +208,17 @@ std::string format_hid_recording(const HidRecording& rec) {
 }
 
 bool write_hid_recording(const std::string& path, const HidRecording& rec, std::string& error) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) {
-      error = path + ": cannot write (" + std::strerror(errno) + ")";
-      return false;
-    }
-    f << format_hid_recording(rec);
-    f.flush();
-    if (!f) {
-      error = path + ": write failed";
-      f.close();
-      std::remove(tmp.c_str());
-      return false;
-    }
+  // Durable: a recording ended by SIGTERM (systemctl stop, a shutdown) must survive the power
+  // going off right after.
+  AtomicFile file;
+  Status s = file.open(path);
+  if (s) {
+    const std::string text = format_hid_recording(rec);
+    file.write(text.data(), text.size());
+    s = file.commit(true);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    error = path + ": cannot rename the temporary file into place (" + std::strerror(errno) + ")";
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
+  if (!s) error = s.message();
+  return bool(s);
 }
 
 }  // namespace ardcell

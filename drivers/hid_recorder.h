@@ -35,7 +35,8 @@ bool read_hid_recording(const std::string& path, HidRecording& out, std::string&
 std::string format_hid_recording(const HidRecording& rec);
 // One E: line (no newline).
 std::string format_hid_event(const HidEvent& e);
-// Writes atomically (temporary file, then rename).
+// Writes atomically (host/io/atomic_file.h: a temporary sibling, fsynced, then renamed), so the
+// file is the whole recording or absent, never half-written.
 bool write_hid_recording(const std::string& path, const HidRecording& rec, std::string& error);
 
 }  // namespace ardcell

@@ -64,19 +64,7 @@ bool is_string(char type) { return type == LO_STRING || type == LO_SYMBOL; }
 
 // The sender's text as logged: at most kMaxEchoedChars, non-printable bytes as \xNN.
 std::string echoed(std::string_view text) {
-  std::string out;
-  for (size_t i = 0; i < text.size() && i < OscServer::kMaxEchoedChars; ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f && c != '\\') {
-      out += char(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
-    }
-  }
-  if (text.size() > OscServer::kMaxEchoedChars) out += "...";
-  return out;
+  return escaped_prefix(text, RemoteLog::kMaxEchoedChars);
 }
 
 // A preset as a sender may name it: letters, digits, '.', '-', '_'; no path, no "..".
@@ -126,9 +114,9 @@ std::string OscServer::resolve_preset(const std::string& name, std::string& why)
 
 std::unique_ptr<OscServer> OscServer::start(int port, const std::string& bind_address,
                                             CommandQueue& commands, StrokeRing& strokes,
-                                            Status& error,
+                                            RemoteLog& log, Status& error,
                                             std::vector<std::string> preset_folders) {
-  std::unique_ptr<OscServer> s(new OscServer(commands, strokes));
+  std::unique_ptr<OscServer> s(new OscServer(commands, strokes, log));
   s->preset_folders_ = std::move(preset_folders);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -166,27 +154,6 @@ OscServer::~OscServer() {
   stop_.store(true);
   if (thread_.joinable()) thread_.join();
   if (fd_ >= 0) close(fd_);
-  if (log_dropped_ > 0)
-    std::fprintf(stderr, "osc: %lld more rejected messages not logged\n",
-                 static_cast<long long>(log_dropped_));
-}
-
-void OscServer::log_line(const std::string& line) {
-  const double now = seconds_now();
-  if (now - log_window_ >= 1.0) {
-    if (log_dropped_ > 0)
-      std::fprintf(stderr, "osc: %lld more rejected messages not logged (at most %d a second)\n",
-                   static_cast<long long>(log_dropped_), kMaxLogLinesPerSecond);
-    log_window_ = now;
-    log_lines_ = 0;
-    log_dropped_ = 0;
-  }
-  if (log_lines_ >= kMaxLogLinesPerSecond) {
-    ++log_dropped_;
-    return;
-  }
-  ++log_lines_;
-  std::fprintf(stderr, "osc: %s\n", line.c_str());
 }
 
 std::string OscServer::last_error() const {
@@ -196,7 +163,7 @@ std::string OscServer::last_error() const {
 
 bool OscServer::reject(const std::string& why) {
   ++rejected_;
-  log_line(why);
+  log_.line("osc", why);
   std::lock_guard lock(error_mutex_);
   last_error_ = why;
   return false;
@@ -221,7 +188,8 @@ bool OscServer::dispatch(const void* data, size_t size) {
     ~Free() { lo_message_free(m); }
   } free_message{m};
 
-  auto push = [&](const LiveCommand& c) {
+  auto push = [&](LiveCommand c) {
+    c.remote = true;  // what the loop logs about it goes through log_ too
     if (!commands_.push(c)) return reject(path + ": command queue full");
     commands_.push(LiveCommand::make(LiveCommandKind::kInputActivity));
     ++handled_;

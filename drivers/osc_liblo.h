@@ -16,8 +16,10 @@
 //   /ardcell/reset   /ardcell/pause [i 0|1]   /ardcell/hud
 // A sender cannot name files: presets come only from the preset folders (a symlink that leads
 // out of its folder is refused), screenshots and recordings get generated names in the output
-// folder. Rejected messages are logged at most kMaxLogLinesPerSecond a second (then one line
-// counting the rest), showing only a short escaped prefix of the sender's text.
+// folder. Every line a sender can cause goes through one RemoteLog (host/live/remote_log.h):
+// these messages rejected here, and what the loop says about the commands it accepted (each
+// marked LiveCommand::remote): at most a few a second, then one line counting the rest, showing
+// only a short escaped prefix of the sender's text.
 #include <atomic>
 #include <memory>
 #include <string>
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "host/live/live_loop.h"
+#include "host/live/remote_log.h"
 #include "host/paint/stroke.h"
 
 namespace ardcell {
@@ -33,15 +36,14 @@ class OscServer {
  public:
   // Binds `bind_address`:port (port 0: any free port) and starts the receive thread; nullptr
   // with `error` set when the socket cannot be bound. Strokes go into `strokes` (single
-  // producer: this server), everything else into `commands`.
+  // producer: this server), everything else into `commands`; rejections are logged to `log`
+  // (the loop's LiveLoop::remote_log(), which must outlive the server).
   // `preset_folders`: where /ardcell/preset may load .toml files from (none: built-in names
   // only).
   static std::unique_ptr<OscServer> start(int port, const std::string& bind_address,
                                           CommandQueue& commands, StrokeRing& strokes,
-                                          Status& error,
+                                          RemoteLog& log, Status& error,
                                           std::vector<std::string> preset_folders = {});
-  static constexpr int kMaxLogLinesPerSecond = 5;
-  static constexpr size_t kMaxEchoedChars = 40;
   ~OscServer();
   int port() const { return port_; }
 
@@ -53,13 +55,14 @@ class OscServer {
   std::string last_error() const;
 
  private:
-  OscServer(CommandQueue& commands, StrokeRing& strokes) : commands_(commands), strokes_(strokes) {}
+  OscServer(CommandQueue& commands, StrokeRing& strokes, RemoteLog& log)
+      : commands_(commands), strokes_(strokes), log_(log) {}
   bool reject(const std::string& why);
-  void log_line(const std::string& line);
   // A preset the sender named, as a name or a real path inside a preset folder; "" + why.
   std::string resolve_preset(const std::string& name, std::string& why) const;
   CommandQueue& commands_;
   StrokeRing& strokes_;
+  RemoteLog& log_;
   int fd_ = -1;
   int port_ = 0;
   std::atomic<bool> stop_{false};
@@ -69,9 +72,6 @@ class OscServer {
   std::string last_error_;
   double start_time_ = 0;
   std::vector<std::string> preset_folders_;
-  double log_window_ = 0;  // rate limit of the log (receive thread only)
-  int log_lines_ = 0;
-  int64_t log_dropped_ = 0;
 };
 
 }  // namespace ardcell

@@ -346,6 +346,41 @@ Status read_state_meta(const fs::path& dir, SavedStateMeta& meta) {
   return Status::ok();
 }
 
+Status saved_state_preset(const fs::path& dir, const SavedStateMeta& meta, Preset& preset,
+                          std::string& notice) {
+  notice.clear();
+  const std::string what = (dir / "meta.json").string();
+  // The name comes from a file: shown escaped and short, so it cannot break the line.
+  const std::string scene = escaped_prefix(meta.scene, 60);
+  Preset p;
+  if (!load_builtin_preset(meta.scene, p)) {
+    // Without a built-in scene underneath, a missing key would silently take the default of a
+    // scene the state was never made from: every key must be there.
+    const nlohmann::json every_key = preset_parameters_to_json(Preset{});
+    std::vector<std::string> missing;
+    for (const auto& [key, value] : every_key.items())
+      if (!meta.parameters.contains(key)) missing.push_back(key);
+    if (!missing.empty())
+      return Status::error(
+          what + ": scene '" + scene + "' is not built in and \"parameters\" lacks " +
+          missing.front() +
+          (missing.size() > 1 ? " and " + std::to_string(missing.size() - 1) + " more keys" : "") +
+          " (expected a built-in scene, or every preset key as --save-state writes them)");
+    p = Preset{};
+    p.scene.name = meta.scene;
+    p.source = what;
+    notice = "state " + dir.string() + " was saved from scene '" + scene +
+             "', which is not built in: resuming from the parameters saved with it";
+  }
+  if (Status s = apply_preset_parameters(meta.parameters, what, p); !s) {
+    notice.clear();
+    return s;
+  }
+  p.scene.size = meta.size;
+  preset = std::move(p);
+  return Status::ok();
+}
+
 Status load_state_fields(const fs::path& dir, const SavedStateMeta& meta, SimState& state) {
   if (meta.size != state.size)
     return Status::error((dir / "meta.json").string() + ": size " + std::to_string(meta.size.x) +

@@ -57,6 +57,14 @@ Status check_state_destination(const std::filesystem::path& dir);
 // Reads and validates dir/meta.json.
 Status read_state_meta(const std::filesystem::path& dir, SavedStateMeta& meta);
 
+// The preset a saved state resumes, its grid the saved size. A built-in scene (an embedded
+// preset or a built-in scene, never a file: meta.json names a scene, not a path to read) gets
+// the saved parameters over its own. A scene that is not built in (a custom preset's) resumes
+// from the saved parameters alone, which must then name every preset key, and `notice` gets
+// one line saying so; empty otherwise.
+Status saved_state_preset(const std::filesystem::path& dir, const SavedStateMeta& meta,
+                          Preset& preset, std::string& notice);
+
 // Reads every field `state` has allocated from dir (sizes must match meta and the state; every
 // value finite), then sets time and step from meta. On failure `state` is left unchanged.
 Status load_state_fields(const std::filesystem::path& dir, const SavedStateMeta& meta,

@@ -91,6 +91,7 @@ struct LiveLoop::Build {
   std::atomic<bool> done{false};
   std::atomic<bool> cancelled{false};  // quit: skip the build if it has not begun
   std::string name;
+  bool remote = false;  // asked for by a remote sender: its outcome is logged as remote
   Preset preset;
   std::unique_ptr<LiveSimulation> sim;
   Status status = Status::ok();
@@ -168,6 +169,7 @@ LiveLoop::LiveLoop(LiveOptions options, SimulationFactory factory, LiveDisplay& 
       factory_(std::move(factory)),
       display_(display),
       clock_(options_.fps, options_.time ? *options_.time : MonotonicTime::instance()),
+      remote_log_(options_.log, options_.time),
       quality_(QualityBounds{}) {
   message_.reserve(256);
 }
@@ -198,10 +200,16 @@ void LiveLoop::notice(const char* fmt, ...) {
       const char* end = std::strchr(line, '\n');
       const int n = end ? int(end - line) : int(std::strlen(line));
       // Lines after the first repeat the notice's lead ("keeping cavity: ").
-      if (line == buf)
-        std::fprintf(options_.log, "live: %.*s\n", n, line);
-      else if (n > 0)
-        std::fprintf(options_.log, "live: %.*s%.*s\n", prefix, buf, n, line);
+      const int lead = line == buf ? 0 : prefix;
+      if (line == buf || n > 0) {
+        if (remote_cause_) {
+          char joined[sizeof buf * 2];
+          std::snprintf(joined, sizeof joined, "%.*s%.*s", lead, buf, n, line);
+          remote_log_.line("live", joined);
+        } else {
+          std::fprintf(options_.log, "live: %.*s%.*s\n", lead, buf, n, line);
+        }
+      }
       line = end ? end + 1 : line + n;
     }
   }
@@ -264,12 +272,15 @@ void LiveLoop::apply_level() {
 void LiveLoop::request_preset(std::string name) {
   if (builder_busy_) {
     // The latest request runs once the one loading now is done.
-    notice("preset %s: queued after the switch in progress", name.c_str());
+    notice("preset %s: queued after the switch in progress",
+           remote_cause_ ? escaped_prefix(name, RemoteLog::kMaxEchoedChars).c_str() : name.c_str());
     pending_preset_ = std::move(name);
+    pending_remote_ = remote_cause_;
     return;
   }
   build_ = std::make_shared<Build>();
   build_->name = std::move(name);
+  build_->remote = remote_cause_;
   builder_busy_ = true;
   std::shared_ptr<Build> b = build_;
   SimulationFactory factory = factory_;
@@ -300,6 +311,8 @@ void LiveLoop::poll_build() {
   if (build_->thread.joinable()) build_->thread.join();
   builder_busy_ = false;
   std::shared_ptr<Build> b = std::move(build_);
+  // What the switch's outcome prints counts as caused by whoever asked for it.
+  const bool outer_cause = std::exchange(remote_cause_, b->remote);
   if (!b->status) {
     // A bad preset never takes the running one down: keep it, say why.
     ++preset_errors_;
@@ -307,7 +320,11 @@ void LiveLoop::poll_build() {
   } else if (pending_preset_.empty()) {
     begin_switch(std::move(b->sim), std::move(b->preset));
   }
-  if (!pending_preset_.empty()) request_preset(std::exchange(pending_preset_, std::string()));
+  if (!pending_preset_.empty()) {
+    remote_cause_ = pending_remote_;
+    request_preset(std::exchange(pending_preset_, std::string()));
+  }
+  remote_cause_ = outer_cause;
 }
 
 void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
@@ -506,8 +523,11 @@ bool LiveLoop::run_frame() {
   LiveCommand c;
   while (commands_.pop(c)) {
     if (c.kind == LiveCommandKind::kInputActivity) activity = true;
+    remote_cause_ = c.remote;
     handle(c);
+    remote_cause_ = false;
   }
+  remote_log_.tick();
   const double now = double(clock_.frame_begin_ns()) * 1e-9;
   size_t n = input_.pop_many(samples_);
   n += remote_input_.pop_many(std::span(samples_).subspan(n));
@@ -587,6 +607,7 @@ Status LiveLoop::run() {
     if (!s) return Status::error(options_.exit_screenshot + ": " + s.message());
   }
   stop_recording();
+  remote_log_.finish();
   if (options_.log) clock_.print_report(options_.log);
   return Status::ok();
 }
@@ -604,7 +625,9 @@ void LiveLoop::abandon_switch() {
   b->cancelled.store(true);
   b->thread.detach();
   switch_abandoned_ = true;
+  const bool outer_cause = std::exchange(remote_cause_, b->remote);
   notice("quit without waiting for preset %s (still loading)", b->name.c_str());
+  remote_cause_ = outer_cause;
 }
 
 }  // namespace ardcell

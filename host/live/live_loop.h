@@ -22,6 +22,7 @@
 #include "host/config/sim_state.h"
 #include "host/config/status.h"
 #include "host/live/frame_clock.h"
+#include "host/live/remote_log.h"
 #include "host/paint/stroke.h"
 #include "host/render/image.h"
 #include "host/scenes/adaptive_quality.h"
@@ -85,6 +86,9 @@ struct LiveCommand {
   LiveCommandKind kind = LiveCommandKind::kQuit;
   int param = -1;
   double value = 0;
+  // From a remote sender (OSC): every line it causes, now or when its preset switch completes,
+  // goes through the rate-limited remote_log().
+  bool remote = false;
   std::array<char, 240> text{};  // NUL-terminated
   static LiveCommand make(LiveCommandKind k, double value = 0, int param = -1);
   static LiveCommand with_text(LiveCommandKind k, std::string_view text);
@@ -185,6 +189,9 @@ class LiveLoop {
   // A second input ring for a remote producer thread (OSC), each ring having one producer.
   StrokeRing& remote_input() { return remote_input_; }
   FrameClock& clock() { return clock_; }
+  // Where every line a remote sender causes is logged, rate-limited: the OSC server's
+  // rejections and what the loop says about remote commands (on options.log, with its clock).
+  RemoteLog& remote_log() { return remote_log_; }
   AdaptiveQuality& quality() { return quality_; }
   const Preset& preset() const { return preset_; }  // current (blended during a fade)
   const LiveSimulation& simulation() const { return *sim_; }
@@ -233,6 +240,8 @@ class LiveLoop {
   SimulationFactory factory_;
   LiveDisplay& display_;
   FrameClock clock_;
+  RemoteLog remote_log_;
+  bool remote_cause_ = false;  // the command or switch being handled came from a remote sender
   AdaptiveQuality quality_;
   CommandQueue commands_;
   StrokeRing input_{4096};
@@ -263,7 +272,8 @@ class LiveLoop {
   std::shared_ptr<Build> build_;
   bool builder_busy_ = false;
   bool switch_abandoned_ = false;
-  std::string pending_preset_;  // the latest switch asked for while one was loading
+  std::string pending_preset_;   // the latest switch asked for while one was loading
+  bool pending_remote_ = false;  // ... by a remote sender
   std::unique_ptr<Recorder> recorder_;
   mutable std::mutex message_mutex_;
   std::string message_;

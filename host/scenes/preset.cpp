@@ -709,21 +709,26 @@ Status load_preset(std::string_view name_or_path, Preset& out) {
   const bool is_path = name_or_path.find('/') != std::string_view::npos ||
                        (name_or_path.size() > 5 && name_or_path.ends_with(".toml"));
   if (is_path) return load_preset_file(std::string(name_or_path), out);
-  for (const EmbeddedPreset& e : embedded_presets()) {
-    if (file_stem(e.file) == name_or_path) {
-      Status s = parse_preset(e.text, std::string("presets/") + e.file, out);
-      if (s) out.source = "embedded:" + std::string(name_or_path);
-      return s;
-    }
-  }
-  if (const SceneEntry* entry = builtin_scenes().find(name_or_path)) {
-    out = preset_from_scene(entry->make());
-    return Status::ok();
-  }
+  if (load_builtin_preset(name_or_path, out)) return Status::ok();
   std::string names;
   for (const std::string& n : preset_names()) names += (names.empty() ? "" : ", ") + n;
   return Status::error("preset '" + std::string(name_or_path) +
                        "': no such file or preset; expected a .toml path or one of: " + names);
+}
+
+Status load_builtin_preset(std::string_view name, Preset& out) {
+  for (const EmbeddedPreset& e : embedded_presets()) {
+    if (file_stem(e.file) == name) {
+      Status s = parse_preset(e.text, std::string("presets/") + e.file, out);
+      if (s) out.source = "embedded:" + std::string(name);
+      return s;
+    }
+  }
+  if (const SceneEntry* entry = builtin_scenes().find(name)) {
+    out = preset_from_scene(entry->make());
+    return Status::ok();
+  }
+  return Status::error("'" + std::string(name) + "' is not a built-in preset or scene");
 }
 
 Preset preset_from_scene(const SceneConfig& scene) {

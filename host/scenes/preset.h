@@ -93,9 +93,12 @@ std::string preset_keys_markdown();
 // returns every problem, one per line, and leaves `out` unspecified.
 Status parse_preset(std::string_view text, std::string_view source_name, Preset& out);
 Status load_preset_file(const std::string& path, Preset& out);
-// A path (contains '/' or ends in .toml), else an embedded preset by name, else a built-in
-// scene (host/scenes/scene_registry.h) with default quality and input.
+// A path (contains '/' or ends in .toml), else a built-in preset by name (load_builtin_preset).
 Status load_preset(std::string_view name_or_path, Preset& out);
+// An embedded preset by name, else a built-in scene (host/scenes/scene_registry.h) with default
+// quality and input; never a file (a saved state's meta.json names its scene, not a path to
+// read).
+Status load_builtin_preset(std::string_view name, Preset& out);
 
 // The preset as TOML that parse_preset reads back to the same values.
 std::string preset_to_toml(const Preset& preset);

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "tests/drivers/binary_run_fixture.h"
@@ -72,6 +73,31 @@ TEST_F(BadInputCli, FilesThatAreNotRegularFilesAreRefusedWithoutReading) {
   write("st/meta.json", "{\"format\": \"ardcell-state\", \"version\": 1, \"dt\": 2e308}");
   expect_refused("run --load-state st --steps 1 --every 0",
                  "meta.json: not valid JSON (a number out of range)");
+}
+
+// A saved state names its scene: a custom preset's state resumes from the parameters saved with
+// it, saying so in one line; one whose scene is not built in and whose parameters are not
+// complete is refused (it used to run silently on defaults).
+TEST_F(BadInputCli, AStateOfASceneThatIsNotBuiltInIsResumedWithOneLineOrRefused) {
+  write("mine.toml", "name = \"mine\"\n[grid]\nsize = [16, 16]\n[fluid]\nlid_speed = -2.0\n");
+  BinaryRunResult r = run("run --scene ./mine.toml --steps 1 --every 0 --save-state st");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("run --load-state st --steps 1 --every 0 --stats");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err,
+            "ardcell: state st was saved from scene 'mine', which is not built in: resuming from "
+            "the parameters saved with it\n");
+  EXPECT_NE(r.out.find("scene=mine size=16x16"), std::string::npos) << r.out;
+
+  nlohmann::json meta = nlohmann::json::parse(slurp(work() / "st" / "meta.json"));
+  meta["parameters"].erase("fluid.lid_speed");
+  write("st/meta.json", meta.dump());
+  expect_refused("run --load-state st --steps 1 --every 0",
+                 "st/meta.json: scene 'mine' is not built in and \"parameters\" lacks "
+                 "fluid.lid_speed (expected a built-in scene, or every preset key");
+  meta["scene"] = "../mine.toml";  // a name, never a file to read
+  write("st/meta.json", meta.dump());
+  expect_refused("run --load-state st --steps 1 --every 0", "scene '../mine.toml' is not built in");
 }
 
 TEST_F(BadInputCli, OversizedFilesAreRefusedBeforeTheirPayload) {

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "host/scenes/preset.h"
+#include "tests/support/remote_log_capture.h"
 
 namespace ardcell {
 namespace {
@@ -18,11 +19,12 @@ namespace {
 struct Osc {
   CommandQueue commands;
   StrokeRing strokes{64};
+  RemoteLog log;
   std::unique_ptr<OscServer> server;
   lo_address to = nullptr;
   Osc() {
     Status s = Status::ok();
-    server = OscServer::start(0, "127.0.0.1", commands, strokes, s);
+    server = OscServer::start(0, "127.0.0.1", commands, strokes, log, s);
     EXPECT_TRUE(s.is_ok()) << s.message();
     to = lo_address_new("127.0.0.1", std::to_string(server->port()).c_str());
   }
@@ -124,9 +126,10 @@ TEST(Osc, SendersNameNoFilesOutsideThePresetFolders) {
   fs::create_symlink(root / "secret.toml", root / "presets" / "out.toml");
   CommandQueue commands;
   StrokeRing strokes{8};
+  RemoteLog log;
   Status st = Status::ok();
   auto server =
-      OscServer::start(0, "127.0.0.1", commands, strokes, st, {(root / "presets").string()});
+      OscServer::start(0, "127.0.0.1", commands, strokes, log, st, {(root / "presets").string()});
   ASSERT_NE(server, nullptr) << st.message();
   auto send = [&](const char* path, const char* types, auto... args) {
     lo_message m = lo_message_new();
@@ -168,16 +171,106 @@ TEST(Osc, SendersNameNoFilesOutsideThePresetFolders) {
   fs::remove_all(root);
 }
 
+// A loop to receive the commands: a tiny simulation, no window, screenshots written nowhere.
+class TinySimulation final : public LiveSimulation {
+ public:
+  TinySimulation() {
+    state_.size = {8, 8};
+    state_.dye = FieldF(state_.size, 1);
+  }
+  void step() override {}
+  void reset() override {}
+  const SimState& state() const override { return state_; }
+  void apply(const SceneConfig&) override {}
+  void paint(std::span<const StrokeSample>, const InputMapping&) override {}
+  std::string_view backend() const override { return "tiny"; }
+
+ private:
+  SimState state_;
+};
+class NoDisplay final : public LiveDisplay {
+ public:
+  void poll(StrokeRing&, CommandQueue&) override {}
+  void present(const ImageRgb8&, const HudInfo*) override {}
+};
+class NowhereWriter final : public FrameWriter {
+ public:
+  Status write(const ImageRgb8&) override { return Status::ok(); }
+  Status finish() override { return Status::ok(); }
+};
+
+// Accepted commands print too (a screenshot's path, a preset switch and its outcome): a flood of
+// them gives at most kMaxLinesPerSecond lines in the second, then one line counting the rest,
+// like rejected ones. Commands from this machine's own keys are not limited.
+TEST(Osc, AFloodOfAcceptedCommandsLogsAFewLinesAndASummary) {
+  ManualTime time;
+  std::FILE* log = std::tmpfile();
+  ASSERT_NE(log, nullptr);
+  LiveOptions o;
+  o.fps = 0;
+  o.time = &time;
+  o.log = log;
+  o.crossfade_frames = 0;
+  o.screenshot_dir = "/nonexistent-never-written";
+  o.screenshotter = [](const std::string&, Int2, double, Status&) {
+    return std::unique_ptr<FrameWriter>(new NowhereWriter);
+  };
+  NoDisplay display;
+  LiveLoop loop(
+      o, [](const Preset&) { return std::make_unique<TinySimulation>(); }, display);
+  ASSERT_TRUE(loop.start("cavity"));
+  Status s = Status::ok();
+  auto server =
+      OscServer::start(0, "127.0.0.1", loop.commands(), loop.remote_input(), loop.remote_log(), s);
+  ASSERT_NE(server, nullptr) << s.message();
+  lo_address to = lo_address_new("127.0.0.1", std::to_string(server->port()).c_str());
+  constexpr int kRounds = 100;
+  for (int i = 0; i < kRounds; ++i) {
+    lo_send(to, "/ardcell/screenshot", "");
+    lo_send(to, "/ardcell/preset", "s", "cavity");
+    for (int k = 0; k < 1000 && server->handled() < 2 * (i + 1); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    loop.run_frame();  // handles them: a screenshot line, a switch or a "queued" line
+    time.now += 1'000'000;
+  }
+  lo_address_free(to);
+  EXPECT_EQ(server->handled(), 2 * kRounds);
+  loop.wait_for_switch();
+  loop.run_frame();
+  // 0.1 s of fake time went by: one second's lines at most, the rest counted.
+  std::vector<std::string> lines = logged_lines(log);
+  EXPECT_EQ(lines.size(), size_t(RemoteLog::kMaxLinesPerSecond)) << lines.back();
+  for (const std::string& l : lines) EXPECT_EQ(l.rfind("live: ", 0), 0u) << l;
+  const int64_t dropped = loop.remote_log().dropped();
+  EXPECT_GE(dropped, 2 * kRounds - RemoteLog::kMaxLinesPerSecond);
+  // Once the second is over, one line sums up what was dropped.
+  time.now += 1'000'000'000;
+  loop.run_frame();
+  lines = logged_lines(log);
+  ASSERT_EQ(lines.size(), size_t(RemoteLog::kMaxLinesPerSecond + 1));
+  EXPECT_EQ(lines.back(), "osc: " + std::to_string(dropped) +
+                              " more lines caused by remote commands not logged (at most " +
+                              std::to_string(RemoteLog::kMaxLinesPerSecond) + " a second)\n");
+  // The same commands from the keyboard (not remote) each print their line.
+  for (int i = 0; i < 20; ++i)
+    loop.commands().push(LiveCommand::make(LiveCommandKind::kScreenshot));
+  loop.run_frame();
+  EXPECT_EQ(logged_lines(log).size(), size_t(RemoteLog::kMaxLinesPerSecond + 1 + 20));
+  server.reset();
+  std::fclose(log);
+}
+
 TEST(Osc, BindsToLocalhostAndRefusesBadAddresses) {
   CommandQueue q;
   StrokeRing r{8};
+  RemoteLog log;
   Status s = Status::ok();
-  auto bad = OscServer::start(0, "localhost-ish", q, r, s);
+  auto bad = OscServer::start(0, "localhost-ish", q, r, log, s);
   EXPECT_EQ(bad, nullptr);
   EXPECT_EQ(s.message(), "osc: localhost-ish:0: expected an IPv4 address and a port in [0, 65535]");
-  auto first = OscServer::start(0, "127.0.0.1", q, r, s);
+  auto first = OscServer::start(0, "127.0.0.1", q, r, log, s);
   ASSERT_NE(first, nullptr);
-  auto second = OscServer::start(first->port(), "127.0.0.1", q, r, s);
+  auto second = OscServer::start(first->port(), "127.0.0.1", q, r, log, s);
   EXPECT_EQ(second, nullptr);
   EXPECT_NE(s.message().find("cannot bind UDP 127.0.0.1:"), std::string::npos) << s.message();
 }

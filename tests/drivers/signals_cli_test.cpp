@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "drivers/hid_recorder.h"
 #include "tests/drivers/process_run_fixture.h"
 
 namespace ardcell {
@@ -82,6 +83,29 @@ TEST_F(SignalsCli, LiveFinishesTheRecordingOnSigintAndSigterm) {
     ASSERT_TRUE(fs::exists(dir() / "rec.y4m"));
     EXPECT_EQ(read("rec.y4m").rfind("YUV4MPEG2", 0), 0u);
     EXPECT_GT(fs::file_size(dir() / "rec.y4m"), 1000u);
+    EXPECT_TRUE(temporaries().empty()) << temporaries().front();
+  }
+}
+
+// `tablet record` reads a real tablet (hidraw through hidapi; there is no simulated device to
+// record from), so this runs only with one: ARDCELL_TEST_TABLET=/dev/hidrawN. Without it, what
+// the recording's end relies on is tested elsewhere: the stop handlers (the run and live tests
+// above, the same StopSignals) and the atomic write (hid_recorder_test).
+TEST_F(SignalsCli, TabletRecordFinishesTheFileOnEachStopSignal) {
+  const char* device = std::getenv("ARDCELL_TEST_TABLET");
+  if (!device) GTEST_SKIP() << "no tablet: set ARDCELL_TEST_TABLET=/dev/hidrawN to run it";
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    fs::remove(dir() / "pen.hid.txt");
+    const pid_t pid = start({"tablet", "record", "pen.hid.txt", "--device", device});
+    started(pid);
+    ASSERT_TRUE(wait_for_text("stderr", "recording ")) << read("stderr");
+    ASSERT_EQ(::kill(pid, sig), 0);
+    EXPECT_EQ(wait_for(pid), 128 + sig) << strsignal(sig) << "\n" << read("stderr");
+    EXPECT_NE(read("stdout").find("wrote pen.hid.txt"), std::string::npos) << read("stdout");
+    HidRecording rec;
+    std::string error;
+    EXPECT_TRUE(read_hid_recording((dir() / "pen.hid.txt").string(), rec, error)) << error;
+    EXPECT_FALSE(rec.descriptor.empty());
     EXPECT_TRUE(temporaries().empty()) << temporaries().front();
   }
 }

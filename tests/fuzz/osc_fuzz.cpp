@@ -21,6 +21,7 @@ namespace {
 struct Fixture {
   ardcell::CommandQueue commands;
   ardcell::StrokeRing strokes{4096};
+  ardcell::RemoteLog log{nullptr};  // counted, not printed: the fuzzer's output stays readable
   std::unique_ptr<ardcell::OscServer> server;
   std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("ardcell_osc_fuzz_" + std::to_string(::getpid()));
@@ -31,7 +32,8 @@ struct Fixture {
     std::error_code ec;
     fs::create_symlink("/etc/hostname", dir / "out.toml", ec);
     ardcell::Status error = ardcell::Status::ok();
-    server = ardcell::OscServer::start(0, "127.0.0.1", commands, strokes, error, {dir.string()});
+    server =
+        ardcell::OscServer::start(0, "127.0.0.1", commands, strokes, log, error, {dir.string()});
     if (!server) std::abort();
   }
   ~Fixture() {

@@ -172,6 +172,61 @@ TEST_F(StateIoTest, PresetParametersRoundTrip) {
   ASSERT_FALSE(s);
 }
 
+TEST_F(StateIoTest, AStateOfACustomPresetResumesFromItsParametersAndSaysSo) {
+  // A built-in scene: its own preset with the saved parameters over it, and no notice.
+  ASSERT_TRUE(save_state(dir_, make_state({9, 6}, 1.0f), make_scene()));
+  SavedStateMeta meta;
+  ASSERT_TRUE(read_state_meta(dir_, meta));
+  Preset p;
+  std::string notice = "stale";
+  Status s = saved_state_preset(dir_, meta, p, notice);
+  ASSERT_TRUE(s) << s.message();
+  EXPECT_EQ(notice, "");
+  EXPECT_EQ(p.scene.name, "cavity");
+  EXPECT_EQ(p.scene.size, (Int2{9, 6}));
+  EXPECT_EQ(p.scene.fluid.viscosity, 0.0025);
+
+  // A custom preset's scene (no such built-in): every saved key makes it, with one line.
+  SceneConfig custom = make_scene();
+  custom.name = "my-ink";
+  custom.fluid.lid_speed = -1.5;
+  ASSERT_TRUE(save_state(dir_, make_state({9, 6}, 1.0f), custom));
+  ASSERT_TRUE(read_state_meta(dir_, meta));
+  s = saved_state_preset(dir_, meta, p, notice);
+  ASSERT_TRUE(s) << s.message();
+  EXPECT_EQ(notice, "state " + dir_.string() +
+                        " was saved from scene 'my-ink', which is not built in: resuming from "
+                        "the parameters saved with it");
+  EXPECT_EQ(p.scene.name, "my-ink");
+  EXPECT_EQ(p.scene.fluid.lid_speed, -1.5);
+  EXPECT_EQ(p.scene.fluid.viscosity, 0.0025);
+  EXPECT_EQ(preset_difference(preset_from_scene(custom), p), "");
+
+  // Neither built in nor complete: refused in one line, naming a missing key.
+  meta.parameters.erase("fluid.viscosity");
+  const Preset before = p;
+  s = saved_state_preset(dir_, meta, p, notice);
+  ASSERT_FALSE(s);
+  EXPECT_EQ(notice, "");
+  EXPECT_EQ(s.message().find('\n'), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("scene 'my-ink' is not built in and \"parameters\" lacks "
+                             "fluid.viscosity (expected a built-in scene, or every preset key"),
+            std::string::npos)
+      << s.message();
+  EXPECT_EQ(preset_difference(before, p), "");  // untouched
+  meta.parameters = nlohmann::json::object();
+  s = saved_state_preset(dir_, meta, p, notice);
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.message().find("more keys"), std::string::npos) << s.message();
+
+  // The scene is a name, never a file to read; a strange one is shown escaped on one line.
+  meta.scene = "/etc/passwd\n\x1b[2J";
+  s = saved_state_preset(dir_, meta, p, notice);
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.message().find("scene '/etc/passwd\\x0a\\x1b[2J' is not built in"), std::string::npos)
+      << s.message();
+}
+
 TEST_F(StateIoTest, SavingAgainReplacesThePreviousStateCompletely) {
   ASSERT_TRUE(save_state(dir_, make_state({9, 6}, 1.0f), make_scene()));
   SimState second = make_state({9, 6}, 2.0f);
