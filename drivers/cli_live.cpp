@@ -8,9 +8,11 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <thread>
 
 #include "drivers/cli.h"
@@ -312,17 +314,22 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     return cli_usage_error(ctx, "live", "--osc: this build has no liblo (ARDCELL_WITH_LIBLO=OFF)");
 #endif
 
-  std::atomic<bool> running{true};
+  // The watchdog thread waits on `stopped` between pings, so that the end of the loop wakes it
+  // at once (a plain sleep held the exit up to half of WatchdogSec).
+  std::mutex watchdog_mutex;
+  std::condition_variable stopped;
+  bool running = true;
   std::thread watchdog;
 #ifdef ARDCELL_WITH_SYSTEMD
   sd_notify(0, "READY=1");
   uint64_t usec = 0;
   if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0) {
     // Pings only while frames keep coming: a stuck loop lets systemd restart the kiosk.
-    watchdog = std::thread([&loop, &running, usec] {
+    watchdog = std::thread([&loop, &running, &watchdog_mutex, &stopped, usec] {
       int64_t seen = -1;
-      while (running.load()) {
-        std::this_thread::sleep_for(std::chrono::microseconds(usec / 2));
+      std::unique_lock<std::mutex> lock(watchdog_mutex);
+      while (!stopped.wait_for(lock, std::chrono::microseconds(usec / 2),
+                               [&running] { return !running; })) {
         const int64_t beat = loop.heartbeat().load();
         if (beat != seen) sd_notify(0, "WATCHDOG=1");
         seen = beat;
@@ -331,7 +338,11 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   }
 #endif
   const Status s = loop.run();
-  running.store(false);
+  {
+    const std::lock_guard<std::mutex> lock(watchdog_mutex);
+    running = false;
+  }
+  stopped.notify_all();
   if (watchdog.joinable()) watchdog.join();
   const int code = s ? StopSignals::exit_code(kExitOk) : kExitFailure;
   if (!s) std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());

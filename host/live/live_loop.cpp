@@ -488,9 +488,18 @@ void LiveLoop::handle(const LiveCommand& c) {
       notice("mode %s", preset_.input.mode.c_str());
       break;
     }
-    case LiveCommandKind::kScreenshot:
+    case LiveCommandKind::kScreenshot: {
+      // A remote sender gets one screenshot a second: a flood must not fill the disk.
+      const int64_t now = clock_.frame_begin_ns();
+      if (c.remote && last_remote_screenshot_ns_ >= 0 &&
+          now - last_remote_screenshot_ns_ < kRemoteScreenshotIntervalNs) {
+        notice("screenshot refused: remote commands get at most one a second");
+        break;
+      }
+      if (c.remote) last_remote_screenshot_ns_ = now;
       take_screenshot(c.text.data());
       break;
+    }
     case LiveCommandKind::kRecordStart:
       start_recording(c.text.data());
       break;

@@ -242,6 +242,8 @@ class LiveLoop {
   FrameClock clock_;
   RemoteLog remote_log_;
   bool remote_cause_ = false;  // the command or switch being handled came from a remote sender
+  static constexpr int64_t kRemoteScreenshotIntervalNs = 1'000'000'000;
+  int64_t last_remote_screenshot_ns_ = -1;  // frame clock time of the last remote screenshot
   AdaptiveQuality quality_;
   CommandQueue commands_;
   StrokeRing input_{4096};

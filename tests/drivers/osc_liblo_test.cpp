@@ -212,7 +212,9 @@ TEST(Osc, AFloodOfAcceptedCommandsLogsAFewLinesAndASummary) {
   o.log = log;
   o.crossfade_frames = 0;
   o.screenshot_dir = "/nonexistent-never-written";
-  o.screenshotter = [](const std::string&, Int2, double, Status&) {
+  int screenshots = 0;
+  o.screenshotter = [&screenshots](const std::string&, Int2, double, Status&) {
+    ++screenshots;
     return std::unique_ptr<FrameWriter>(new NowhereWriter);
   };
   NoDisplay display;
@@ -235,6 +237,7 @@ TEST(Osc, AFloodOfAcceptedCommandsLogsAFewLinesAndASummary) {
   }
   lo_address_free(to);
   EXPECT_EQ(server->handled(), 2 * kRounds);
+  EXPECT_EQ(screenshots, 1);  // one a second from remote senders: the disk does not fill
   loop.wait_for_switch();
   loop.run_frame();
   // 0.1 s of fake time went by: one second's lines at most, the rest counted.
@@ -256,6 +259,7 @@ TEST(Osc, AFloodOfAcceptedCommandsLogsAFewLinesAndASummary) {
     loop.commands().push(LiveCommand::make(LiveCommandKind::kScreenshot));
   loop.run_frame();
   EXPECT_EQ(logged_lines(log).size(), size_t(RemoteLog::kMaxLinesPerSecond + 1 + 20));
+  EXPECT_EQ(screenshots, 1 + 20);
   server.reset();
   std::fclose(log);
 }
