@@ -417,6 +417,11 @@ SolveReport OpenClDevice::solve_multigrid(const SolverSettings& settings, Operat
   return report;
 }
 
+namespace {
+// Multigrid levels of at most this many cells smooth in one work-group (64 x 64).
+constexpr int kOneGroupCells = 4096;
+}  // namespace
+
 void OpenClDevice::v_cycle(const ClStencilOperator& op, const DeviceField& b, DeviceField& x,
                            DeviceField& r, std::span<CoarseLevel> coarser) {
   if (coarser.empty()) {
@@ -425,7 +430,14 @@ void OpenClDevice::v_cycle(const ClStencilOperator& op, const DeviceField& b, De
     cl_->stencil_rbgs_sweeps_one_group(op, b, x, multigrid::kCoarsestSweeps);
     return;
   }
+  // A small level's sweeps cost less than their launches: one work-group runs them all in one
+  // launch (the same bits as the half sweeps).
+  const bool small = op.size.x * op.size.y <= kOneGroupCells;
   auto smooth = [&](int sweeps) {
+    if (small) {
+      cl_->stencil_rbgs_sweeps_one_group(op, b, x, sweeps);
+      return;
+    }
     for (int k = 0; k < sweeps; ++k) {
       cl_->stencil_rbgs_half_sweep(op, b, x, 0);
       cl_->stencil_rbgs_half_sweep(op, b, x, 1);
