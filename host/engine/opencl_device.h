@@ -11,9 +11,8 @@
 //
 // Every op has a twin. A setting a twin lacks (ICCG solves; implicit diffusion with a solver
 // other than fixed Jacobi or RBGS sweeps, or around solid cells) runs that op on the CPU device
-// instead: its
-// inputs come to the host, its outputs go back when a device op next reads them, and the first
-// time each op falls back, one line says so on stderr.
+// instead: its inputs come to the host, its outputs go back when a device op next reads them,
+// and the first time each op falls back, one line says so on stderr.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
 #include <deque>

@@ -1,9 +1,9 @@
 // Twins of kernels/multigrid_solver.cpp's grid transfers (cell-centred 2x2 aggregation; odd
-// sizes keep a 1-wide last aggregate) and of its coarsest-grid relaxation:
+// sizes keep a 1-wide last aggregate) and of its smoothing on small levels:
 //   restriction   b_c(I, J) = sum of r(i, j), i in {2I, 2I+1}, j in {2J, 2J+1}, inside the grid
 //                 (added in the C++ order: r(2I,2J), r(2I+1,2J), r(2I,2J+1), r(2I+1,2J+1));
 //   prolongation  x(i, j) += x_c(i / 2, j / 2);
-//   coarsest      `sweeps` red-black Gauss-Seidel sweeps (diffusion.cl's op_terms / op_relax).
+//   smoothing     `sweeps` red-black Gauss-Seidel sweeps (diffusion.cl's op_terms / op_relax).
 // Halo 0: no ghost cell is read. Fine and coarse fields have their own strides and origins.
 
 // One work-item per coarse cell.
@@ -32,8 +32,8 @@ __kernel void mg_prolong_add(__global const float* coarse, int cs, int co, __glo
 }
 
 // `sweeps` red-black Gauss-Seidel sweeps in ONE work-group, barriers between the colours (and
-// the late phases of odd periodic axes, see stencil_rbgs_half): the coarsest grid has a few
-// dozen cells, so one launch replaces 2 * sweeps launches that would cost far more than the work.
+// the late phases of odd periodic axes, see stencil_rbgs_half): a small level (the coarsest has
+// a dozen cells) costs less than a launch per half sweep, so one launch does them all.
 // Bit for bit `sweeps` x (stencil_rbgs_half colour 0, then colour 1).
 __kernel void mg_rbgs_sweeps_one_group(__global const float* diag, int s, int o,
                                        __global const float* wx, int xs, int xo,

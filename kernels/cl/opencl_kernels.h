@@ -145,7 +145,7 @@ class OpenClKernels {
                                int color);
   void apply_stencil_operator(const ClStencilOperator& op, const DeviceField& x, DeviceField& y);
   // `sweeps` x stencil_rbgs_half_sweep (colour 0, then 1) in one launch of one work-group: for
-  // the coarsest multigrid grid, whose few cells cost less than a launch per half sweep.
+  // small multigrid levels, whose cells cost less than a launch per half sweep.
   void stencil_rbgs_sweeps_one_group(const ClStencilOperator& op, const DeviceField& b,
                                      DeviceField& x, int sweeps);
   // Twins of kernels/multigrid_solver.cpp's transfers (multigrid.cl): coarse = the 2x2 sums of
