@@ -33,6 +33,11 @@ std::string_view solver_kind_name(SolverKind kind) {
   return "jacobi";
 }
 
+const StencilOperator& LinearSolver::coarse_operator(int) const {
+  detail::check_failed("coarse_levels() > 0", __FILE__, __LINE__,
+                       "coarse_operator: this solver has no coarse levels");
+}
+
 std::unique_ptr<LinearSolver> LinearSolver::make(const SolverSettings& settings, Int2 size,
                                                  RowExecutor& ex) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "solver size must be positive");

@@ -25,6 +25,16 @@ struct SolverSettings {
   double tolerance = 0.0;   // relative residual |b - A x| / |b| to stop at; 0 = run them all
 };
 
+// The multigrid V-cycle's schedule (kernels/multigrid_solver.cpp); OpenClDevice runs the same
+// cycle on the device.
+namespace multigrid {
+inline constexpr int kPreSmooth = 2;         // red-black Gauss-Seidel sweeps before restricting
+inline constexpr int kPostSmooth = 2;        // and after correcting
+inline constexpr int kCoarsestSweeps = 100;  // on the coarsest grid, relaxed to convergence
+// With a tolerance, stop when a cycle reduces the residual by less than this factor.
+inline constexpr double kStagnation = 0.5;
+}  // namespace multigrid
+
 struct SolveReport {
   int iterations = 0;        // sweeps / iterations / cycles actually taken
   double relative_residual;  // |b - A x|_2 / |b|_2 after the solve (0 when b = 0 and x = 0)
@@ -41,6 +51,11 @@ class LinearSolver {
   // Improves x (used as the initial guess) towards A x = b.
   virtual SolveReport solve(const StencilOperator& op, const FieldF& b, FieldF& x) = 0;
   const SolverSettings& settings() const { return settings_; }
+  // Multigrid's coarse operators as prepare() built them: level 0 is half the caller's grid,
+  // the last one the coarsest. The other solvers have none. (OpenClDevice uploads them, so the
+  // device cycles on the operators the CPU solver would.)
+  virtual int coarse_levels() const { return 0; }
+  virtual const StencilOperator& coarse_operator(int level) const;
   // Live parameter changes (Engine::update_parameters): the stopping rule only, the kind stays.
   void set_limits(int max_iterations, double tolerance) {
     settings_.max_iterations = max_iterations;

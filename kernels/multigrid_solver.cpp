@@ -14,10 +14,10 @@
 namespace ardcell::solver_detail {
 namespace {
 
-constexpr int kPreSmooth = 2;
-constexpr int kPostSmooth = 2;
-constexpr int kCoarsestSweeps = 100;
-constexpr double kStagnation = 0.5;  // stop when a cycle reduces the residual by less than this
+using multigrid::kCoarsestSweeps;
+using multigrid::kPostSmooth;
+using multigrid::kPreSmooth;
+using multigrid::kStagnation;
 
 struct Level {
   StencilOperator op;
@@ -86,6 +86,12 @@ class MultigridSolver final : public LinearSolver {
       coarsen(*fine, level.op);
       fine = &level.op;
     }
+  }
+
+  int coarse_levels() const override { return int(levels_.size()); }
+  const StencilOperator& coarse_operator(int level) const override {
+    ARDCELL_CHECK(level >= 0 && level < int(levels_.size()), "multigrid: no such level");
+    return levels_[std::size_t(level)].op;
   }
 
   SolveReport solve(const StencilOperator& op, const FieldF& b, FieldF& x) override {

@@ -34,8 +34,8 @@ void OpenClDevice::reserve(Int2 grid) {
   }
 }
 
-// Every op has a twin; solves and implicit diffusion run here with fixed Jacobi or RBGS sweeps
-// (the real-time solvers) and fall back for the others (implicit_diffusion, solve).
+// Every op has a twin; solves run here with Jacobi, RBGS or multigrid and implicit diffusion with
+// fixed Jacobi or RBGS sweeps; the other settings fall back (implicit_diffusion, solve).
 bool OpenClDevice::supports(DeviceOp op) const { return op != DeviceOp::kCount; }
 
 // --- residency ---------------------------------------------------------------------------
@@ -277,7 +277,8 @@ void OpenClDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
 
 // --- linear systems ------------------------------------------------------------------------
 
-OpenClDevice::OperatorTwin& OpenClDevice::operator_twin(const StencilOperator& op) {
+OpenClDevice::OperatorTwin& OpenClDevice::operator_twin(const StencilOperator& op,
+                                                        const LinearSolver& solver) {
   OperatorTwin* t = nullptr;
   for (OperatorTwin& o : operators_)
     if (o.host == &op) t = &o;
@@ -291,10 +292,28 @@ OpenClDevice::OperatorTwin& OpenClDevice::operator_twin(const StencilOperator& o
     t->other = ctx_.allocate_like(like);
     t->r = ctx_.allocate_like(like);
   }
+  const int levels = solver.coarse_levels();
+  if (levels > 0 && t->levels_of != &solver) {
+    // The first multigrid solve on op (or another solver's levels): the levels' device memory,
+    // allocated once; the solver's coarse operators follow op's uploads from here on.
+    t->levels.clear();
+    for (int k = 0; k < levels; ++k) {
+      const StencilOperator& c = solver.coarse_operator(k);
+      const FieldF like(c.size, 1);
+      t->levels.push_back({ClStencilOperator::allocate(ctx_, c.size, c.boundary_x, c.boundary_y),
+                           ctx_.allocate_like(like), ctx_.allocate_like(like),
+                           ctx_.allocate_like(like)});
+    }
+    t->levels_of = &solver;
+    t->stale = true;
+  }
   if (t->stale) {
     t->device.upload(ctx_, op);
     t->null_space->analyse(op, cpu_.executor());
     if (t->null_space->singular()) t->null_mask = upload_mask(ctx_, t->null_space->mask());
+    // prepare(op) built the coarse operators before the host said it wrote op (fluid_step).
+    for (std::size_t k = 0; k < t->levels.size(); ++k)
+      t->levels[k].op.upload(ctx_, solver.coarse_operator(int(k)));
     t->stale = false;
   }
   return *t;
@@ -315,25 +334,40 @@ double OpenClDevice::relative_residual(OperatorTwin& t, const DeviceField& b, co
   return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
 }
 
-// The fixed-sweep solvers of kernels/jacobi_solver.cpp and rbgs_solver.cpp, sweep for sweep,
-// on the device; ICCG and multigrid run on the CPU.
+void OpenClDevice::remove_null_mean(DeviceField& f, const OperatorTwin& t) {
+  if (!t.null_space->singular()) return;
+  const int ny = t.host->size.y;
+  cl_->row_masked_sums(f, t.null_mask, 0, ny, partial_sum_);
+  const double sum = partial_sum_.sum(ctx_, 0, ny);
+  cl_->subtract_masked(f, t.null_mask, float(sum / double(t.null_space->count())));
+}
+
+// Jacobi, RBGS and multigrid run on the device (below); ICCG's triangular solves are sequential
+// and run on the CPU.
 SolveReport OpenClDevice::solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                                 FieldF& x) {
   const SolverSettings& settings = solver.settings();
-  const bool jacobi = settings.kind == SolverKind::kJacobi;
-  if (!jacobi && settings.kind != SolverKind::kRedBlackGaussSeidel) {
+  if (settings.kind == SolverKind::kIccg) {
     say_fallback(DeviceOp::kSolve, solver_kind_name(settings.kind).data(),
-                 "OpenCL runs the jacobi and rbgs solvers");
+                 "OpenCL runs the jacobi, rbgs and mg solvers");
     host_in(b);
     host_in(x);
     const SolveReport report = cpu_.solve(solver, op, b, x);
     host_wrote(x);
     return report;
   }
-  OperatorTwin& t = operator_twin(op);
+  OperatorTwin& t = operator_twin(op, solver);
   const DeviceField& db = in(b);
   DeviceField& dx = out(x);
-  const int ny = op.size.y;
+  return settings.kind == SolverKind::kMultigrid ? solve_multigrid(settings, t, db, dx)
+                                                 : solve_sweeps(settings, t, db, dx);
+}
+
+// The fixed-sweep solvers of kernels/jacobi_solver.cpp and rbgs_solver.cpp, sweep for sweep.
+SolveReport OpenClDevice::solve_sweeps(const SolverSettings& settings, OperatorTwin& t,
+                                       const DeviceField& db, DeviceField& dx) {
+  const bool jacobi = settings.kind == SolverKind::kJacobi;
+  const int ny = t.host->size.y;
   cl_->row_sums_of_squares(db, 0, ny, partial_sum_);
   const double bb = consistent_part(partial_sum_.sum(ctx_, 0, ny), db, t);
   const bool check = settings.tolerance > 0.0;
@@ -352,13 +386,76 @@ SolveReport OpenClDevice::solve(LinearSolver& solver, const StencilOperator& op,
     if (check && relative_residual(t, db, *from, bb) <= settings.tolerance) break;
   }
   if (from != &dx) cl_->copy_field(*from, dx);
-  if (t.null_space->singular()) {
-    cl_->row_masked_sums(dx, t.null_mask, 0, ny, partial_sum_);
-    const double sum = partial_sum_.sum(ctx_, 0, ny);
-    cl_->subtract_masked(dx, t.null_mask, float(sum / double(t.null_space->count())));
-  }
+  remove_null_mean(dx, t);
   report.relative_residual = relative_residual(t, db, dx, bb);
   return report;
+}
+
+// kernels/multigrid_solver.cpp's solve, step for step: the same V-cycles on the same (uploaded)
+// coarse operators, the same stopping rule on the same residuals.
+SolveReport OpenClDevice::solve_multigrid(const SolverSettings& settings, OperatorTwin& t,
+                                          const DeviceField& b, DeviceField& x) {
+  // A singular system is solvable only for b in the range: drop b's null-space component (in
+  // t.other, free during a multigrid solve).
+  const DeviceField* rhs = &b;
+  if (t.null_space->singular()) {
+    cl_->copy_field(b, t.other);
+    remove_null_mean(t.other, t);
+    rhs = &t.other;
+  }
+  const int ny = t.host->size.y;
+  cl_->row_sums_of_squares(*rhs, 0, ny, partial_sum_);
+  const double bb = consistent_part(partial_sum_.sum(ctx_, 0, ny), *rhs, t);
+  SolveReport report{};
+  report.relative_residual = relative_residual(t, *rhs, x, bb);
+  for (int k = 0; k < settings.max_iterations; ++k) {
+    if (settings.tolerance > 0.0 && report.relative_residual <= settings.tolerance) break;
+    v_cycle(t.device, *rhs, x, t.r, t.levels);
+    remove_null_mean(x, t);
+    ++report.iterations;
+    const double before = report.relative_residual;
+    report.relative_residual = relative_residual(t, *rhs, x, bb);
+    if (settings.tolerance > 0.0 && report.relative_residual > multigrid::kStagnation * before)
+      break;
+  }
+  return report;
+}
+
+namespace {
+// Multigrid levels of at most this many cells smooth in one work-group (64 x 64).
+constexpr int kOneGroupCells = 4096;
+}  // namespace
+
+void OpenClDevice::v_cycle(const ClStencilOperator& op, const DeviceField& b, DeviceField& x,
+                           DeviceField& r, std::span<CoarseLevel> coarser) {
+  if (coarser.empty()) {
+    // The coarsest grid (fewer than 4 cells on a side: a dozen or so cells on the presets'
+    // grids) relaxes on the device too, all its sweeps in one launch: no transfer, no read.
+    cl_->stencil_rbgs_sweeps_one_group(op, b, x, multigrid::kCoarsestSweeps);
+    return;
+  }
+  // A small level's sweeps cost less than their launches: one work-group runs them all in one
+  // launch (the same bits as the half sweeps).
+  const bool small = op.size.x * op.size.y <= kOneGroupCells;
+  auto smooth = [&](int sweeps) {
+    if (small) {
+      cl_->stencil_rbgs_sweeps_one_group(op, b, x, sweeps);
+      return;
+    }
+    for (int k = 0; k < sweeps; ++k) {
+      cl_->stencil_rbgs_half_sweep(op, b, x, 0);
+      cl_->stencil_rbgs_half_sweep(op, b, x, 1);
+    }
+  };
+  smooth(multigrid::kPreSmooth);
+  // The residual's row partials are written (the kernel's reduction) and not read.
+  cl_->residual(op, b, x, &r, partial_sum_);
+  CoarseLevel& coarse = coarser.front();
+  cl_->restrict_sum(r, coarse.b);
+  cl_->fill_field(coarse.x, 0.0f);
+  v_cycle(coarse.op, coarse.b, coarse.x, coarse.r, coarser.subspan(1));
+  cl_->prolong_add(coarse.x, x);
+  smooth(multigrid::kPostSmooth);
 }
 
 // --- reaction-diffusion --------------------------------------------------------------------

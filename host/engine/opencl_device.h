@@ -9,14 +9,15 @@
 // when the host asks for it (the shown field, a saved state). So a frame moves nothing between
 // host and device unless someone looks.
 //
-// Every op has a twin. A setting a twin lacks (ICCG or multigrid solves; implicit diffusion that
-// stops on a residual or flows around solid cells) runs that op on the CPU device instead: its
-// inputs come to the host, its outputs go back when a device op next reads them, and the first
-// time each op falls back, one line says so on stderr.
+// Every op has a twin. A setting a twin lacks (ICCG solves; implicit diffusion with a solver
+// other than fixed Jacobi or RBGS sweeps, or around solid cells) runs that op on the CPU device
+// instead: its inputs come to the host, its outputs go back when a device op next reads them,
+// and the first time each op falls back, one line says so on stderr.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
 #include <deque>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "host/engine/device.h"
@@ -102,13 +103,21 @@ class OpenClDevice final : public Device {
     const ImplicitDiffusion* cpu = nullptr;
     std::unique_ptr<OpenClDiffusion> device;
   };
-  // A StencilOperator's coefficients on the device, its null space (analysed on the host) and
-  // the solver scratch of its size.
+  // One coarse grid of a multigrid V-cycle: the CPU solver's operator, uploaded, and the
+  // level's correction, right-hand side and residual.
+  struct CoarseLevel {
+    ClStencilOperator op;
+    DeviceField x, b, r;
+  };
+  // A StencilOperator's coefficients on the device, its null space (analysed on the host), the
+  // solver scratch of its size and, for multigrid, the coarse levels of `levels_of`.
   struct OperatorTwin {
     const StencilOperator* host = nullptr;
     ClStencilOperator device;
     std::unique_ptr<stencil::NullSpace> null_space;
     DeviceField null_mask, other, r;
+    std::vector<CoarseLevel> levels;
+    const LinearSolver* levels_of = nullptr;
     bool stale = true;
   };
 
@@ -116,7 +125,20 @@ class OpenClDevice final : public Device {
   // f's mirror, uploaded first when the host wrote f since.
   Mirror& current_on_device(const FieldF& f);
   const DeviceField& mask(const Field<uint8_t>& m);
-  OperatorTwin& operator_twin(const StencilOperator& op);
+  // op's twin, uploaded first when the host wrote op since; with the coarse operators of
+  // `solver` when it is a multigrid solver (prepare()d on op).
+  OperatorTwin& operator_twin(const StencilOperator& op, const LinearSolver& solver);
+  // Subtracts f's mean over the null space from its cells (NullSpace::remove_mean); a no-op
+  // when op is not singular.
+  void remove_null_mean(DeviceField& f, const OperatorTwin& t);
+  SolveReport solve_sweeps(const SolverSettings& settings, OperatorTwin& t, const DeviceField& b,
+                           DeviceField& x);
+  SolveReport solve_multigrid(const SolverSettings& settings, OperatorTwin& t, const DeviceField& b,
+                              DeviceField& x);
+  // One V-cycle on x for A x = b, A = op; `coarser` are the levels below op's grid, r op's
+  // residual scratch.
+  void v_cycle(const ClStencilOperator& op, const DeviceField& b, DeviceField& x, DeviceField& r,
+               std::span<CoarseLevel> coarser);
   // |f|^2 without its null-space component (stencil::NullSpace::consistent_part).
   double consistent_part(double all, const DeviceField& f, const OperatorTwin& t);
   double relative_residual(OperatorTwin& t, const DeviceField& b, const DeviceField& x, double bb);

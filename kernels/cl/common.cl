@@ -8,8 +8,10 @@
 // __local buffers are the local store, split in two slots. async_work_group_copy is the DMA: the
 // rows of tile t+groups stream into one slot while tile t computes from the other, and
 // wait_group_events is the tag wait. Results are written straight to global memory (the put).
-// No contraction of a * b + c into fma: the C++ twins are compiled without it (ISO C++20 mode),
-// so both round every product and sum the same way.
+// No contraction of a * b + c into fma, as the C++ solver sweeps (kernels/stencil_sweeps.cpp,
+// multigrid_solver.cpp: -ffp-contract=off in CMakeLists.txt), so both round every product and
+// sum the same way. GCC contracts the other C++ kernels even in ISO C++20 mode: their twins
+// agree to an ulp or so, not to the bit.
 #pragma OPENCL FP_CONTRACT OFF
 
 #if defined(cl_khr_fp64)

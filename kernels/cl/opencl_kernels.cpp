@@ -285,6 +285,39 @@ void OpenClKernels::apply_stencil_operator(const ClStencilOperator& op, const De
   enqueue_cells(k, box_of_size(op.size));
 }
 
+void OpenClKernels::stencil_rbgs_sweeps_one_group(const ClStencilOperator& op, const DeviceField& b,
+                                                  DeviceField& x, int sweeps) {
+  check_operator_layout(op, b);
+  check_operator_layout(op, x);
+  if (sweeps <= 0 || op.size.x <= 0 || op.size.y <= 0) return;
+  const int late_x = periodic_x(op) && op.size.x % 2 == 1 && op.size.x > 1;
+  const int late_y = periodic_y(op) && op.size.y % 2 == 1 && op.size.y > 1;
+  cl_kernel k = kernel("mg_rbgs_sweeps_one_group");
+  set_kernel_args(k, op.diag, op.wx, op.wy, b.buffer, x.buffer, op.size.x, op.size.y,
+                  periodic_x(op), periodic_y(op), late_x, late_y, sweeps);
+  // One fixed group size (PoCL compiles a kernel per size); each work-item strides over cells.
+  const std::size_t group = std::min<std::size_t>(64, ctx_.device().max_work_group_size);
+  ctx_.enqueue(k, group, group);
+}
+
+void OpenClKernels::restrict_sum(const DeviceField& fine, DeviceField& coarse) {
+  ARDCELL_CHECK(coarse.size.x == (fine.size.x + 1) / 2 && coarse.size.y == (fine.size.y + 1) / 2,
+                "restrict_sum: the coarse grid must be half the fine one, rounded up");
+  if (coarse.interior().empty()) return;
+  cl_kernel k = kernel("mg_restrict_sum");
+  set_kernel_args(k, fine, fine.size.x, fine.size.y, coarse, coarse.size.x, coarse.size.y);
+  enqueue_cells(k, coarse.interior());
+}
+
+void OpenClKernels::prolong_add(const DeviceField& coarse, DeviceField& fine) {
+  ARDCELL_CHECK(coarse.size.x == (fine.size.x + 1) / 2 && coarse.size.y == (fine.size.y + 1) / 2,
+                "prolong_add: the coarse grid must be half the fine one, rounded up");
+  if (fine.interior().empty()) return;
+  cl_kernel k = kernel("mg_prolong_add");
+  set_kernel_args(k, coarse, fine, fine.size.x, fine.size.y);
+  enqueue_cells(k, fine.interior());
+}
+
 void OpenClKernels::diffusion_rhs(const DeviceField& field, const DeviceField* ax, DeviceField& rhs,
                                   const DeviceField* conductivity, float g) {
   check_same_layout(field, rhs);
@@ -550,6 +583,13 @@ void OpenClKernels::copy_field(const DeviceField& from, DeviceField& to) {
   opencl_check(clEnqueueCopyBuffer(ctx_.queue(), from.buffer.get(), to.buffer.get(), 0, 0,
                                    from.buffer.bytes(), 0, nullptr, nullptr),
                "clEnqueueCopyBuffer");
+}
+
+void OpenClKernels::fill_field(DeviceField& f, float value) {
+  if (f.buffer.bytes() == 0) return;
+  opencl_check(clEnqueueFillBuffer(ctx_.queue(), f.buffer.get(), &value, sizeof(value), 0,
+                                   f.buffer.bytes(), 0, nullptr, nullptr),
+               "clEnqueueFillBuffer");
 }
 
 void OpenClKernels::add_boundary_values(DeviceField& b, const BoundaryFill& fill, double scale) {

@@ -144,6 +144,15 @@ class OpenClKernels {
   void stencil_rbgs_half_sweep(const ClStencilOperator& op, const DeviceField& b, DeviceField& x,
                                int color);
   void apply_stencil_operator(const ClStencilOperator& op, const DeviceField& x, DeviceField& y);
+  // `sweeps` x stencil_rbgs_half_sweep (colour 0, then 1) in one launch of one work-group: for
+  // small multigrid levels, whose cells cost less than a launch per half sweep.
+  void stencil_rbgs_sweeps_one_group(const ClStencilOperator& op, const DeviceField& b,
+                                     DeviceField& x, int sweeps);
+  // Twins of kernels/multigrid_solver.cpp's transfers (multigrid.cl): coarse = the 2x2 sums of
+  // fine (coarse.size = (fine.size + 1) / 2), and fine += the coarse value of each cell's
+  // aggregate.
+  void restrict_sum(const DeviceField& fine, DeviceField& coarse);
+  void prolong_add(const DeviceField& coarse, DeviceField& fine);
   // ImplicitDiffusion::step's right-hand side: field (or 2 field - ax, Crank-Nicolson), plus
   // the Dirichlet boundary value's flux g k on each boundary side of a cell (g = 0: none).
   void diffusion_rhs(const DeviceField& field, const DeviceField* ax, DeviceField& rhs,
@@ -198,6 +207,8 @@ class OpenClKernels {
   void fill_obstacle(DeviceField& f, const DeviceField& solid, Box2 region, ObstacleRule rule);
   // The whole allocation, halo and padding included (fluid_step's copy_all); same layout.
   void copy_field(const DeviceField& from, DeviceField& to);
+  // Every float of the allocation, halo and padding included, set to `value` (FieldF::fill).
+  void fill_field(DeviceField& f, float value);
   // Twin of add_boundary_values (kernels/stencil_operator.h) on the domain b.size.
   void add_boundary_values(DeviceField& b, const BoundaryFill& fill, double scale);
 

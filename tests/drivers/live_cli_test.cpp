@@ -77,7 +77,7 @@ TEST(LiveCli, BadBackendArgumentsAreOneLineAndExitCodeTwo) {
 
 #if defined(ARDCELL_WITH_OPENCL)
 // An RD-only preset and a fluid preset set to fixed sweeps run on the device with no fallback
-// line; a pressure solver the device does not run (multigrid) runs that op on the CPU with one
+// line; a pressure solver the device does not run (ICCG) runs that op on the CPU with one
 // line naming it.
 TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
@@ -104,10 +104,10 @@ TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
             "name = \"small-fluid\"\n[grid]\nsize = [16, 16]\n[fluid.pressure_solver]\n"
             "kind = \"jacobi\"\niterations = 10\ntolerance = 0.0\n[fluid.viscosity_solver]\n"
             "kind = \"rbgs\"\niterations = 4\ntolerance = 0.0\n");
-  const std::string multigrid =
-      write("small-fluid-mg.toml",
-            "name = \"small-fluid-mg\"\n[grid]\nsize = [16, 16]\n[fluid.pressure_solver]\n"
-            "kind = \"mg\"\niterations = 2\ntolerance = 0.0\n[fluid.viscosity_solver]\n"
+  const std::string iccg =
+      write("small-fluid-iccg.toml",
+            "name = \"small-fluid-iccg\"\n[grid]\nsize = [16, 16]\n[fluid.pressure_solver]\n"
+            "kind = \"iccg\"\niterations = 2\ntolerance = 0.0\n[fluid.viscosity_solver]\n"
             "kind = \"rbgs\"\niterations = 4\ntolerance = 0.0\n");
   // LeakSanitizer's stop-the-world tracer crashed (signal 11, exit 134) once at exit of a
   // live window with PoCL's worker threads under a loaded parallel ctest; leaks are checked by
@@ -128,9 +128,9 @@ TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
   EXPECT_NE(on_device.output.find("frames 2, deadline misses "), std::string::npos)
       << on_device.output;
   const Result one_op =
-      run("live " + multigrid + " --backend opencl --frames 2 --fps 0 --scale 1", no_leak_scan);
+      run("live " + iccg + " --backend opencl --frames 2 --fps 0 --scale 1", no_leak_scan);
   EXPECT_EQ(one_op.code, 0) << one_op.output;
-  EXPECT_NE(one_op.output.find("ardcell: opencl: linear solve runs on the CPU (mg: "),
+  EXPECT_NE(one_op.output.find("ardcell: opencl: linear solve runs on the CPU (iccg: "),
             std::string::npos)
       << one_op.output;
   EXPECT_NE(one_op.output.find("frames 2, deadline misses "), std::string::npos) << one_op.output;

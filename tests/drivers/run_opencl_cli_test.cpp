@@ -4,7 +4,7 @@
 //     with no fallback line, writes PNG frames, and saves fields that agree with the CPU
 //     engine's within 1e-5 relative in the max norm (max |cl - cpu| / max |cpu|, per field);
 //     resuming a saved state on the device agrees the same way;
-//   - a solver the device does not run (ICCG, multigrid) runs that op on the CPU with ONE line
+//   - a solver the device does not run (ICCG) runs that op on the CPU with ONE line
 //     naming the setting; an invalid --cl-device prints ONE line and runs on the threads back
 //     end;
 //   - --cl-device with --backend threads is a usage error (exit 2, one line).
@@ -121,8 +121,8 @@ TEST_F(RunOpenClCliTest, WhatTheDeviceCannotRunFallsBackWithOneLine) {
   const Case cases[] = {
       {"run pearson --size 24 --steps 2 --every 0 --backend opencl",
        device ? "implicit diffusion runs on the CPU (iccg: " : "OpenCL"},
-      {"run cavity --size 16 --steps 2 --every 0 --backend opencl --solver mg",
-       device ? "linear solve runs on the CPU (mg: " : "OpenCL"},
+      {"run cavity --size 16 --steps 2 --every 0 --backend opencl --solver iccg",
+       device ? "linear solve runs on the CPU (iccg: " : "OpenCL"},
       {std::string(kPearson) + "--steps 2 --every 0 --backend opencl --cl-device 99",
        device ? "--cl-device 99" : "OpenCL"},
   };

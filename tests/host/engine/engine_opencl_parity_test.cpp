@@ -12,7 +12,8 @@
 //   - the anisotropic space cookies stay within 1e-5 for 2 frames, and within 4x the CPU's own
 //     drift under an ulp of perturbation (an ulp moved in 40% of the initial cells) for 60.
 // Also: after the first frame a frame moves no field between host and device, and fluid scenes
-// with the real-time solvers run every op on the device (no fallback line).
+// with the real-time solvers, or with the presets' multigrid solvers, run every op on the device
+// (no fallback line).
 #if defined(ARDCELL_WITH_OPENCL)
 #include <gtest/gtest.h>
 
@@ -160,7 +161,7 @@ TEST(EngineOpenCl, FramesStayOnTheDeviceAndNoOpFallsBack) {
   if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
   for (const char* name : {"cavity-gray-scott", "obstacle", "ink", "seed001"}) {
     SceneConfig scene = awkward_preset_scene(name);
-    // The real-time solvers (the presets may choose ICCG or multigrid, which run on the CPU).
+    // The real-time solvers (the presets' reaction-diffusion chooses ICCG, which runs on the CPU).
     scene.fluid.pressure_solver = {SolverKind::kJacobi, 20, 0.0};
     scene.fluid.viscosity_solver = {SolverKind::kRedBlackGaussSeidel, 10, 0.0};
     scene.rd.diffusion_solver = {SolverKind::kRedBlackGaussSeidel, 10, 0.0};
@@ -178,6 +179,37 @@ TEST(EngineOpenCl, FramesStayOnTheDeviceAndNoOpFallsBack) {
     // Looking at the state downloads it; writing into it uploads it again.
     (void)std::as_const(cl).state();
     EXPECT_GT(device.downloaded_bytes(), down) << name;
+  }
+}
+
+// The fluid presets' own settings: multigrid V-cycles to a tolerance for viscosity and pressure
+// (the reaction-diffusion is off in these three) run on the device, frame after frame without a
+// transfer or a fallback line, within 1e-5 of serial.
+TEST(EngineOpenCl, MultigridPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
+  if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  for (const char* name : {"cavity", "ink", "obstacle"}) {
+    const SceneConfig scene = awkward_preset_scene(name);
+    ASSERT_EQ(scene.fluid.pressure_solver.kind, SolverKind::kMultigrid) << name;
+    ASSERT_EQ(scene.fluid.viscosity_solver.kind, SolverKind::kMultigrid) << name;
+    testing::internal::CaptureStderr();
+    Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
+    Engine cl(scene, on_device());
+    auto& device = static_cast<OpenClDevice&>(cl.device());
+    serial.step();
+    cl.step();
+    cl.finish();
+    const std::int64_t up = device.uploaded_bytes(), down = device.downloaded_bytes();
+    for (int k = 0; k < 9; ++k) {
+      serial.step();
+      cl.step();
+    }
+    cl.finish();
+    EXPECT_EQ(device.uploaded_bytes(), up) << name;
+    EXPECT_EQ(device.downloaded_bytes(), down) << name;
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << name;
+    const auto [error, field] = worst_error(serial.state(), std::as_const(cl).state());
+    std::printf("%s (multigrid): 10 frames, max relative error %.3g\n", name, error);
+    EXPECT_LE(error, kTolerance) << name << ": field " << field;
   }
 }
 
