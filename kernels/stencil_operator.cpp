@@ -18,6 +18,7 @@ void fill_coefficients(StencilOperator& op, double identity, double scale, const
   if (k) {
     ARDCELL_CHECK(k->size() == op.size, "conductivity must have the operator's size");
   }
+  op.identity = identity;
   // Faces in x: wx(i, j) between cells (i-1, j) and (i, j).
   ex.for_rows(ny, nx, [&](int y0, int y1) {
     for (int j = y0; j < y1; ++j) {

@@ -34,6 +34,10 @@ struct StencilOperator {
   FieldF wy;    // [0,nx) x [0,ny], halo 1 (field of size nx by ny+1)
   BoundaryKind boundary_x = BoundaryKind::kNeumann;
   BoundaryKind boundary_y = BoundaryKind::kNeumann;
+  // The identity term it was (re)assembled with. Boundary folds and solid cells only add to the
+  // diagonal, so identity > 0 means every row sums to at least it: no null space
+  // (stencil::NullSpace skips its analysis, which per-frame reassembly would pay every step).
+  double identity = 0.0;
 };
 
 // Builds identity*I - scale * div(k grad .) on a grid of `size` cells, with per-cell

@@ -170,6 +170,12 @@ double norm2_squared(const FieldF& f, RowExecutor& ex) {
 void NullSpace::analyse(const StencilOperator& op, RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
   ARDCELL_CHECK(in_null_.size() == op.size, "NullSpace: size mismatch");
+  if (op.identity > 0.0) {  // every row sums to at least the identity (StencilOperator)
+    if (count_ > 0) in_null_.fill(0);
+    count_ = 0;
+    singular_ = false;
+    return;
+  }
   double* coupled = ex.rows_scratch(ny, 0);  // per row: 1 when a coupled cell is outside Z
   const double count = ex.sum_rows(ny, nx, [&](int y0, int y1, double* partials) {
     for (int j = y0; j < y1; ++j) {
