@@ -12,11 +12,14 @@ namespace {
 class JacobiSolver final : public LinearSolver {
  public:
   JacobiSolver(const SolverSettings& s, Int2 size, RowExecutor& ex)
-      : LinearSolver(s, ex), other_(size, 1), r_(size, 1), null_space_(size) {
+      : LinearSolver(s, ex), other_(size, 1), r_(size, 1), null_space_(size), uniform_(size.y) {
     ex.reserve_rows(size.y);
   }
 
-  void prepare(const StencilOperator& op) override { null_space_.analyse(op, *ex_); }
+  void prepare(const StencilOperator& op) override {
+    null_space_.analyse(op, *ex_);
+    uniform_.analyse(op, *ex_);
+  }
 
   SolveReport solve(const StencilOperator& op, const FieldF& b, FieldF& x) override {
     ARDCELL_CHECK(b.size() == op.size && x.size() == op.size && other_.size() == op.size,
@@ -27,7 +30,7 @@ class JacobiSolver final : public LinearSolver {
     FieldF* from = &x;
     FieldF* to = &other_;
     for (int k = 0; k < settings_.max_iterations; ++k) {
-      stencil::jacobi_sweep(op, b, *from, *to, *ex_);
+      stencil::jacobi_sweep(op, b, *from, *to, *ex_, &uniform_);
       std::swap(from, to);
       ++report.iterations;
       if (check &&
@@ -43,6 +46,7 @@ class JacobiSolver final : public LinearSolver {
  private:
   FieldF other_, r_;
   stencil::NullSpace null_space_;
+  stencil::UniformRows uniform_;
 };
 
 }  // namespace

@@ -40,8 +40,28 @@ inline int right_of(int i, int nx, bool px) { return i < nx - 1 ? i + 1 : (px ? 
 
 }  // namespace
 
+void UniformRows::analyse(const StencilOperator& op, RowExecutor& ex) {
+  const int nx = op.size.x, ny = op.size.y;
+  ARDCELL_CHECK(uniform_.size() == std::size_t(ny), "UniformRows: size mismatch");
+  ex.for_rows(ny, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      const float* d = op.diag.row(j);
+      const float* wx = op.wx.row(j);
+      const float* wyb = op.wy.row(j);
+      const float* wya = op.wy.row(j + 1);
+      const float dj = nx > 2 ? d[1] : 0.0f, w = nx > 2 ? wx[1] : 0.0f;
+      bool same = nx > 2;
+      for (int i = 1; same && i < nx - 1; ++i)
+        same = d[i] == dj && wx[i + 1] == w && wyb[i] == w && wya[i] == w;
+      uniform_[std::size_t(j)] = same ? 1 : 0;
+      diag_[std::size_t(j)] = dj;
+      weight_[std::size_t(j)] = w;
+    }
+  });
+}
+
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
-                  RowExecutor& ex) {
+                  RowExecutor& ex, const UniformRows* uniform) {
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
   ex.for_rows(ny, nx, [&](int y0, int y1) {
@@ -49,10 +69,16 @@ void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in
       const RowRefs r = row_refs(op, x_in, j);
       const float* bj = b.row(j);
       float* out = x_out.row(j);
-      for (int i = 1; i < nx - 1; ++i)
-        out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
-                  r.wya[i] * r.xa[i]) /
-                 r.d[i];
+      if (uniform && uniform->uniform(j)) {
+        const float w = uniform->weight(j), d = uniform->diag(j);
+        for (int i = 1; i < nx - 1; ++i)
+          out[i] = (bj[i] + w * r.x0[i - 1] + w * r.x0[i + 1] + w * r.xb[i] + w * r.xa[i]) / d;
+      } else {
+        for (int i = 1; i < nx - 1; ++i)
+          out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
+                    r.wya[i] * r.xa[i]) /
+                   r.d[i];
+      }
       out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
       if (nx > 1) {
         const int i = nx - 1;

@@ -7,14 +7,37 @@
 // Each sweep runs its rows on a RowExecutor (runtime/row_executor.h): every row is written by
 // one band, and reductions add per-row partials in row order, so the result is the same bits
 // on any back end and any number of workers. The default is the serial executor.
+#include <cstdint>
+#include <vector>
+
 #include "kernels/stencil_operator.h"
 #include "runtime/row_executor.h"
 
 namespace ardcell::stencil {
 
-// x_out = D^-1 (b + (D - A) x_in) over the interior. x_in and x_out must differ.
+// The rows of an operator whose middle cells (1 .. nx - 2) share one diagonal and one weight on
+// all four faces: an isotropic operator away from the domain's edges and solid cells. A sweep
+// over such a row multiplies by those two numbers instead of reading four coefficient arrays -
+// the same operations in the same order (this file is built without contracting products into
+// fused multiply-adds), so the same bits. analyse() after every change of the operator.
+class UniformRows {
+ public:
+  explicit UniformRows(int rows)
+      : diag_(std::size_t(rows)), weight_(std::size_t(rows)), uniform_(std::size_t(rows)) {}
+  void analyse(const StencilOperator& op, RowExecutor& ex = RowExecutor::serial());
+  bool uniform(int j) const { return uniform_[std::size_t(j)] != 0; }
+  float diag(int j) const { return diag_[std::size_t(j)]; }
+  float weight(int j) const { return weight_[std::size_t(j)]; }
+
+ private:
+  std::vector<float> diag_, weight_;
+  std::vector<uint8_t> uniform_;
+};
+
+// x_out = D^-1 (b + (D - A) x_in) over the interior. x_in and x_out must differ. With `uniform`
+// (analysed for this operator), its uniform rows skip the coefficient arrays.
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
-                  RowExecutor& ex = RowExecutor::serial());
+                  RowExecutor& ex = RowExecutor::serial(), const UniformRows* uniform = nullptr);
 
 // One red-black Gauss-Seidel sweep in place: cells with (x + y) even, then odd.
 void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x,
