@@ -66,7 +66,16 @@ PaintConfig paint_config_for_scene(const SceneConfig& scene) { return paint_conf
 bool RunPaintOptions::make(const SceneConfig& scene, std::unique_ptr<StrokePlayback>& out,
                            std::string& error) const {
   out.reset();
-  if (!any()) return true;
+  if (!any()) {
+    // The painting flags shape a recording's strokes: alone they would do nothing.
+    const char* alone = !mode.empty() ? "--paint-mode"
+                        : radius != 0 ? "--paint-radius"
+                        : loop        ? "--loop-strokes"
+                                      : nullptr;
+    if (!alone) return true;
+    error = std::string(alone) + ": paints a recording; expected --strokes FILE or --replay FILE";
+    return false;
+  }
   if (!strokes.empty() && !replay.empty()) {
     error = "--strokes and --replay: give one of them";
     return false;

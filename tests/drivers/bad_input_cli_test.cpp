@@ -133,6 +133,10 @@ TEST_F(BadInputCli, FlagsGoThroughThePresetKeyRanges) {
   write("s.jsonl", "{\"t\": 0, \"x\": 0.5, \"y\": 0.5}\n");
   expect_refused("run cavity --strokes s.jsonl --paint-radius nan --steps 1",
                  "(preset key input.brush_radius)");
+  // Painting flags without a recording would do nothing: said, not ignored.
+  expect_refused("run cavity --paint-radius nan --steps 1",
+                 "--paint-radius: paints a recording; expected --strokes FILE or --replay FILE");
+  expect_refused("run cavity --paint-mode orient --steps 1", "--paint-mode: paints a recording");
   write("far.jsonl", "{\"t\": 0, \"x\": 1e308, \"y\": 0.5}\n");
   expect_refused("run cavity --strokes far.jsonl --steps 1", "far.jsonl:1:");
   expect_refused("live --fps nan", "expected a finite number in [0");
