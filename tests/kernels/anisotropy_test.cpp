@@ -154,5 +154,55 @@ TEST(Anisotropy, BadParametersAreNamed) {
   EXPECT_FALSE(parse_anisotropy_kind("wk", k));
 }
 
+// conductivity_tile evaluates Eqn 16 without atan2 and cos per cell (the gradient's direction
+// to the j-th power, the slice by pseudo-angles): within one float ulp of
+// anisotropy_value(gradient_angle + theta0) everywhere, for every j, a uniform theta0 and a
+// per-cell one, flat patches (theta = 0) and gradients on the slice boundaries included.
+TEST(Anisotropy, CosineLobesConductivityAgreesWithTheClosedForm) {
+  const Int2 n{61, 47};
+  FieldF a(n, 1), theta0(n, 1);
+  uint32_t state = 12345;
+  const auto next = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  };
+  for (int y = -1; y <= n.y; ++y)
+    for (int x = -1; x <= n.x; ++x) {
+      a(x, y) = (x > 40 && y > 30) ? 0.5f : next();  // a flat patch: theta = 0 there
+      theta0(x, y) = y < 20 ? 0.3f : 6.0f * next() - 3.0f;
+    }
+  // Gradients exactly along slice boundaries of j = 4 (45 degrees) at a few cells.
+  for (int k = 0; k < 5; ++k) {
+    const int x = 5 + 2 * k, y = 5;
+    a(x + 1, y) = 0.75f;
+    a(x - 1, y) = 0.25f;
+    a(x, y + 1) = 0.75f;
+    a(x, y - 1) = 0.25f;
+  }
+  int compared = 0;
+  for (int j : {1, 2, 3, 4, 5, 8, 16})
+    for (bool per_cell : {false, true}) {
+      AnisotropyParams p = lobes(j);
+      p.theta0 = 0.7f;
+      FieldF k(n, 1);
+      conductivity_tile(a.view(), per_cell ? theta0.view() : View<const float>{}, k.view(),
+                        a.interior(), p);
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x) {
+          const double t0 = per_cell ? double(theta0(x, y)) : double(p.theta0);
+          const float want =
+              float(anisotropy_value(p, gradient_angle(a.view(), x, y, p.gradient_epsilon) + t0));
+          const float got = k(x, y);
+          // One float ulp of the lobe's peak (a value near 0 sits on a slice boundary, where
+          // either lobe gives 0).
+          const float ulp = std::nextafter(p.lobe_speed[j - 1], 100.0f) - p.lobe_speed[j - 1];
+          ASSERT_NEAR(got, want, ulp)
+              << "j " << j << " per_cell " << per_cell << " at " << x << "," << y;
+          ++compared;
+        }
+    }
+  EXPECT_EQ(compared, 7 * 2 * n.x * n.y);
+}
+
 }  // namespace
 }  // namespace ardcell
