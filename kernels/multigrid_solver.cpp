@@ -56,13 +56,25 @@ void coarsen(const StencilOperator& fine, StencilOperator& coarse) {
   for (int J = 0; J < cy; ++J)
     for (int I = 0; I < cx; ++I) {
       // What the fine rows hold beyond their face weights: identity and Dirichlet boundaries.
-      double rest = 0.0;
+      // A row with no face (an isolated solid cell, whose equation is x = b) is no part of the
+      // PDE: where the aggregate also holds coupled cells, its identity would pin the coarse
+      // correction towards 0 beside the obstacle, so only the coupled rows count there.
+      double rest = 0.0, rest_coupled = 0.0;
+      bool coupled = false;
       for (int j = 2 * J; j < std::min(2 * J + 2, fy); ++j)
-        for (int i = 2 * I; i < std::min(2 * I + 2, fx); ++i)
-          rest += double(fine.diag(i, j)) - fine.wx(i, j) - fine.wx(i + 1, j) - fine.wy(i, j) -
-                  fine.wy(i, j + 1);
-      coarse.diag(I, J) = float(rest + coarse.wx(I, J) + coarse.wx(I + 1, J) + coarse.wy(I, J) +
-                                coarse.wy(I, J + 1));
+        for (int i = 2 * I; i < std::min(2 * I + 2, fx); ++i) {
+          const double faces =
+              double(fine.wx(i, j)) + fine.wx(i + 1, j) + fine.wy(i, j) + fine.wy(i, j + 1);
+          const double row_rest = double(fine.diag(i, j)) - fine.wx(i, j) - fine.wx(i + 1, j) -
+                                  fine.wy(i, j) - fine.wy(i, j + 1);
+          rest += row_rest;
+          if (faces != 0.0) {
+            rest_coupled += row_rest;
+            coupled = true;
+          }
+        }
+      coarse.diag(I, J) = float((coupled ? rest_coupled : rest) + coarse.wx(I, J) +
+                                coarse.wx(I + 1, J) + coarse.wy(I, J) + coarse.wy(I, J + 1));
     }
 }
 
