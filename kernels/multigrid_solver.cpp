@@ -142,7 +142,7 @@ class MultigridSolver final : public LinearSolver {
     }
     for (int k = 0; k < kPreSmooth; ++k) stencil::rbgs_sweep(op, b, x, *ex_);
     FieldF& r = depth == 0 ? r0_ : levels_[depth - 1].r;
-    stencil::residual(op, b, x, &r, *ex_);
+    stencil::residual_field(op, b, x, r, *ex_);
     Level& coarse = levels_[depth];
     restrict_sum(r, coarse.b, *ex_);
     coarse.x.fill(0.0f);

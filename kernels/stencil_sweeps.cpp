@@ -35,6 +35,13 @@ inline float neighbours(const RowRefs& r, int i, int il, int ir) {
   return r.wx[i] * r.x0[il] + r.wx[i + 1] * r.x0[ir] + r.wyb[i] * r.xb[i] + r.wya[i] * r.xa[i];
 }
 
+// b - A x at cell i of a row (left and right neighbours il, ir), in double.
+inline double residual_cell(const RowRefs& r, const float* bj, int i, int il, int ir) {
+  return double(bj[i]) - double(r.d[i]) * r.x0[i] +
+         (double(r.wx[i]) * r.x0[il] + double(r.wx[i + 1]) * r.x0[ir] + double(r.wyb[i]) * r.xb[i] +
+          double(r.wya[i]) * r.xa[i]);
+}
+
 inline int left_of(int i, int nx, bool px) { return i > 0 ? i - 1 : (px ? nx - 1 : 0); }
 inline int right_of(int i, int nx, bool px) { return i < nx - 1 ? i + 1 : (px ? 0 : nx - 1); }
 
@@ -136,11 +143,7 @@ double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, Fie
       const RowRefs r = row_refs(op, x, j);
       const float* bj = b.row(j);
       float* out = res ? res->row(j) : nullptr;
-      const auto cell = [&](int i, int il, int ir) {
-        return double(bj[i]) - double(r.d[i]) * r.x0[i] +
-               (double(r.wx[i]) * r.x0[il] + double(r.wx[i + 1]) * r.x0[ir] +
-                double(r.wyb[i]) * r.xb[i] + double(r.wya[i]) * r.xa[i]);
-      };
+      const auto cell = [&](int i, int il, int ir) { return residual_cell(r, bj, i, il, ir); };
       // The squares go to four running sums, cell i to sum i % 4 (then (s0 + s1) + (s2 + s3)):
       // a fixed order, so the bits do not depend on the banding, and the middle of the row
       // vectorises; the edge cells take the (periodic or weight-0) neighbours separately.
@@ -173,6 +176,24 @@ double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, Fie
       }
       if (nx > 1) edge(nx - 1);
       partials[j] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
+    }
+  });
+}
+
+void residual_field(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF& res,
+                    RowExecutor& ex) {
+  const int nx = op.size.x, ny = op.size.y;
+  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  ex.for_rows(ny, nx, [&](int y0, int y1) {
+    for (int j = y0; j < y1; ++j) {
+      const RowRefs r = row_refs(op, x, j);
+      const float* bj = b.row(j);
+      float* out = res.row(j);
+      out[0] = float(residual_cell(r, bj, 0, left_of(0, nx, px), right_of(0, nx, px)));
+      for (int i = 1; i < nx - 1; ++i) out[i] = float(residual_cell(r, bj, i, i - 1, i + 1));
+      if (nx > 1)
+        out[nx - 1] =
+            float(residual_cell(r, bj, nx - 1, left_of(nx - 1, nx, px), right_of(nx - 1, nx, px)));
     }
   });
 }

@@ -49,6 +49,9 @@ void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int 
 // r = b - A x (when r is not null); returns |b - A x|_2^2 accumulated in double.
 double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* r,
                 RowExecutor& ex = RowExecutor::serial());
+// r = b - A x alone (a multigrid cycle's restriction needs no norm): residual()'s r, bit for bit.
+void residual_field(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF& r,
+                    RowExecutor& ex = RowExecutor::serial());
 
 // Sum of squares over the interior, in double.
 double norm2_squared(const FieldF& f, RowExecutor& ex = RowExecutor::serial());
