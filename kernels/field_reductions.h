@@ -12,9 +12,9 @@
 // Each kernel works on the band of rows [y0, y1) and x in [0, nx), and writes partial j at
 // partials[j] (absolute row index, as RowExecutor::sum_rows hands out): callers add the rows in
 // row order and get the same bits on any number of workers. Each row is summed left to right
-// in double, exactly the loops of fluid_step.cpp and NullSpace::null_sum, so moving those
-// callers onto these kernels changes no bits. The OpenCL twins (kernels/cl/reductions.cl)
-// write the same partials into a device buffer.
+// in double (row_masked_sums into four running sums, cell i to sum i % 4, then
+// (s0 + s1) + (s2 + s3)). The OpenCL twins (kernels/cl/reductions.cl) write the same partials
+// into a device buffer.
 #include <cstdint>
 
 #include "runtime/field.h"

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "kernels/field_reductions.h"
+
 namespace ardcell::stencil {
 
 namespace {
@@ -253,14 +255,7 @@ void NullSpace::analyse(const StencilOperator& op, RowExecutor& ex) {
 
 double NullSpace::null_sum(const FieldF& f, RowExecutor& ex) const {
   return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) {
-      const float* r = f.row(j);
-      const uint8_t* z = in_null_.row(j);
-      double row_total = 0.0;
-      for (int i = 0; i < f.nx(); ++i)
-        if (z[i]) row_total += r[i];
-      partials[j] = row_total;
-    }
+    row_masked_sums(f.view(), in_null_.view(), f.nx(), y0, y1, partials);
   });
 }
 

@@ -84,17 +84,17 @@ __kernel void row_sums_of_squares(__global const float* f, int stride, int origi
   out[j] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
 
-// partials[j] = sum of f(x, j) over the cells with mask != 0 (NullSpace::null_sum).
+// partials[j] = sum of f(x, j) over the cells with mask != 0 (NullSpace::null_sum), into four
+// running sums as row_masked_sums in C++ (a masked-out cell adds 0).
 __kernel void row_masked_sums(__global const float* f, __global const float* mask, int stride,
                               int origin, int nx, int y0, int y1, __global real* out) {
   const int j = y0 + get_global_id(0);
   if (j >= y1) return;
   __global const float* r = row_of(f, stride, origin, j);
   __global const float* z = row_of(mask, stride, origin, j);
-  real total = 0;
-  for (int i = 0; i < nx; ++i)
-    if (z[i] != 0.0f) total += (real)r[i];
-  out[j] = total;
+  real sum[4] = {0, 0, 0, 0};
+  for (int i = 0; i < nx; ++i) sum[i % 4] += z[i] != 0.0f ? (real)r[i] : (real)0;
+  out[j] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
 
 // f -= mean on the cells of reg with mask != 0 (NullSpace::remove_mean's map). One work-item
