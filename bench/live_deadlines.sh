@@ -6,8 +6,8 @@
 #
 #   bench/live_deadlines.sh [PRESET...]     (default: cavity-gray-scott space-cookie-5)
 #   env: SIZE (512), FRAMES (600), FPS (60), ARDCELL (build/release/ardcell), EXTRA (more flags),
-#        REALTIME=1: the real-time solver settings - every solver 20 fixed Jacobi sweeps
-#        (tolerance 0) and the tabulated reaction - instead of the presets' multigrid and ICCG
+#        REALTIME=1: `--realtime-solvers` (every solve fixed Jacobi sweeps, the reaction
+#        tabulated) instead of the presets' multigrid and ICCG
 set -euo pipefail
 cd "$(dirname "$0")/.."
 size=${SIZE:-512}
@@ -24,13 +24,8 @@ for p in "${presets[@]}"; do
   src=presets/$p.toml
   [ -f "$src" ] || { echo "live_deadlines.sh: no preset $src" >&2; exit 2; }
   sed "s/^size = \[.*\]/size = [$size, $size]/" "$src" > "$tmp/$p.toml"
-  if [ "${REALTIME:-0}" = 1 ]; then
-    # Solver sections: kind, iterations, tolerance; the [rd.table] section's enabled flag.
-    sed -i -e 's/^kind = "\(mg\|iccg\|rbgs\)"/kind = "jacobi"/' -e 's/^iterations = .*/iterations = 20/' \
-      -e 's/^tolerance = .*/tolerance = 0.0/' \
-      -e '/^\[rd.table\]/,/^\[/ s/^enabled = false/enabled = true/' "$tmp/$p.toml"
-  fi
   echo "== $p at ${size}x${size}, $frames frames, ${fps} Hz target"
   xvfb-run -a -s "-screen 0 1280x1024x24" "$ardcell" live "$tmp/$p.toml" --frames "$frames" \
-    --fps "$fps" --no-vsync --scale 1 ${EXTRA:-} 2>&1 | grep -E "^(frames|stages|ardcell live: backend)"
+    --fps "$fps" --no-vsync --scale 1 $([ "${REALTIME:-0}" = 1 ] && echo --realtime-solvers) \
+    ${EXTRA:-} 2>&1 | grep -E "^(frames|stages|ardcell live: backend)"
 done

@@ -62,6 +62,7 @@ struct LiveArgs {
   int scale = 0;
   bool hud = false;
   bool no_adaptive = false;
+  bool realtime_solvers = false;
   std::string record;
   std::string screenshot;
   std::string screenshot_dir = ".";
@@ -180,7 +181,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                             : o.playlist.empty() ? std::string("cavity")
                                                  : o.playlist.front();
   Preset preset;
-  if (Status s = load_live_preset(first, preset); !s)
+  if (Status s = load_live_preset(first, preset, a.realtime_solvers); !s)
     return cli_usage_error(ctx, "live", s.message());
   for (const std::string& name : a.playlist) {
     Preset p;
@@ -217,6 +218,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   o.max_frames = a.frames;
   o.hud = a.hud;
   o.adaptive = !a.no_adaptive;
+  o.realtime_solvers = a.realtime_solvers;
   o.crossfade_frames = a.crossfade;
   o.record_path = a.record;
   o.screenshot_dir = a.screenshot_dir;
@@ -388,6 +390,9 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
       ->check(CLI::Range(0, 64));
   live->add_flag("--hud", args->hud, "Start with the HUD shown (H toggles)");
   live->add_flag("--no-adaptive", args->no_adaptive, "Keep full quality even when frames miss");
+  live->add_flag("--realtime-solvers", args->realtime_solvers,
+                 "Every solve quality.max_sweeps fixed Jacobi sweeps, the reaction tabulated "
+                 "(60 FPS at 512^2 on two cores)");
   live->add_option("--record", args->record, "Record from the start (.mp4 via ffmpeg, .y4m)");
   live->add_option("--screenshot", args->screenshot, "PNG of the window after the last frame");
   live->add_option("--screenshot-dir", args->screenshot_dir, "Folder for S-key screenshots");

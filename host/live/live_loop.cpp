@@ -222,8 +222,9 @@ void LiveLoop::notice(const char* fmt, ...) {
   hud_.message_until_frame = frame_ + 180;
 }
 
-Status load_live_preset(std::string_view name, Preset& p) {
+Status load_live_preset(std::string_view name, Preset& p, bool realtime_solvers) {
   if (Status s = load_preset(name, p); !s) return s;
+  if (realtime_solvers) use_realtime_solvers(p);
   if (Status s = check_memory_for_grid(p.scene); !s)
     return Status::error("preset " + std::string(name) + ": " + s.message());
   return Status::ok();
@@ -231,7 +232,7 @@ Status load_live_preset(std::string_view name, Preset& p) {
 
 Status LiveLoop::start(std::string_view name) {
   Preset p;
-  Status s = load_live_preset(name, p);
+  Status s = load_live_preset(name, p, options_.realtime_solvers);
   if (!s) return s;
   try {
     sim_ = factory_(p);
@@ -284,8 +285,9 @@ void LiveLoop::request_preset(std::string name) {
   builder_busy_ = true;
   std::shared_ptr<Build> b = build_;
   SimulationFactory factory = factory_;
-  build_->thread = std::thread([b, factory] {
-    b->status = load_live_preset(b->name, b->preset);
+  const bool realtime_solvers = options_.realtime_solvers;
+  build_->thread = std::thread([b, factory, realtime_solvers] {
+    b->status = load_live_preset(b->name, b->preset, realtime_solvers);
     if (b->status && b->cancelled.load()) b->status = Status::error(b->name + ": cancelled");
     if (b->status) {
       try {

@@ -156,8 +156,9 @@ struct LiveOptions {
   std::vector<std::string> playlist;  // presets for next/previous (names or paths)
   int crossfade_frames = 30;
   bool hud = false;
-  bool adaptive = true;     // and the preset's quality.adaptive
-  std::string record_path;  // --record: start recording at once
+  bool adaptive = true;           // and the preset's quality.adaptive
+  bool realtime_solvers = false;  // every preset on its real-time settings (use_realtime_solvers)
+  std::string record_path;        // --record: start recording at once
   std::string screenshot_dir = ".";
   std::string exit_screenshot;       // --screenshot PATH: the window's pixels after the last frame
   FrameWriterFactory recorder;       // makes the --record writer (by extension)
@@ -282,8 +283,9 @@ class LiveLoop {
 };
 
 // A preset by name or path (load_preset) whose grid fits in memory (the check `ardcell run`
-// makes): what every preset of `ardcell live` goes through, the first, the playlist, switches.
-Status load_live_preset(std::string_view name, Preset& p);
+// makes): what every preset of `ardcell live` goes through, the first, the playlist, switches;
+// with `realtime_solvers`, on its real-time settings (use_realtime_solvers).
+Status load_live_preset(std::string_view name, Preset& p, bool realtime_solvers = false);
 
 // The field a preset shows, as RGB through its colormap (host/render/frame_render.h, the same image
 // `ardcell run` writes). `out` must already have the state's size.

@@ -1011,6 +1011,14 @@ void apply_quality(const Preset& preset, const QualityLevel& level, SceneConfig&
   out.rd.diffusion_solver.max_iterations = scaled(preset.scene.rd.diffusion_solver.max_iterations);
 }
 
+void use_realtime_solvers(Preset& preset) {
+  const SolverSettings fixed{SolverKind::kJacobi, std::max(1, preset.quality.max_sweeps), 0.0};
+  preset.scene.fluid.viscosity_solver = fixed;
+  preset.scene.fluid.pressure_solver = fixed;
+  preset.scene.rd.diffusion_solver = fixed;
+  if (preset.scene.rd.scheme == RdScheme::kImplicit) preset.scene.rd.use_table = true;
+}
+
 std::vector<std::string> preset_names() {
   std::vector<std::string> names;
   for (const EmbeddedPreset& e : embedded_presets()) names.push_back(file_stem(e.file));

@@ -139,6 +139,12 @@ void blend_params(const Preset& from, const Preset& to, double t, Preset& out);
 // The solver iterations of the scene scaled for a quality level (sweeps out of max_sweeps).
 void apply_quality(const Preset& preset, const QualityLevel& level, SceneConfig& out);
 
+// The real-time settings (`ardcell live --realtime-solvers`): every implicit solve (viscosity,
+// pressure, RD diffusion) a fixed quality.max_sweeps Jacobi sweeps with tolerance 0, and the
+// implicit reaction from its table - what keeps every Fig. 4-6 preset at 60 FPS at 512^2 on two
+// cores (bench/RESULTS_ENGINE.md), where multigrid and ICCG solve to a tolerance.
+void use_realtime_solvers(Preset& preset);
+
 // Presets compiled into the binary from presets/*.toml (cmake/embed_presets.cmake).
 struct EmbeddedPreset {
   const char* file;  // "cavity.toml"

@@ -182,6 +182,37 @@ TEST(LiveLoop, RendersFramesAndCountsThem) {
   EXPECT_EQ(loop.heartbeat().load(), 25);
 }
 
+// --realtime-solvers: the first preset and every switch run fixed Jacobi sweeps (the preset's
+// quality.max_sweeps, tolerance 0) in every solve and the tabulated reaction.
+TEST(LiveLoop, RealtimeSolversApplyToEveryPreset) {
+  Fixture fx;
+  LiveOptions o = fx.options();
+  o.realtime_solvers = true;
+  o.crossfade_frames = 0;
+  LiveLoop loop(o, fx.factory(), fx.display);
+  const auto expect_realtime = [](const SceneConfig& s, int sweeps, const char* what) {
+    for (const SolverSettings* solver :
+         {&s.fluid.viscosity_solver, &s.fluid.pressure_solver, &s.rd.diffusion_solver}) {
+      EXPECT_EQ(solver->kind, SolverKind::kJacobi) << what;
+      EXPECT_EQ(solver->max_iterations, sweeps) << what;
+      EXPECT_EQ(solver->tolerance, 0.0) << what;
+    }
+    EXPECT_TRUE(s.rd.use_table) << what;
+  };
+  ASSERT_TRUE(loop.start("cavity-gray-scott").is_ok());  // multigrid and ICCG in the preset
+  expect_realtime(fx.sim->config_, 20, "first");
+  loop.commands().push(LiveCommand::with_text(LiveCommandKind::kSelectPreset, "space-cookie-5"));
+  loop.run_frame();
+  loop.wait_for_switch();
+  loop.run_frame();
+  expect_realtime(fx.sim->config_, 20, "switched");
+  // Without the option the preset's own solvers run.
+  Fixture plain;
+  LiveLoop own(plain.options(), plain.factory(), plain.display);
+  ASSERT_TRUE(own.start("cavity-gray-scott").is_ok());
+  EXPECT_EQ(plain.sim->config_.fluid.pressure_solver.kind, SolverKind::kMultigrid);
+}
+
 TEST(LiveLoop, ParameterChangeAppliesOnTheNextFrame) {
   Fixture fx;
   LiveLoop loop(fx.options(), fx.factory(), fx.display);
