@@ -34,7 +34,7 @@ struct RunArgs {
   std::string scene, scene_positional, size, solver, out, save_state, load_state;
   std::string colormap, show, video, schedule, backend, store_kib;
   std::vector<std::string> sets;
-  bool list = false, no_png = false, quiet = false, stats = false;
+  bool list = false, no_png = false, quiet = false, stats = false, realtime_solvers = false;
   int64_t steps = 0, every = 0;
   double dt = 0, re = 0;
   int sweeps = 0, fps = 30, cl_device = -1, workers = 0;
@@ -338,6 +338,7 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
   if (a.dt_opt->count()) return usage("--dt" + fixed + "--dt");
   if (a.re_opt->count()) return usage("--re" + fixed + "--re");
   if (a.solver_opt->count()) return usage("--solver" + fixed + "--solver");
+  if (a.realtime_solvers) return usage("--realtime-solvers" + fixed + "--realtime-solvers");
   if (a.sweeps_opt->count()) return usage("--sweeps" + fixed + "--sweeps");
   if (!a.sets.empty()) return usage("--set" + fixed + "--set");
 
@@ -527,10 +528,11 @@ int do_run(RunArgs& a, CliContext& ctx) {
                                  "' (expected one of: " + scene_list() + ")");
     }
   }
+  if (a.realtime_solvers) use_realtime_solvers(preset);
   SceneConfig scene = preset.scene;
   if (scene.name.empty()) scene.name = scene_name;
 
-  // Overrides.
+  // Overrides (after --realtime-solvers, so that --solver, --sweeps and --set refine it).
   SceneOverrides o;
   if (a.size_opt->count()) {
     Int2 size;
@@ -640,6 +642,9 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--solver", a.solver, "implicit solver: jacobi | rbgs | iccg | mg");
   a.sweeps_opt = run->add_option("--sweeps", a.sweeps,
                                  "sweeps (jacobi, rbgs), iterations (iccg) or V-cycles (mg)");
+  run->add_flag("--realtime-solvers", a.realtime_solvers,
+                "every solve quality.max_sweeps fixed Jacobi sweeps, the reaction tabulated "
+                "(ardcell live's real-time settings)");
   a.out_opt = run->add_option("--out", a.out, "folder for PNG frames (default out/<scene>-<time>)");
   a.every_opt = run->add_option("--every", a.every,
                                 "write a frame every N steps; 0: none (default steps/50)");

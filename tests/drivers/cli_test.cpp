@@ -222,6 +222,30 @@ TEST_F(CliTest, SavedStateResumesBitExactly) {
   EXPECT_NE(h.data, f6.data);
 }
 
+// --realtime-solvers: every solve fixed Jacobi sweeps (quality.max_sweeps, tolerance 0) and the
+// tabulated reaction, as the saved parameters say; --sweeps still refines it.
+TEST_F(CliTest, RealtimeSolversAreTheSavedSettings) {
+  const Result r =
+      run("run cavity-gray-scott --size 24x20 --steps 2 --every 0 --realtime-solvers --sweeps 12 "
+          "--save-state rt");
+  ASSERT_EQ(r.code, 0) << r.err;
+  SavedStateMeta m;
+  ASSERT_TRUE(read_state_meta(work() / "rt", m));
+  for (const char* solver :
+       {"fluid.viscosity_solver", "fluid.pressure_solver", "rd.diffusion_solver"}) {
+    EXPECT_EQ(m.parameters.at(std::string(solver) + ".kind"), "jacobi") << solver;
+    EXPECT_EQ(m.parameters.at(std::string(solver) + ".tolerance"), 0.0) << solver;
+  }
+  EXPECT_EQ(m.parameters.at("fluid.pressure_solver.iterations"), 12);  // --sweeps on top
+  EXPECT_EQ(m.parameters.at("rd.diffusion_solver.iterations"), 20);    // quality.max_sweeps
+  EXPECT_EQ(m.parameters.at("rd.table.enabled"), true);
+  const Result t = run("run table1 --realtime-solvers --steps 1");
+  EXPECT_EQ(t.code, 2);
+  EXPECT_NE(t.err.find("--realtime-solvers: the table1 scene runs the fixed Table 1 workload"),
+            std::string::npos)
+      << t.err;
+}
+
 TEST_F(CliTest, Y4mVideoWithoutPngFrames) {
   const Result r = run("run --size 16 --steps 4 --every 2 --no-png --video clip.y4m");
   ASSERT_EQ(r.code, 0) << r.err;
