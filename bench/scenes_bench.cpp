@@ -11,7 +11,9 @@
 //
 // Environment: ARDCELL_BENCH_SIZES (default "256,512,1024") restricts the sizes;
 // ARDCELL_BENCH_PRESETS (comma-separated names) restricts the presets; ARDCELL_CL_DEVICE=N picks
-// the OpenCL device (as --cl-device N; default the first), ARDCELL_CL_DEVICE=none leaves it out.
+// the OpenCL device (as --cl-device N; default the first), ARDCELL_CL_DEVICE=none leaves it out;
+// ARDCELL_BENCH_REALTIME=1 runs every preset on its real-time settings (use_realtime_solvers,
+// as `--realtime-solvers`).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -20,6 +22,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bench/bench_env.h"
@@ -67,6 +70,8 @@ SceneConfig scene_at(const std::string& name, int n) {
     std::fprintf(stderr, "scenes_bench: %s\n", s.message().c_str());
     std::exit(2);
   }
+  const char* realtime = std::getenv("ARDCELL_BENCH_REALTIME");
+  if (realtime && std::string_view(realtime) == "1") use_realtime_solvers(preset);
   SceneConfig scene = preset.scene;
   // The preset's domain and cell size stay as printed; only the number of cells changes.
   scene.size = Int2{n, int(std::lround(double(n) * scene.size.y / scene.size.x))};

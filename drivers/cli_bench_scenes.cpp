@@ -30,6 +30,7 @@ struct ScenesOptions {
   std::string out = "bench-results";
   std::string binary;
   int cl_device = -1;  // -1: the first device; -2: none (--cl-device none)
+  bool realtime_solvers = false;
 };
 
 int run_scenes(const ScenesOptions& o, CliContext& ctx) {
@@ -66,6 +67,7 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
                                                           {"ARDCELL_BENCH_PRESETS", joined}};
   if (o.cl_device != -1)
     env.emplace_back("ARDCELL_CL_DEVICE", o.cl_device >= 0 ? std::to_string(o.cl_device) : "none");
+  if (o.realtime_solvers) env.emplace_back("ARDCELL_BENCH_REALTIME", "1");
   const int rc = run_bench_program(binary, "SceneSpeedup/", o.min_time, json, env);
   if (rc != 0) {
     std::fprintf(ctx.err, "ardcell bench scenes: %s exited with status %d\n", binary.c_str(), rc);
@@ -84,6 +86,7 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
   std::ostringstream md, csv;
   bool with_opencl = false;
   for (const BenchRow& row : rows) with_opencl = with_opencl || row.counters.count("opencl_ms");
+  if (o.realtime_solvers) md << "Every preset on its real-time settings (--realtime-solvers).\n\n";
   md << "| preset | N | serial FPS | threads FPS | threads / serial | workers |"
      << (with_opencl ? " opencl FPS | opencl / serial |\n|---|---|---|---|---|---|---|---|\n"
                      : "\n|---|---|---|---|---|---|\n");
@@ -202,6 +205,9 @@ void add_bench_scenes_command(CLI::App& bench, CliContext& ctx) {
           },
           "OpenCL device for the opencl column (see ardcell devices), or none")
       ->type_name("N|none");
+  scenes->add_flag("--realtime-solvers", o->realtime_solvers,
+                   "Every preset on its real-time settings (fixed Jacobi sweeps, tabulated "
+                   "reaction), as ardcell run/live --realtime-solvers");
   scenes->add_option("--bench-binary", o->binary,
                      "The scenes_bench program (default: beside ardcell)");
   scenes->callback([o, &ctx] { ctx.exit_code = run_scenes(*o, ctx); });

@@ -82,41 +82,42 @@ int Engine::workers() const {
 }
 
 namespace {
-bool named(std::span<const std::string_view> fields, std::string_view name) {
-  return std::find(fields.begin(), fields.end(), name) != fields.end();
+// Brings the fields `wanted(name)` picks to the host; with `will_write`, the device also takes
+// what the caller writes into them before its next op.
+template <class Wanted>
+void sync_fields(Device& device, const SimState& state, const Wanted& wanted, bool will_write) {
+  if (device.fields_on_host()) return;
+  state.for_each_field([&](std::string_view name, const FieldF& f) {
+    if (!wanted(name)) return;
+    device.sync_to_host(f);
+    if (will_write) device.host_wrote(f);
+  });
+}
+constexpr auto kEveryField = [](std::string_view) { return true; };
+auto among(std::span<const std::string_view> fields) {
+  return [fields](std::string_view name) {
+    return std::find(fields.begin(), fields.end(), name) != fields.end();
+  };
 }
 }  // namespace
 
 SimState& Engine::state() {
-  if (!device_->fields_on_host())
-    state_.for_each_field([&](std::string_view, FieldF& f) {
-      device_->sync_to_host(f);
-      device_->host_wrote(f);
-    });
+  sync_fields(*device_, state_, kEveryField, true);
   return state_;
 }
 
 const SimState& Engine::state() const {
-  if (!device_->fields_on_host())
-    state_.for_each_field([&](std::string_view, const FieldF& f) { device_->sync_to_host(f); });
+  sync_fields(*device_, state_, kEveryField, false);
   return state_;
 }
 
 SimState& Engine::state(std::span<const std::string_view> fields) {
-  if (!device_->fields_on_host())
-    state_.for_each_field([&](std::string_view name, FieldF& f) {
-      if (!named(fields, name)) return;
-      device_->sync_to_host(f);
-      device_->host_wrote(f);
-    });
+  sync_fields(*device_, state_, among(fields), true);
   return state_;
 }
 
 const SimState& Engine::state(std::span<const std::string_view> fields) const {
-  if (!device_->fields_on_host())
-    state_.for_each_field([&](std::string_view name, const FieldF& f) {
-      if (named(fields, name)) device_->sync_to_host(f);
-    });
+  sync_fields(*device_, state_, among(fields), false);
   return state_;
 }
 

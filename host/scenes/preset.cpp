@@ -1012,10 +1012,8 @@ void apply_quality(const Preset& preset, const QualityLevel& level, SceneConfig&
 }
 
 void use_realtime_solvers(Preset& preset) {
-  const SolverSettings fixed{SolverKind::kJacobi, std::max(1, preset.quality.max_sweeps), 0.0};
-  preset.scene.fluid.viscosity_solver = fixed;
-  preset.scene.fluid.pressure_solver = fixed;
-  preset.scene.rd.diffusion_solver = fixed;
+  set_fluid_solver(preset.scene.fluid, SolverKind::kJacobi, preset.quality.max_sweeps);
+  preset.scene.rd.diffusion_solver = preset.scene.fluid.pressure_solver;
   if (preset.scene.rd.scheme == RdScheme::kImplicit) preset.scene.rd.use_table = true;
 }
 
