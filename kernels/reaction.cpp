@@ -78,7 +78,7 @@ ImplicitResult solve_gray_scott(const ReactionParams& p, double dt, double A, do
 
 ImplicitResult solve_turing(const ReactionParams& p, double dt, double A, double B, double tol) {
   const double q = double(p.turing_s) * dt, beta = p.turing_beta;
-  const double C = B + 16.0 * q;
+  const double C = B + double(p.turing_supply) * q;
   auto b_of = [&](double x) { return C / (1.0 + q * x); };
   // g is convex on x >= 0 (q C x / (1 + q x) is concave).
   auto eval = [&](double x, double& g, double& dg) {
@@ -250,7 +250,7 @@ void reaction_rates(const ReactionParams& p, double A, double B, double& ra, dou
       return;
     case ReactionModel::kTuring:
       ra = p.turing_s * (A * B - A - p.turing_beta);
-      rb = p.turing_s * (16.0 - A * B);
+      rb = p.turing_s * (double(p.turing_supply) - A * B);
       return;
     case ReactionModel::kMeinhardt: {
       const double m = 0.01 * double(p.meinhardt_alpha) * A * A;

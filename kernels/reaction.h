@@ -9,8 +9,10 @@
 //   Gray-Scott (Eqns 7-8):  R_A = -A B^2 + F (1 - A)          R_B = A B^2 - (F + k) B
 //     reduced in B^ (Eqn 12); A^ = (A + F dt) / (1 + F dt + dt B^2)   (Eqn 11, with the
 //     square of Eqn 7 that the printed Eqns 9 and 11 drop)
-//   Turing:                 R_A = s (A B - A - beta)          R_B = s (16 - A B)
-//     reduced in A^;         B^ = (B + 16 s dt) / (1 + s A^ dt)  (the printed rule drops s)
+//   Turing:                 R_A = s (A B - A - beta)          R_B = s (sigma - A B)
+//     reduced in A^;         B^ = (B + sigma s dt) / (1 + s A^ dt)  (the printed rule drops s)
+//     sigma (turing_supply) is Turk's and Kim & Lin's 16; seed 003's Eqn 2 is the same model
+//     with s = 1, beta = its alpha, sigma = its beta (12 and 15 in its Results).
 //   Meinhardt:              R_A = s (A p1 + 0.01 alpha A^2 / B + p3)
 //                           R_B = s (B p2 + 0.01 alpha A^2)
 //     reduced in A^;         B^ = (B + dt s 0.01 alpha A^2) / (1 - dt s p2)
@@ -51,8 +53,8 @@ struct ReactionParams {
   ReactionModel model = ReactionModel::kGrayScott;
   // Gray-Scott
   float F = 0.055f, k = 0.062f;
-  // Turing (s: rate; beta: decay)
-  float turing_s = 1.0f / 128.0f, turing_beta = 12.0f;
+  // Turing (s: rate; beta: decay; supply: the substrate's constant production, Turk's 16)
+  float turing_s = 1.0f / 128.0f, turing_beta = 12.0f, turing_supply = 16.0f;
   // Meinhardt (p1, p2 <= 0: decays; p3 >= 0: base production)
   float meinhardt_s = 0.01f, meinhardt_alpha = 100.0f;
   float meinhardt_p1 = -1.0f, meinhardt_p2 = -1.5f, meinhardt_p3 = 0.1f;

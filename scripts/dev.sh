@@ -14,7 +14,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libhidapi-dev libgpiod-dev libsdl2-dev libpng-dev libcli11-dev libtomlplusplus-dev
-  nlohmann-json3-dev liblo-dev libsystemd-dev libplplot-dev
+  nlohmann-json3-dev liblo-dev libsystemd-dev libplplot-dev libfftw3-dev
   clang libclang-rt-14-dev
   xvfb xauth python3-numpy
 )

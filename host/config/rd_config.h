@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "kernels/anisotropy.h"
+#include "kernels/generalized_diffusion.h"
 #include "kernels/linear_solver.h"
 #include "kernels/reaction.h"
 #include "kernels/stencil_operator.h"
@@ -15,9 +16,27 @@
 namespace ardcell {
 
 enum class RdScheme : uint8_t {
-  kImplicit,   // Eqns 6 + 19 (+ 20): unconditionally stable (the paper)
-  kExplicit5,  // forward Euler, 5-point Laplacian (Eqn 5)
-  kExplicit9,  // forward Euler, seed 001's 9-point Laplacian
+  kImplicit,      // Eqns 6 + 19 (+ 20): unconditionally stable (the paper); with the generalized
+                  // operator, Eqn 6 then the periodic solve of (I - dt D K) (seed 003, Eqn 28)
+  kExplicit5,     // forward Euler, 5-point Laplacian (Eqn 5)
+  kExplicit9,     // forward Euler, seed 001's 9-point Laplacian
+  kExplicit,      // generalized operator: forward Euler, seed 003's Eqn 27
+  kSemiImplicit,  // generalized operator: explicit reaction, implicit diffusion (seed 003, Eqn 28)
+};
+
+// What diffuses the chemicals.
+enum class RdOperator : uint8_t {
+  kLaplacian,    // Kim & Lin: the 5-point (an)isotropic Laplacian, Eqns 13-19
+  kGeneralized,  // McGraw (seed 003): the 25-point non-Gaussian operator of a tensor sequence,
+                 // on a periodic (tileable) grid
+};
+
+// seed 003's operator: D_A K and D_B K with K the 25-point stencil of `tensors` (Eqns 19-21, 37;
+// kernels/generalized_diffusion.h), derivatives of ranks 3 and 4 by Savitzky-Golay filters.
+struct GeneralizedRdConfig {
+  TensorSequence tensors = kTable2A;
+  int savitzky_golay_degree = 4;  // 4, or 5 (minimum-norm pseudo-inverse)
+  SecondDerivatives second_derivatives = SecondDerivatives::kCentralDifference;
 };
 
 enum class RdInitialPattern : uint8_t {
@@ -39,8 +58,10 @@ struct RdConfig {
   bool table_range_auto = true;  // true: the model's typical range
   ConcentrationBox table_range{0, 1, 0, 1};
 
-  // Diffusion (Eqns 13-19).
+  // Diffusion (Eqns 13-19, or seed 003's generalized operator).
   bool diffuse = true;
+  RdOperator diffusion_operator = RdOperator::kLaplacian;
+  GeneralizedRdConfig generalized;
   double diffusion_a = 1.0;     // D_A in cell_size^2 per unit of rd.dt
   double diffusion_b = 0.5;     // D_B
   AnisotropyParams anisotropy;  // k = a(theta); A's rate D_A k, B's rate D_B k

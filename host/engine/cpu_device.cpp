@@ -9,6 +9,7 @@
 
 #include "host/engine/device.h"
 #include "kernels/field_reductions.h"
+#include "kernels/periodic_stencil_solve.h"
 #include "kernels/stencil_operator.h"
 #include "runtime/row_executor.h"
 
@@ -55,6 +56,10 @@ const char* device_op_name(DeviceOp op) {
       return "implicit diffusion";
     case DeviceOp::kExplicitRd:
       return "explicit reaction-diffusion";
+    case DeviceOp::kGeneralizedRd:
+      return "generalized reaction-diffusion";
+    case DeviceOp::kPeriodicSolve:
+      return "periodic solve (FFT)";
     case DeviceOp::kCount:
       break;
   }
@@ -74,7 +79,9 @@ int CpuDevice::workers() const { return ex_->workers(); }
 
 void CpuDevice::reserve(Int2 grid) {
   ex_->reserve_rows(grid.y + 1);  // the faces of a grid have one more row
-  const std::size_t stride = (2 * std::size_t(grid.x + 2) + 16 + 15) / 16 * 16;
+  const std::size_t floats =
+      std::max(2 * std::size_t(grid.x + 2) + 16, generalized_rd_scratch_floats(grid.x));
+  const std::size_t stride = (floats + 15) / 16 * 16;
   if (stride > row_scratch_stride_) {
     row_scratch_stride_ = stride;
     row_scratch_.assign(row_scratch_stride_ * std::size_t(ex_->workers()), 0.0f);
@@ -268,6 +275,20 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
       });
       break;
   }
+}
+
+void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                               const GeneralizedTaps& k, const GeneralizedRdParams& p) {
+  ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
+                "generalized_rd: reserve() the grid first");
+  for_bands(a.size(), [&](Box2 rows, int worker) {
+    generalized_rd_rows(k, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
+                        rows.max.y, p, row_scratch(worker));
+  });
+}
+
+void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) {
+  solve.solve(x, delta);
 }
 
 }  // namespace ardcell

@@ -19,6 +19,7 @@
 #include "kernels/aniso_diffusion.h"
 #include "kernels/anisotropy.h"
 #include "kernels/explicit_rd.h"
+#include "kernels/generalized_rd.h"
 #include "kernels/linear_solver.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
@@ -29,6 +30,7 @@
 
 namespace ardcell {
 
+class PeriodicStencilSolve;
 class RowExecutor;
 
 // The ops a device may or may not run natively (Device::supports). An op a device does not run
@@ -54,6 +56,8 @@ enum class DeviceOp : uint8_t {
   kConductivity,
   kImplicitDiffusion,
   kExplicitRd,
+  kGeneralizedRd,
+  kPeriodicSolve,
   kCount
 };
 const char* device_op_name(DeviceOp op);
@@ -148,6 +152,12 @@ class Device {
   enum class ExplicitScheme : uint8_t { k5, k9, kGrayScott9 };
   virtual void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                            ExplicitScheme scheme, const ExplicitRdParams& p) = 0;
+  // seed 003, Eqn 27 on a periodic grid (kernels/generalized_rd.h): a_out, b_out from a, b.
+  virtual void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                              const GeneralizedTaps& k, const GeneralizedRdParams& p) = 0;
+  // x <- (I - delta K)^-1 x on the periodic grid, exactly (seed 003, Eqn 28;
+  // kernels/periodic_stencil_solve.h).
+  virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) = 0;
 };
 
 // The CPU device over a RowExecutor (the engine's serial or threads back end): every op in bands
@@ -206,6 +216,9 @@ class CpuDevice final : public Device {
                                  const FieldF* conductivity, const DiffusionStep& s) override;
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                    ExplicitScheme scheme, const ExplicitRdParams& p) override;
+  void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                      const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
+  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) override;
 
  private:
   // The interior rows of an nx x ny grid in bands: f(Box2 rows) or f(Box2 rows, worker).

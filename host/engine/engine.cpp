@@ -151,6 +151,18 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
   if (ra.reaction.model != rb.reaction.model) return "rd.reaction.model";
   if (ra.scheme != rb.scheme) return "rd.scheme";
   if (ra.boundary != rb.boundary) return "rd.boundary";
+  if (ra.diffusion_operator != rb.diffusion_operator) return "rd.operator";
+  if (ra.diffusion_operator == RdOperator::kGeneralized) {
+    const GeneralizedRdConfig &ga = ra.generalized, &gb = rb.generalized;
+    for (int nx = 0; nx <= 4; ++nx)
+      for (int ny = 0; nx + ny <= 4; ++ny)
+        if (nx + ny >= 2 && ga.tensors.component(nx, ny) != gb.tensors.component(nx, ny))
+          return "rd.generalized (the tensor sequence)";
+    if (ra.cell_size != rb.cell_size) return "rd.cell_size (the generalized stencil holds it)";
+    if (ga.savitzky_golay_degree != gb.savitzky_golay_degree) return "rd.generalized.sg_degree";
+    if (ga.second_derivatives != gb.second_derivatives)
+      return "rd.generalized.second_derivatives";
+  }
   if (ra.react != rb.react) return "rd.react";
   if (ra.diffuse != rb.diffuse) return "rd.diffuse";
   if (ra.diffusion_solver.kind != rb.diffusion_solver.kind) return "rd.diffusion_solver.kind";
@@ -174,6 +186,9 @@ Status Engine::update_parameters(const SceneConfig& next) {
   if (!(next.dt > 0.0)) return Status::error("grid.dt: expected a positive time step");
   if (next.rd.enabled) {
     if (std::string why = rd_config_problem(next); !why.empty()) return Status::error(why);
+    if (solvers_->rd)
+      if (std::string why = solvers_->rd->parameter_problem(next); !why.empty())
+        return Status::error(why);
   }
   // Field by field: the strings (name, description) are left alone so nothing allocates.
   config_.dt = next.dt;

@@ -34,9 +34,12 @@ void OpenClDevice::reserve(Int2 grid) {
   }
 }
 
-// Every op has a twin; solves run here with Jacobi, RBGS or multigrid and implicit diffusion with
-// fixed Jacobi or RBGS sweeps; the other settings fall back (implicit_diffusion, solve).
-bool OpenClDevice::supports(DeviceOp op) const { return op != DeviceOp::kCount; }
+// Every op but the periodic (FFT) solve has a twin; solves run here with Jacobi, RBGS or
+// multigrid and implicit diffusion with fixed Jacobi or RBGS sweeps; the other settings fall back
+// (implicit_diffusion, solve).
+bool OpenClDevice::supports(DeviceOp op) const {
+  return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve;
+}
 
 // --- residency ---------------------------------------------------------------------------
 
@@ -536,6 +539,43 @@ void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
       cl_->explicit_rd5(da, db, da_out, db_out, all, p);
       break;
   }
+}
+
+const OpenClBuffer& OpenClDevice::stencil_weights(const GeneralizedTaps& k) {
+  const auto same = [](const GeneralizedTaps& a, const GeneralizedTaps& b) {
+    if (a.count != b.count) return false;
+    for (int t = 0; t < a.count; ++t)
+      if (a.taps[t].dx != b.taps[t].dx || a.taps[t].dy != b.taps[t].dy ||
+          a.taps[t].weight != b.taps[t].weight)
+        return false;
+    return true;
+  };
+  for (StencilTwin& t : stencils_)
+    if (t.host == &k) {
+      if (!same(t.uploaded, k)) {
+        t.weights = cl_->stencil25_weights(k);
+        t.uploaded = k;
+      }
+      return t.weights;
+    }
+  stencils_.push_back({&k, k, cl_->stencil25_weights(k)});
+  return stencils_.back().weights;
+}
+
+void OpenClDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                                  const GeneralizedTaps& k, const GeneralizedRdParams& p) {
+  const OpenClBuffer& weights = stencil_weights(k);
+  const DeviceField& da = in(a);
+  const DeviceField& db = in(b);
+  cl_->generalized_rd(da, db, out(a_out), out(b_out), weights, p);
+}
+
+void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) {
+  say_fallback(DeviceOp::kPeriodicSolve, "rd.scheme implicit or semi-implicit",
+               "the device has no FFT; rd.scheme explicit runs on it");
+  host_in(x);
+  cpu_.periodic_solve(solve, x, delta);
+  host_wrote(x);
 }
 
 }  // namespace ardcell

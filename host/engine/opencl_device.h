@@ -81,6 +81,10 @@ class OpenClDevice final : public Device {
                                  const FieldF* conductivity, const DiffusionStep& s) override;
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                    ExplicitScheme scheme, const ExplicitRdParams& p) override;
+  void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                      const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
+  // On the CPU (no FFT on the device yet), with one line.
+  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) override;
 
   OpenClKernels& kernels() { return *cl_; }
   // Bytes moved between host and device so far (tests: a steady frame moves none).
@@ -121,6 +125,14 @@ class OpenClDevice final : public Device {
     bool stale = true;
   };
 
+  // A generalized stencil's weights on the device, uploaded again when they change.
+  struct StencilTwin {
+    const GeneralizedTaps* host = nullptr;
+    GeneralizedTaps uploaded;
+    OpenClBuffer weights;
+  };
+  const OpenClBuffer& stencil_weights(const GeneralizedTaps& k);
+
   Mirror& mirror(const FieldF& f);
   // f's mirror, uploaded first when the host wrote f since.
   Mirror& current_on_device(const FieldF& f);
@@ -159,6 +171,7 @@ class OpenClDevice final : public Device {
   std::deque<MaskMirror> masks_;
   std::deque<DiffusionTwin> diffusions_;
   std::deque<OperatorTwin> operators_;
+  std::deque<StencilTwin> stencils_;
   ClRowPartials partial_sum_, partial_lo_, partial_hi_;
   std::vector<double> host_lo_, host_hi_;
   ClReactionTable table_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <type_traits>
@@ -38,7 +39,85 @@ BoundaryFill chemical_fill(BoundaryKind kind, float value) {
   return BoundaryFill::copy();
 }
 
+double rd_step_of(const SceneConfig& scene) { return scene.rd.dt > 0 ? scene.rd.dt : scene.dt; }
+double rd_cell_of(const SceneConfig& scene) {
+  return scene.rd.cell_size > 0 ? scene.rd.cell_size : scene.domain_width / scene.size.x;
+}
+// What multiplies the operator's stencil for A (or B): dt D / h^2 with the Laplacian; dt D with
+// the generalized operator, whose stencil carries h itself (generalized_stencil).
+double diffusion_scale(const SceneConfig& scene, bool b) {
+  const double h = scene.rd.diffusion_operator == RdOperator::kGeneralized ? 1.0 : rd_cell_of(scene);
+  return rd_step_of(scene) / (h * h) * scene.rd.anisotropy.isotropic_value *
+         (b ? scene.rd.diffusion_b : scene.rd.diffusion_a);
+}
+
+// K in cells for a cell of size h: a rank-l term D_l d^l u in the domain's units is
+// h^-l D_l d^l u in cells, so the ranks scale apart (h sets the length at which the rank-4 terms
+// overtake the rank-2 ones: sqrt(|D_4| / |D_2|) / h cells).
+Stencil5x5 generalized_stencil(const SceneConfig& scene) {
+  const RdConfig& rd = scene.rd;
+  const double h = rd_cell_of(scene);
+  TensorSequence d = rd.generalized.tensors;
+  const double s2 = 1.0 / (h * h), s3 = s2 / h, s4 = s3 / h;
+  for (double* c : {&d.xx, &d.xy, &d.yy}) *c *= s2;
+  for (double* c : {&d.xxx, &d.xxy, &d.xyy, &d.yyy}) *c *= s3;
+  for (double* c : {&d.xxxx, &d.xxxy, &d.xxyy, &d.xyyy, &d.yyyy}) *c *= s4;
+  GeneralizedDiffusionOptions options;
+  options.savitzky_golay_degree = rd.generalized.savitzky_golay_degree;
+  options.second_derivatives = rd.generalized.second_derivatives;
+  return assemble_generalized_stencil(d, options);
+}
+
+const char* generalized_problem(const SceneConfig& scene) {
+  const RdConfig& rd = scene.rd;
+  if (rd.diffusion_operator != RdOperator::kGeneralized) {
+    if (rd.scheme == RdScheme::kExplicit || rd.scheme == RdScheme::kSemiImplicit)
+      return "rd.scheme: explicit and semi-implicit are seed 003's schemes; they need rd.operator "
+             "generalized";
+    return nullptr;
+  }
+  if (rd.boundary != BoundaryKind::kPeriodic)
+    return "rd.operator generalized needs rd.boundary periodic (its textures tile)";
+  if (rd.scheme == RdScheme::kExplicit5 || rd.scheme == RdScheme::kExplicit9)
+    return "rd.scheme: explicit5 and explicit9 are the Laplacian's; use implicit, explicit or "
+           "semi-implicit with rd.operator generalized";
+  if (rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+    return "rd.anisotropy.kind: the generalized operator's anisotropy is its tensor sequence; "
+           "use isotropic";
+  if (rd.generalized.savitzky_golay_degree != 4 && rd.generalized.savitzky_golay_degree != 5)
+    return "rd.generalized.sg_degree must be 4 or 5";
+  const TensorSequence& d = rd.generalized.tensors;
+  for (int nx = 0; nx <= 4; ++nx)
+    for (int ny = 0; nx + ny <= 4; ++ny)
+      if (nx + ny >= 2 && !std::isfinite(d.component(nx, ny)))
+        return "rd.generalized: every tensor component must be a finite number";
+  if (scene.size.x < 5 || scene.size.y < 5)
+    return "rd.operator generalized needs a grid of at least 5x5 cells (a 5x5 stencil)";
+  return nullptr;
+}
+
 }  // namespace
+
+std::string generalized_stability_line(const SceneConfig& scene) {
+  const RdConfig& rd = scene.rd;
+  if (!rd.enabled || rd.diffusion_operator != RdOperator::kGeneralized ||
+      rd.scheme != RdScheme::kExplicit || !rd.diffuse || generalized_problem(scene))
+    return "";
+  const Stencil5x5 k = generalized_stencil(scene);
+  // The symbol is smooth in the wavenumber: 128 samples per axis find its extremes.
+  const int n = std::min(128, std::min(scene.size.x, scene.size.y));
+  const double rho_a = explicit_spectral_radius(k, diffusion_scale(scene, false), n);
+  const double rho_b = explicit_spectral_radius(k, diffusion_scale(scene, true), n);
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "rd: explicit update (seed 003, Eqn 27): rho(I + dt D_A K) = %.4f, "
+                "rho(I + dt D_B K) = %.4f%s",
+                rho_a, rho_b,
+                std::max(rho_a, rho_b) > 1.0
+                    ? "; above 1, errors grow: lower rd.dt or use rd.scheme semi-implicit"
+                    : "");
+  return line;
+}
 
 std::string rd_config_problem(const SceneConfig& scene) {
   const RdConfig& rd = scene.rd;
@@ -63,6 +142,7 @@ std::string rd_config_problem(const SceneConfig& scene) {
   }
   if (!(rd.noise >= 0 && rd.noise <= 1)) return "rd.noise must be in [0, 1]";
   if (scene.size.x < 3 || scene.size.y < 3) return "rd needs a grid of at least 3x3 cells";
+  if (const char* why = generalized_problem(scene)) return why;
   return "";
 }
 
@@ -73,7 +153,19 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   const double scene_h = scene.domain_width / scene.size.x;
   dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
   h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_h;
-  if (rd_.scheme == RdScheme::kImplicit && rd_.diffuse) {
+  const bool generalized = rd_.diffusion_operator == RdOperator::kGeneralized;
+  if (generalized) {
+    const Stencil5x5 k = generalized_stencil(scene);
+    generalized_ = std::make_unique<GeneralizedTaps>(k);
+    if (rd_.diffuse && rd_.scheme != RdScheme::kExplicit) {
+      // Throw std::invalid_argument with problem()'s line when (I - dt D K) is singular.
+      periodic_a_ = std::make_unique<PeriodicStencilSolve>(scene.size, k, ex);
+      periodic_b_ = std::make_unique<PeriodicStencilSolve>(scene.size, k, ex);
+      periodic_a_->set_delta(diffusion_scale(scene, false));
+      periodic_b_->set_delta(diffusion_scale(scene, true));
+    }
+  }
+  if (rd_.scheme == RdScheme::kImplicit && rd_.diffuse && !generalized) {
     diff_a_ =
         std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, ex);
     diff_b_ =
@@ -108,7 +200,8 @@ RdStepper::~RdStepper() = default;
 namespace {
 bool same_reaction(const ReactionParams& a, const ReactionParams& b) {
   return a.model == b.model && a.F == b.F && a.k == b.k && a.turing_s == b.turing_s &&
-         a.turing_beta == b.turing_beta && a.meinhardt_s == b.meinhardt_s &&
+         a.turing_beta == b.turing_beta && a.turing_supply == b.turing_supply &&
+         a.meinhardt_s == b.meinhardt_s &&
          a.meinhardt_alpha == b.meinhardt_alpha && a.meinhardt_p1 == b.meinhardt_p1 &&
          a.meinhardt_p2 == b.meinhardt_p2 && a.meinhardt_p3 == b.meinhardt_p3 &&
          a.fhn_epsilon == b.fhn_epsilon && a.fhn_a0 == b.fhn_a0 && a.fhn_a1 == b.fhn_a1 &&
@@ -135,6 +228,18 @@ void RdStepper::update_parameters(const SceneConfig& scene) {
     dev_->host_wrote(table_);
   }
   if (parallel_gs9_) parallel_gs9_->set_params(gray_scott9_params());
+  if (periodic_a_) periodic_a_->set_delta(diffusion_scale(scene_, false));
+  if (periodic_b_) periodic_b_->set_delta(diffusion_scale(scene_, true));
+}
+
+std::string RdStepper::parameter_problem(const SceneConfig& scene) const {
+  if (periodic_a_)
+    if (std::string why = periodic_a_->problem(diffusion_scale(scene, false)); !why.empty())
+      return "rd.diffusion_a: " + why;
+  if (periodic_b_)
+    if (std::string why = periodic_b_->problem(diffusion_scale(scene, true)); !why.empty())
+      return "rd.diffusion_b: " + why;
+  return "";
 }
 
 void RdStepper::init_state(SimState& s) const {
@@ -253,6 +358,40 @@ void RdStepper::explicit_step(SimState& s) {
   dev_->swap(s.B, scratch_b_);
 }
 
+GeneralizedRdParams RdStepper::generalized_params(bool react, bool diffuse) const {
+  GeneralizedRdParams p;
+  p.reaction = rd_.reaction;
+  p.dt = react ? float(dt_) : 0.0f;
+  p.scale_a = diffuse ? float(diffusion_scale(scene_, false)) : 0.0f;
+  p.scale_b = diffuse ? float(diffusion_scale(scene_, true)) : 0.0f;
+  const ConcentrationBox box = typical_range(rd_.reaction);
+  p.a_lo = float(box.a_lo), p.a_hi = float(box.a_hi);
+  p.b_lo = float(box.b_lo), p.b_hi = float(box.b_hi);
+  return p;
+}
+
+void RdStepper::generalized_step(SimState& s) {
+  const bool solve = rd_.diffuse && rd_.scheme != RdScheme::kExplicit;
+  if (rd_.scheme == RdScheme::kImplicit) {
+    if (rd_.react) react(s);  // Eqn 6
+  } else if (rd_.react || rd_.diffuse) {
+    // Eqn 27 (explicit), or Eqn 28's u + dt f(u) (semi-implicit: diffusion by the solve below).
+    dev_->generalized_rd(s.A, s.B, scratch_a_, scratch_b_, *generalized_,
+                         generalized_params(rd_.react, rd_.diffuse && !solve));
+    dev_->swap(s.A, scratch_a_);
+    dev_->swap(s.B, scratch_b_);
+  }
+  if (solve) {  // (I - dt D K)^-1, exactly (Eqn 28)
+    dev_->periodic_solve(*periodic_a_, s.A, periodic_a_->delta());
+    dev_->periodic_solve(*periodic_b_, s.B, periodic_b_->delta());
+    // The solve's result clamped like every other result (kernels/generalized_rd.h says why).
+    dev_->generalized_rd(s.A, s.B, scratch_a_, scratch_b_, *generalized_,
+                         generalized_params(false, false));
+    dev_->swap(s.A, scratch_a_);
+    dev_->swap(s.B, scratch_b_);
+  }
+}
+
 void RdStepper::parallel_gray_scott9_frame(SimState& s) {
   ParallelGrayScott9& sim = *parallel_gs9_;
   // run() reads its a() and b() and writes them back: lend it the state's own fields (same
@@ -305,7 +444,9 @@ void RdStepper::step(SimState& s) {
     parallel_gray_scott9_frame(s);
   } else {
     for (int k = 0; k < rd_.steps_per_frame; ++k) {
-      if (rd_.scheme == RdScheme::kImplicit) {
+      if (generalized_) {
+        generalized_step(s);
+      } else if (rd_.scheme == RdScheme::kImplicit) {
         if (rd_.react) react(s);
         if (rd_.diffuse) diffuse(s);
       } else {

@@ -5,6 +5,10 @@
 //   -> semi-Lagrangian advection of A and B by the fluid velocity (Eqn 20), when the scene has
 //      a fluid (u, v allocated) and rd.advect is on.
 // The explicit schemes (RdScheme::kExplicit5/9) replace the first two stages by forward Euler.
+// With seed 003's generalized operator (rd.operator generalized, periodic) the diffusion is the
+// 25-point stencil K of the tensor sequence (kernels/generalized_rd.h): `explicit` is Eqn 27 in
+// one pass; `semi-implicit` is Eqn 28 (explicit reaction, then (I - dt D K)^-1 by FFT,
+// kernels/periodic_stencil_solve.h); `implicit` is Eqn 6's reaction, then the same solve.
 // rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
 // Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps on every core
 // with ParallelGrayScott9 (host/engine/rd_parallel_gray_scott.h), temporally blocked; the other
@@ -20,12 +24,18 @@
 #include "host/engine/device.h"
 #include "host/engine/rd_parallel_gray_scott.h"
 #include "kernels/aniso_diffusion.h"
+#include "kernels/periodic_stencil_solve.h"
 #include "kernels/reaction_table.h"
 
 namespace ardcell {
 
 // One line naming the first bad RD parameter of the scene, or "" when it can run.
 std::string rd_config_problem(const SceneConfig& scene);
+
+// For the generalized operator, one line a run prints before it starts: the explicit update's
+// spectral radius rho(I + dt D K) for A and B (seed 003, Eqn 27), with a warning when it
+// exceeds 1; "" for the other schemes and operators.
+std::string generalized_stability_line(const SceneConfig& scene);
 
 struct RdStepStats {
   int diffusion_iterations_a = 0, diffusion_iterations_b = 0;
@@ -52,6 +62,9 @@ class RdStepper {
   // boundary, react/diffuse, table settings) and checked rd_config_problem(). Allocates nothing,
   // except that a reaction table is rebuilt when the reaction parameters or dt change.
   void update_parameters(const SceneConfig& scene);
+  // One line when `scene`'s steps cannot be solved (a periodic solve whose (I - dt D K) is
+  // singular at the new dt or rates), "" otherwise. No allocation when "".
+  std::string parameter_problem(const SceneConfig& scene) const;
 
   const RdStepStats& stats() const { return stats_; }
   double rd_dt() const { return dt_; }
@@ -62,6 +75,9 @@ class RdStepper {
   void react(SimState& s);
   void diffuse(SimState& s);
   void explicit_step(SimState& s);
+  // One step of seed 003's generalized RD (Eqns 27, 28).
+  void generalized_step(SimState& s);
+  GeneralizedRdParams generalized_params(bool react, bool diffuse) const;
   GrayScott9Params gray_scott9_params() const;
   // A frame's steps of seed 001's scheme with parallel_gs9_: A and B are copied in and out.
   void parallel_gray_scott9_frame(SimState& s);
@@ -72,6 +88,8 @@ class RdStepper {
   RdConfig rd_;
   double dt_, h_;
   std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
+  std::unique_ptr<GeneralizedTaps> generalized_;                   // rd.operator generalized
+  std::unique_ptr<PeriodicStencilSolve> periodic_a_, periodic_b_;  // its implicit solves
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
   std::unique_ptr<ParallelGrayScott9> parallel_gs9_;

@@ -28,7 +28,10 @@ constexpr std::string_view kModels[] = {"gray-scott",      "turing",  "meinhardt
                                         "fitzhugh-nagumo", "barkley", "barkley-turbulent"};
 constexpr std::string_view kAnisotropies[] = {"isotropic", "witkin-kass", "lobes", "polar"};
 constexpr std::string_view kBoundaries[] = {"periodic", "neumann", "dirichlet"};
-constexpr std::string_view kSchemes[] = {"implicit", "explicit5", "explicit9"};
+constexpr std::string_view kSchemes[] = {"implicit", "explicit5", "explicit9", "explicit",
+                                         "semi-implicit"};
+constexpr std::string_view kOperators[] = {"laplacian", "generalized"};
+constexpr std::string_view kSecondDerivatives[] = {"central", "savitzky-golay"};
 constexpr std::string_view kPatterns[] = {"uniform", "centre-square", "seed-square", "random-spots",
                                           "stripe"};
 constexpr std::string_view kColormaps[] = {"gray", "viridis", "magma", "rdbu"};
@@ -177,7 +180,8 @@ const ParamSpec kParams[] = {
     ARD_BOOL("rd.diffuse", scene.rd.diffuse, true, "diffuse the chemicals"),
     ARD_BOOL("rd.advect", scene.rd.advect, false, "carry the chemicals with the fluid (Eqn 20)"),
     ARD_ENUM("rd.scheme", scene.rd.scheme, kSchemes, true,
-             "implicit (Eqns 6, 19) | explicit5 | explicit9 (forward Euler; isotropic only)"),
+             "implicit (Eqns 6, 19) | explicit5 | explicit9 (forward Euler; isotropic only) | "
+             "explicit | semi-implicit (generalized operator: seed 003 Eqns 27, 28)"),
     ARD_NUMBER("rd.dt", scene.rd.dt, 0, 1e6, false, "RD time step; 0: grid.dt"),
     ARD_NUMBER("rd.cell_size", scene.rd.cell_size, 0, 1e6, false,
                "RD cell size h; 0: the grid's h"),
@@ -191,6 +195,28 @@ const ParamSpec kParams[] = {
     ARD_NUMBER("rd.boundary_b", scene.rd.boundary_b, -1e6, 1e6, false, "Dirichlet value of B"),
     ARD_BOOL("rd.crank_nicolson", scene.rd.crank_nicolson, false,
              "Crank-Nicolson instead of backward Euler diffusion"),
+    ARD_ENUM("rd.operator", scene.rd.diffusion_operator, kOperators, true,
+             "laplacian (Kim & Lin) | generalized (seed 003's 25-point operator; periodic)"),
+#define ARD_TENSOR(name, help_)                                                           \
+  ARD_NUMBER("rd.generalized." #name, scene.rd.generalized.tensors.name, -1e3, 1e3, true, \
+             help_)
+    ARD_TENSOR(xx, "rank 2: D_xx"),
+    ARD_TENSOR(xy, "rank 2: D_xy"),
+    ARD_TENSOR(yy, "rank 2: D_yy"),
+    ARD_TENSOR(xxx, "rank 3: D_xxx"),
+    ARD_TENSOR(xxy, "rank 3: D_xxy"),
+    ARD_TENSOR(xyy, "rank 3: D_xyy"),
+    ARD_TENSOR(yyy, "rank 3: D_yyy"),
+    ARD_TENSOR(xxxx, "rank 4: D_xxxx"),
+    ARD_TENSOR(xxxy, "rank 4: D_xxxy"),
+    ARD_TENSOR(xxyy, "rank 4: D_xxyy"),
+    ARD_TENSOR(xyyy, "rank 4: D_xyyy"),
+    ARD_TENSOR(yyyy, "rank 4: D_yyyy"),
+#undef ARD_TENSOR
+    ARD_INTEGER("rd.generalized.sg_degree", scene.rd.generalized.savitzky_golay_degree, 4, 5, true,
+                "Savitzky-Golay fit degree of the rank-3/4 derivatives (5: minimum norm)"),
+    ARD_ENUM("rd.generalized.second_derivatives", scene.rd.generalized.second_derivatives,
+             kSecondDerivatives, true, "central (the paper's choice) | savitzky-golay"),
     ARD_RD_SOLVER("rd.diffusion_solver", diffusion_solver),
     ARD_ENUM("rd.reaction.model", scene.rd.reaction.model, kModels, true,
              "gray-scott | turing | meinhardt | fitzhugh-nagumo | barkley | barkley-turbulent"),
@@ -199,6 +225,8 @@ const ParamSpec kParams[] = {
     ARD_NUMBER("rd.reaction.turing_s", scene.rd.reaction.turing_s, 0, 1e3, false, "Turing s"),
     ARD_NUMBER("rd.reaction.turing_beta", scene.rd.reaction.turing_beta, -1e3, 1e3, false,
                "Turing beta"),
+    ARD_NUMBER("rd.reaction.turing_supply", scene.rd.reaction.turing_supply, 0, 1e3, false,
+               "Turing supply of B (Turk's 16; seed 003's beta)"),
     ARD_NUMBER("rd.reaction.meinhardt_s", scene.rd.reaction.meinhardt_s, 0, 1e3, false,
                "Meinhardt s"),
     ARD_NUMBER("rd.reaction.meinhardt_alpha", scene.rd.reaction.meinhardt_alpha, 0, 1e6, false,
@@ -594,6 +622,25 @@ std::vector<KeyProblem> scene_key_problems(const SceneConfig& scene) {
                    "expected implicit with rd.anisotropy.kind " + std::string(kind_name()) +
                        " (the explicit schemes are isotropic), got " +
                        std::string(kSchemes[size_t(rd.scheme)])});
+  const bool generalized = rd.diffusion_operator == RdOperator::kGeneralized;
+  if (generalized && rd.boundary != BoundaryKind::kPeriodic)
+    out.push_back({"rd.boundary", "rd.operator",
+                   "expected periodic with rd.operator generalized (its textures tile), got " +
+                       std::string(kBoundaries[size_t(rd.boundary)])});
+  if (generalized && (rd.scheme == RdScheme::kExplicit5 || rd.scheme == RdScheme::kExplicit9))
+    out.push_back({"rd.scheme", "rd.operator",
+                   "expected implicit, explicit or semi-implicit with rd.operator generalized, "
+                   "got " +
+                       std::string(kSchemes[size_t(rd.scheme)])});
+  if (!generalized && (rd.scheme == RdScheme::kExplicit || rd.scheme == RdScheme::kSemiImplicit))
+    out.push_back({"rd.scheme", "rd.operator",
+                   "expected implicit, explicit5 or explicit9 with rd.operator laplacian, got " +
+                       std::string(kSchemes[size_t(rd.scheme)])});
+  if (generalized && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+    out.push_back({"rd.anisotropy.kind", "rd.operator",
+                   "expected isotropic with rd.operator generalized (the tensor sequence is its "
+                   "anisotropy), got " +
+                       std::string(kind_name())});
   if (rd.use_table && !rd.table_range_auto) {
     const ConcentrationBox& r = rd.table_range;
     if (!(r.a_hi > r.a_lo))

@@ -46,7 +46,7 @@ void reaction_args(const ReactionParams& p, float q[5]) {
       q[0] = p.F, q[1] = p.k;
       break;
     case ReactionModel::kTuring:
-      q[0] = p.turing_s, q[1] = p.turing_beta;
+      q[0] = p.turing_s, q[1] = p.turing_beta, q[2] = p.turing_supply;
       break;
     case ReactionModel::kMeinhardt:
       q[0] = p.meinhardt_s, q[1] = p.meinhardt_alpha, q[2] = p.meinhardt_p1;
@@ -798,6 +798,30 @@ void OpenClKernels::gray_scott9_explicit(const DeviceField& a, const DeviceField
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
                   box4(region), p.F, fk, p.dt, ca, cb, ma, mb);
   enqueue_cells(k, region);
+}
+
+OpenClBuffer OpenClKernels::stencil25_weights(const GeneralizedTaps& k) {
+  float w[25] = {};
+  for (int t = 0; t < k.count; ++t) w[(k.taps[t].dy + 2) * 5 + k.taps[t].dx + 2] = k.taps[t].weight;
+  OpenClBuffer buffer = ctx_.allocate(sizeof(w));
+  ctx_.write(buffer, w, sizeof(w));
+  return buffer;
+}
+
+void OpenClKernels::generalized_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                   DeviceField& b_out, const OpenClBuffer& weights,
+                                   const GeneralizedRdParams& p) {
+  // Layouts and aliasing (the kernel wraps its indices: the halo check holds trivially).
+  if (!check_explicit_rd_args(a, b, a_out, b_out, a.interior())) return;
+  ARDCELL_CHECK(weights.bytes() == 25 * sizeof(float), "generalized RD: 25 stencil weights");
+  float q[5];
+  reaction_args(p.reaction, q);
+  cl_kernel k = kernel("generalized_rd");
+  const cl_int2 size{{a.size.x, a.size.y}};
+  set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin, size,
+                  weights, int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt, p.scale_a,
+                  p.scale_b, cl_float4{{p.a_lo, p.a_hi, p.b_lo, p.b_hi}});
+  enqueue_cells(k, a.interior());
 }
 
 }  // namespace ardcell

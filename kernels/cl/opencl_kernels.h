@@ -13,6 +13,7 @@
 #include "kernels/advect.h"
 #include "kernels/anisotropy.h"
 #include "kernels/explicit_rd.h"
+#include "kernels/generalized_rd.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
 #include "kernels/reaction_table.h"
@@ -238,6 +239,12 @@ class OpenClKernels {
                     DeviceField& b_out, Box2 region, const ExplicitRdParams& p);
   void explicit_rd9(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                     DeviceField& b_out, Box2 region, const ExplicitRdParams& p);
+  // Twin of kernels/generalized_rd.h over the whole interior (periodic, reads no halo); the
+  // stencil's 25 weights as stencil25_weights() uploaded them (row-major from (-2, -2)).
+  OpenClBuffer stencil25_weights(const GeneralizedTaps& k);
+  void generalized_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                      DeviceField& b_out, const OpenClBuffer& weights,
+                      const GeneralizedRdParams& p);
   // gray_scott9_explicit_tile's twin (no scratch: each work-item sums its own columns).
   void gray_scott9_explicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                             DeviceField& b_out, Box2 region, const GrayScott9Params& p);

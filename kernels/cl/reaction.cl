@@ -4,7 +4,7 @@
 //
 // Model ids and parameters (p0..p4) as kernels/reaction.h's ReactionModel / ReactionParams:
 //   0 gray-scott       F, k
-//   1 turing           s, beta
+//   1 turing           s, beta, supply
 //   2 meinhardt        s, alpha, p1, p2, p3
 //   3 fitzhugh-nagumo  epsilon, a0, a1, M (the invariant box half-width)
 //   4 barkley          epsilon, a, b
@@ -136,7 +136,7 @@ inline void rd_implicit_cell(int model, float p0, float p1, float p2, float p3, 
     }
     case 1: {
       const real q = (real)p0 * dt, beta = (real)p1;
-      const real C = B + (real)16.0 * q;
+      const real C = B + (real)p2 * q;
       s.c0 = q;
       s.c1 = beta;
       s.c2 = C;
@@ -295,7 +295,7 @@ inline void rd_rates(int model, float p0, float p1, float p2, float p3, float p4
       return;
     case 1:  // turing: s, beta
       *ra = (real)p0 * (A * B - A - (real)p1);
-      *rb = (real)p0 * ((real)16.0 - A * B);
+      *rb = (real)p0 * ((real)p2 - A * B);
       return;
     case 2: {  // meinhardt: s, alpha, p1, p2, p3
       const real m = (real)0.01 * (real)p1 * A * A;

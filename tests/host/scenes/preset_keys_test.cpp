@@ -47,10 +47,10 @@ auto members(const ConcentrationBox& b) {
   return std::tie(a_lo, a_hi, b_lo, b_hi);
 }
 auto members(const ReactionParams& r) {
-  const auto& [model, F, k, turing_s, turing_beta, meinhardt_s, meinhardt_alpha, meinhardt_p1,
+  const auto& [model, F, k, turing_s, turing_beta, turing_supply, meinhardt_s, meinhardt_alpha, meinhardt_p1,
                meinhardt_p2, meinhardt_p3, fhn_epsilon, fhn_a0, fhn_a1, barkley_epsilon, barkley_a,
                barkley_b] = r;
-  return std::tie(model, F, k, turing_s, turing_beta, meinhardt_s, meinhardt_alpha, meinhardt_p1,
+  return std::tie(model, F, k, turing_s, turing_beta, turing_supply, meinhardt_s, meinhardt_alpha, meinhardt_p1,
                   meinhardt_p2, meinhardt_p3, fhn_epsilon, fhn_a0, fhn_a1, barkley_epsilon,
                   barkley_a, barkley_b);
 }
@@ -60,14 +60,22 @@ auto members(const AnisotropyParams& a) {
   return std::tie(kind, isotropic_value, a1, a2, lobes, lobe_speed, samples, sample, theta0,
                   gradient_epsilon);
 }
+auto members(const TensorSequence& t) {
+  const auto& [xx, xy, yy, xxx, xxy, xyy, yyy, xxxx, xxxy, xxyy, xyyy, yyyy] = t;
+  return std::tie(xx, xy, yy, xxx, xxy, xyy, yyy, xxxx, xxxy, xxyy, xyyy, yyyy);
+}
+auto members(const GeneralizedRdConfig& g) {
+  const auto& [tensors, savitzky_golay_degree, second_derivatives] = g;
+  return std::tie(tensors, savitzky_golay_degree, second_derivatives);
+}
 auto members(const RdConfig& r) {
   const auto& [enabled, reaction, react, use_table, table_resolution, table_range_auto, table_range,
-               diffuse, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b, diffusion_solver,
+               diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b, diffusion_solver,
                boundary, boundary_a, boundary_b, crank_nicolson, advect, scheme, dt, cell_size,
                steps_per_frame, initial, background_a, background_b, seed_a, seed_b, seed_size,
                seed_cells, spots, seed_radius, noise, seed] = r;
   return std::tie(enabled, reaction, react, use_table, table_resolution, table_range_auto,
-                  table_range, diffuse, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b,
+                  table_range, diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b,
                   diffusion_solver, boundary, boundary_a, boundary_b, crank_nicolson, advect,
                   scheme, dt, cell_size, steps_per_frame, initial, background_a, background_b,
                   seed_a, seed_b, seed_size, seed_cells, spots, seed_radius, noise, seed);
@@ -136,6 +144,7 @@ SceneConfig everything_changed() {
                 0.059f,
                 0.1f,
                 11.0f,
+                14.0f,
                 0.02f,
                 90.0f,
                 -0.5f,
@@ -153,6 +162,10 @@ SceneConfig everything_changed() {
   r.table_range_auto = false;
   r.table_range = {-1.5, 2.5, -0.25, 3.75};
   r.diffuse = false;
+  r.diffusion_operator = RdOperator::kGeneralized;
+  r.generalized.tensors = {0.5, 0.25, 1.5, 0.1, -0.2, 0.3, -0.4, -0.5, 0.6, -0.7, 0.8, -0.9};
+  r.generalized.savitzky_golay_degree = 5;
+  r.generalized.second_derivatives = SecondDerivatives::kSavitzkyGolay;
   r.diffusion_a = 0.33;
   r.diffusion_b = 0.77;
   r.anisotropy.kind = AnisotropyKind::kPolarSamples;
@@ -233,10 +246,16 @@ TEST(PresetKeys, EveryMemberAwayFromItsDefaultSurvivesToml) {
   EXPECT_EQ(unchanged, std::vector<std::string>{});
   // The explicit schemes are isotropic (check_scene_keys refuses both at once): the scheme and
   // the anisotropy go through TOML in two scenes.
-  SceneConfig explicit_scheme = s, anisotropic = s;
+  // The generalized operator needs a periodic, isotropic scene and its own schemes: a third.
+  SceneConfig explicit_scheme = s, anisotropic = s, generalized = s;
   explicit_scheme.rd.anisotropy.kind = AnisotropyKind::kIsotropic;
   anisotropic.rd.scheme = RdScheme::kImplicit;
-  for (const SceneConfig& v : {explicit_scheme, anisotropic}) {
+  for (SceneConfig* v : {&explicit_scheme, &anisotropic})
+    v->rd.diffusion_operator = RdOperator::kLaplacian;
+  generalized.rd.anisotropy.kind = AnisotropyKind::kIsotropic;
+  generalized.rd.scheme = RdScheme::kSemiImplicit;
+  generalized.rd.boundary = BoundaryKind::kPeriodic;
+  for (const SceneConfig& v : {explicit_scheme, anisotropic, generalized}) {
     std::string text;
     const SceneConfig back = through_toml(v, &text);
     EXPECT_EQ(difference(v, back, "scene"), "") << text;

@@ -1,0 +1,149 @@
+#include "kernels/generalized_rd.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace ardcell {
+namespace {
+
+// Cells per chunk: a chunk's sums stay in registers while the taps stream past them.
+constexpr int kChunk = 64;
+
+// A wrapped row: cells x = -2 .. nx + 1 at [0, nx + 4), padded so that every chunk may read a
+// whole kChunk + 4 cells (the padding's sums are computed and never stored).
+std::size_t ring_row_floats(int nx) {
+  const std::size_t chunks = (std::size_t(nx) + kChunk - 1) / kChunk;
+  return chunks * kChunk + 16;
+}
+
+int wrap(int i, int n) { return ((i % n) + n) % n; }
+
+// Copies interior row wrap(y) of f, with two wrapped cells on each side, into dst.
+void load_wrapped_row(View<const float> f, Int2 size, int y, float* dst) {
+  const float* row = f.row(wrap(y, size.y));
+  std::memcpy(dst + 2, row, sizeof(float) * std::size_t(size.x));
+  for (int i : {0, 1, size.x + 2, size.x + 3}) dst[i] = row[wrap(i - 2, size.x)];
+}
+
+// The reaction of a model in float, vectorisable (Gray-Scott, Turing), or through
+// reaction_rates in double (the others).
+struct GrayScottRates {
+  float F, fk;
+  void operator()(float A, float B, float& ra, float& rb) const {
+    const float abb = A * B * B;
+    ra = F * (1.0f - A) - abb;
+    rb = abb - fk * B;
+  }
+};
+struct TuringRates {
+  float s, beta, supply;
+  void operator()(float A, float B, float& ra, float& rb) const {
+    const float ab = A * B;
+    ra = s * (ab - A - beta);
+    rb = s * (supply - ab);
+  }
+};
+struct AnyRates {
+  const ReactionParams* p;
+  void operator()(float A, float B, float& ra, float& rb) const {
+    double da, db;
+    reaction_rates(*p, A, B, da, db);
+    ra = float(da);
+    rb = float(db);
+  }
+};
+
+// One chunk's sums K f over cells [x0, x0 + kChunk) from the five wrapped rows around y.
+inline void chunk_sums(const GeneralizedTaps& k, const float* const rows[5], int x0,
+                       float* __restrict acc) {
+  for (int i = 0; i < kChunk; ++i) acc[i] = 0.0f;
+  for (int t = 0; t < k.count; ++t) {
+    const GeneralizedTaps::Tap& tap = k.taps[t];
+    const float* __restrict src = rows[tap.dy + 2] + 2 + x0 + tap.dx;
+    const float w = tap.weight;
+    for (int i = 0; i < kChunk; ++i) acc[i] += w * src[i];
+  }
+}
+
+template <class Rates>
+void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> b,
+               View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+               const GeneralizedRdParams& p, const Rates& rates, float* scratch) {
+  const std::size_t w = ring_row_floats(size.x);
+  float* ring_a = scratch;
+  float* ring_b = scratch + 5 * w;
+  const auto slot = [](int y) { return wrap(y, 5); };
+  for (int y = y0 - 2; y <= y0 + 2; ++y) {
+    load_wrapped_row(a, size, y, ring_a + w * std::size_t(slot(y)));
+    load_wrapped_row(b, size, y, ring_b + w * std::size_t(slot(y)));
+  }
+  const bool diffuse_a = p.scale_a != 0.0f, diffuse_b = p.scale_b != 0.0f;
+  const float sa = p.scale_a, sb = p.scale_b, dt = p.dt;
+  const float a_lo = p.a_lo, a_hi = p.a_hi, b_lo = p.b_lo, b_hi = p.b_hi;
+  alignas(64) float acc_a[kChunk];
+  alignas(64) float acc_b[kChunk];
+  for (int y = y0; y < y1; ++y) {
+    const float* rows_a[5];
+    const float* rows_b[5];
+    for (int d = 0; d < 5; ++d) {
+      rows_a[d] = ring_a + w * std::size_t(slot(y + d - 2));
+      rows_b[d] = ring_b + w * std::size_t(slot(y + d - 2));
+    }
+    const float* ac = a.row(y);
+    const float* bc = b.row(y);
+    float* ao = a_out.row(y);
+    float* bo = b_out.row(y);
+    for (int x0 = 0; x0 < size.x; x0 += kChunk) {
+      if (diffuse_a) chunk_sums(k, rows_a, x0, acc_a);
+      if (diffuse_b) chunk_sums(k, rows_b, x0, acc_b);
+      const int n = std::min(kChunk, size.x - x0);
+      for (int i = 0; i < n; ++i) {
+        const float A = ac[x0 + i], B = bc[x0 + i];
+        float ra, rb;
+        rates(A, B, ra, rb);
+        const float da = diffuse_a ? sa * acc_a[i] : 0.0f;
+        const float db = diffuse_b ? sb * acc_b[i] : 0.0f;
+        ao[x0 + i] = std::min(std::max(A + da + dt * ra, a_lo), a_hi);
+        bo[x0 + i] = std::min(std::max(B + db + dt * rb, b_lo), b_hi);
+      }
+    }
+    // The row two below the next one enters the ring where the row two above this one was.
+    if (y + 1 < y1) {
+      load_wrapped_row(a, size, y + 3, ring_a + w * std::size_t(slot(y + 3)));
+      load_wrapped_row(b, size, y + 3, ring_b + w * std::size_t(slot(y + 3)));
+    }
+  }
+}
+
+}  // namespace
+
+GeneralizedTaps::GeneralizedTaps(const Stencil5x5& k) {
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx)
+      if (const float weight = float(k.at(dx, dy)); weight != 0.0f)
+        taps[count++] = {dx, dy, weight};
+}
+
+std::size_t generalized_rd_scratch_floats(int nx) { return 10 * ring_row_floats(nx); }
+
+void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
+                         View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+                         const GeneralizedRdParams& p, float* scratch) {
+  ARDCELL_DCHECK(size.x >= 2 && size.y >= 2, "generalized RD needs at least 2 x 2 cells");
+  if (y0 >= y1) return;
+  const ReactionParams& r = p.reaction;
+  switch (r.model) {
+    case ReactionModel::kGrayScott:
+      rows_with(k, a, b, a_out, b_out, size, y0, y1, p, GrayScottRates{r.F, r.F + r.k}, scratch);
+      return;
+    case ReactionModel::kTuring:
+      rows_with(k, a, b, a_out, b_out, size, y0, y1, p,
+                TuringRates{r.turing_s, r.turing_beta, r.turing_supply}, scratch);
+      return;
+    default:
+      rows_with(k, a, b, a_out, b_out, size, y0, y1, p, AnyRates{&r}, scratch);
+      return;
+  }
+}
+
+}  // namespace ardcell

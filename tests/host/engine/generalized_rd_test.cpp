@@ -1,0 +1,216 @@
+// Seed 003's generalized reaction-diffusion on the engine (rd.operator generalized): the fused
+// kernel against the double-precision stencil, the schemes of Eqns 27/28, the presets'
+// orientations (Fig. 2-5: axes for (d), diagonals for (e), none for (a)), and the checks that
+// refuse what the operator cannot run.
+#include <fftw3.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <mutex>
+#include <random>
+#include <vector>
+
+#include "host/engine/engine.h"
+#include "host/engine/rd_step.h"
+#include "host/scenes/preset.h"
+#include "kernels/generalized_rd.h"
+#include "kernels/periodic_stencil_solve.h"
+
+namespace ardcell {
+namespace {
+
+FieldF random_field(Int2 size, int halo, unsigned seed, float lo, float hi) {
+  FieldF f(size, halo);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(lo, hi);
+  for (int y = 0; y < size.y; ++y)
+    for (int x = 0; x < size.x; ++x) f(x, y) = u(rng);
+  return f;
+}
+
+SceneConfig preset_scene(const char* name) {
+  Preset p;
+  const Status s = load_builtin_preset(name, p);
+  EXPECT_TRUE(s) << s.message();
+  return p.scene;
+}
+
+// Diffusion alone (no reaction, no clamp): the fused float kernel with periodic index wrap
+// against GeneralizedDiffusion's double sums over a wrapped halo of 2.
+TEST(GeneralizedRdKernel, MatchesTheDoubleStencilOnEverySequence) {
+  const Int2 size{37, 29};
+  for (const NamedTensorSequence& seq : kTable2) {
+    const Stencil5x5 k = assemble_generalized_stencil(seq.tensors);
+    FieldF a = random_field(size, 2, 7, 0.0f, 1.0f), b = random_field(size, 2, 8, 0.0f, 1.0f);
+    FieldF a_out(size, 2), b_out(size, 2), ref(size, 2);
+    GeneralizedRdParams p;
+    p.scale_a = 0.05f;
+    p.scale_b = 0.02f;
+    std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
+    generalized_rd_rows(GeneralizedTaps(k), a.view(), b.view(), a_out.view(), b_out.view(), size,
+                        0, size.y, p, scratch.data());
+    fill_periodic_halo(a);
+    GeneralizedDiffusion(k).explicit_step_tile(a.view(), ref.view(), box_of_size(size), 0.05);
+    double worst = 0;
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x) worst = std::max(worst, double(std::abs(a_out(x, y) - ref(x, y))));
+    EXPECT_LT(worst, 2e-6) << "sequence " << seq.name;
+  }
+}
+
+TEST(GeneralizedRdKernel, BandsOfRowsGiveTheSameBits) {
+  const Int2 size{45, 31};
+  const GeneralizedTaps k(assemble_generalized_stencil(kTable2C));
+  const FieldF a = random_field(size, 1, 3, 0.0f, 1.0f), b = random_field(size, 1, 4, 0.0f, 1.0f);
+  GeneralizedRdParams p;
+  p.reaction.model = ReactionModel::kGrayScott;
+  p.dt = 0.5f;
+  p.scale_a = 0.1f;
+  p.scale_b = 0.05f;
+  std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
+  FieldF a1(size, 1), b1(size, 1), a2(size, 1), b2(size, 1);
+  generalized_rd_rows(k, a.view(), b.view(), a1.view(), b1.view(), size, 0, size.y, p,
+                      scratch.data());
+  const int cuts[] = {0, 1, 2, 7, 30, 31};  // bands of 1, 1, 5, 23 and 1 rows
+  for (int i = 0; i + 1 < 6; ++i)
+    generalized_rd_rows(k, a.view(), b.view(), a2.view(), b2.view(), size, cuts[i], cuts[i + 1], p,
+                        scratch.data());
+  for (int y = 0; y < size.y; ++y)
+    for (int x = 0; x < size.x; ++x) {
+      ASSERT_EQ(a1(x, y), a2(x, y)) << x << "," << y;
+      ASSERT_EQ(b1(x, y), b2(x, y)) << x << "," << y;
+    }
+}
+
+// Taps that sum to zero on a periodic grid move mass around and create none.
+TEST(GeneralizedRdKernel, PureDiffusionConservesTheTotal) {
+  const Int2 size{64, 48};
+  const GeneralizedTaps k(assemble_generalized_stencil(kTable2B));
+  FieldF a = random_field(size, 1, 11, 0.0f, 1.0f), b = random_field(size, 1, 12, 0.0f, 1.0f);
+  FieldF a2(size, 1), b2(size, 1);
+  const auto total = [&](const FieldF& f) {
+    double s = 0;
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x) s += f(x, y);
+    return s;
+  };
+  const double before = total(a);
+  GeneralizedRdParams p;
+  p.scale_a = p.scale_b = 0.1f;
+  std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
+  for (int i = 0; i < 100; ++i) {
+    generalized_rd_rows(k, a.view(), b.view(), a2.view(), b2.view(), size, 0, size.y, p,
+                        scratch.data());
+    std::swap(a, a2);
+    std::swap(b, b2);
+  }
+  EXPECT_NEAR(total(a), before, 1e-5 * before);
+}
+
+// Eqn 28 without reaction is exactly one periodic solve of (I - dt D_A K).
+TEST(GeneralizedRdEngine, SemiImplicitStepIsTheExactSolve) {
+  SceneConfig scene = preset_scene("mcgraw-turing-a");
+  scene.size = {40, 36};
+  scene.domain_width = 40 * 1.5;
+  scene.rd.react = false;
+  scene.rd.steps_per_frame = 1;
+  Engine engine(scene, {.backend = EngineOptions::Backend::kSerial});
+  FieldF expected = engine.state().A;
+  const double delta = scene.rd.dt * scene.rd.diffusion_a;  // K in cells carries 1 / h^2
+  const double h = scene.domain_width / scene.size.x;
+  PeriodicStencilSolve solve(scene.size,
+                             assemble_generalized_stencil(TensorSequence{.xx = 1 / (h * h),
+                                                                         .yy = 1 / (h * h)}));
+  solve.solve(expected, delta);
+  engine.step();
+  const FieldF& a = engine.state().A;
+  for (int y = 0; y < scene.size.y; ++y)
+    for (int x = 0; x < scene.size.x; ++x) ASSERT_NEAR(a(x, y), expected(x, y), 1e-5);
+}
+
+// The share of the power spectrum of A within 22.5 degrees of the axes over that within 22.5
+// degrees of the diagonals, for wavenumbers above 2 (the pattern, not the mean's drift).
+double axis_over_diagonal_power(const FieldF& f) {
+  const int nx = f.nx(), ny = f.ny();
+  std::vector<float> in(std::size_t(nx) * ny);
+  double mean = 0;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) mean += f(x, y);
+  mean /= double(nx) * ny;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) in[std::size_t(y) * nx + x] = float(f(x, y) - mean);
+  const int w = nx / 2 + 1;
+  std::vector<fftwf_complex> out(std::size_t(w) * ny);
+  {
+    std::lock_guard<std::mutex> lock(fftw_planner_mutex());
+    fftwf_plan plan = fftwf_plan_dft_r2c_2d(ny, nx, in.data(), out.data(), FFTW_ESTIMATE);
+    fftwf_execute(plan);
+    fftwf_destroy_plan(plan);
+  }
+  double axis = 0, diagonal = 0;
+  for (int my = 0; my < ny; ++my)
+    for (int mx = 0; mx < w; ++mx) {
+      const double ky = 2 * my <= ny ? my : my - ny, kx = mx;
+      if (std::hypot(kx, ky) <= 2) continue;
+      const fftwf_complex& c = out[std::size_t(my) * w + mx];
+      const double power = double(c[0]) * c[0] + double(c[1]) * c[1];
+      const double angle = std::fmod(std::atan2(ky, kx) * 180 / M_PI + 360, 90.0);
+      (angle < 22.5 || angle >= 67.5 ? axis : diagonal) += power;
+    }
+  return axis / diagonal;
+}
+
+double developed_orientation(const char* preset) {
+  SceneConfig scene = preset_scene(preset);
+  Engine engine(scene);  // threads
+  for (int i = 0; i < 200; ++i) engine.step();
+  return axis_over_diagonal_power(engine.state().A);
+}
+
+TEST(GeneralizedRdEngine, TuringTexturesTakeTheSequencesOrientations) {
+  const double a = developed_orientation("mcgraw-turing-a");
+  const double d = developed_orientation("mcgraw-turing-d");
+  const double e = developed_orientation("mcgraw-turing-e");
+  EXPECT_GT(a, 1 / 1.5) << "(a) is isotropic";
+  EXPECT_LT(a, 1.5) << "(a) is isotropic";
+  EXPECT_GT(d, 1.5) << "(d): the axes";
+  EXPECT_LT(e, 1 / 1.5) << "(e): the diagonals";
+}
+
+TEST(GeneralizedRdEngine, RefusesWhatTheOperatorCannotRun) {
+  SceneConfig scene = preset_scene("mcgraw-gray-scott-e");
+  scene.rd.boundary = BoundaryKind::kNeumann;
+  EXPECT_EQ(rd_config_problem(scene),
+            "rd.operator generalized needs rd.boundary periodic (its textures tile)");
+  scene = preset_scene("mcgraw-gray-scott-e");
+  scene.rd.scheme = RdScheme::kExplicit9;
+  EXPECT_NE(rd_config_problem(scene).find("rd.scheme"), std::string::npos);
+  scene = preset_scene("pearson");
+  scene.rd.scheme = RdScheme::kSemiImplicit;
+  EXPECT_NE(rd_config_problem(scene).find("rd.operator generalized"), std::string::npos);
+
+  // A new tensor sequence rebuilds the engine; a new rate does not.
+  scene = preset_scene("mcgraw-turing-e");
+  scene.size = {32, 32};
+  Engine engine(scene);
+  SceneConfig next = scene;
+  next.rd.generalized.tensors.xxyy = 2;
+  const Status s = engine.update_parameters(next);
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.message().find("rd.generalized"), std::string::npos) << s.message();
+  next = scene;
+  next.rd.diffusion_b *= 1.1;
+  EXPECT_TRUE(engine.update_parameters(next));
+}
+
+TEST(GeneralizedRdEngine, ExplicitStabilityLineNamesTheSpectralRadius) {
+  SceneConfig scene = preset_scene("mcgraw-turing-d");
+  EXPECT_EQ(generalized_stability_line(scene), "");  // semi-implicit: nothing to say
+  scene.rd.scheme = RdScheme::kExplicit;
+  const std::string line = generalized_stability_line(scene);
+  EXPECT_NE(line.find("rho(I + dt D_A K)"), std::string::npos) << line;
+  EXPECT_NE(line.find("above 1"), std::string::npos) << line;  // (d) is anti-diffusive
+}
+
+}  // namespace
+}  // namespace ardcell
