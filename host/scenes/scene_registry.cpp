@@ -8,6 +8,7 @@ const SceneRegistry& builtin_scenes() {
     register_fluid_scenes(r);
     register_rd_scenes(r);
     register_paint_scenes(r);
+    register_texture_scenes(r);
     return r;
   }();
   return registry;

@@ -38,5 +38,6 @@ const SceneRegistry& builtin_scenes();
 void register_fluid_scenes(SceneRegistry& registry);
 void register_rd_scenes(SceneRegistry& registry);
 void register_paint_scenes(SceneRegistry& registry);
+void register_texture_scenes(SceneRegistry& registry);  // seed 003
 
 }  // namespace ardcell
