@@ -17,7 +17,9 @@ namespace ardcell {
   X(bench)                     \
   X(devices)                   \
   X(tablet)                    \
-  X(live)
+  X(live)                      \
+  X(propagator)                \
+  X(texture)
 
 #define ARDCELL_DECLARE_COMMAND(name) void add_##name##_command(CLI::App&, CliContext&);
 ARDCELL_SUBCOMMANDS(ARDCELL_DECLARE_COMMAND)

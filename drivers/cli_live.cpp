@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "drivers/cli.h"
+#include "drivers/cli_backend.h"
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/gpio_buttons.h"
 #include "drivers/png_writer.h"
@@ -24,9 +25,6 @@
 #include "host/live/live_engine.h"
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
-#if defined(ARDCELL_WITH_OPENCL)
-#include "kernels/cl/opencl_kernels.h"
-#endif
 #ifdef ARDCELL_WITH_SDL2
 #include "drivers/display_sdl.h"
 #endif
@@ -240,22 +238,9 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 
   // Declared before the loop: the simulations it makes must outlive it.
   EngineOptions engine_options;
-  if (backend == BackendKind::kSerial) engine_options.backend = EngineOptions::Backend::kSerial;
   if (a.workers_opt->count()) engine_options.workers = a.workers;
-  BackendChoice choice;  // its OpenCL context outlives the loop's simulations
-  if (opencl_asked) {
-#if defined(ARDCELL_WITH_OPENCL)
-    choice = choose_backend(backend, a.cl_device, &OpenClKernels::prepare);
-#else
-    choice = choose_backend(backend, a.cl_device);
-#endif
-    if (!choice.message.empty()) std::fprintf(ctx.err, "%s\n", choice.message.c_str());
-    if (!choice.detail.empty()) std::fprintf(ctx.err, "%s\n", choice.detail.c_str());
-    if (choice.kind == BackendKind::kOpenCl) {
-      engine_options.backend = EngineOptions::Backend::kOpenCl;
-      engine_options.opencl = choice.opencl.get();
-    }
-  }
+  // Its OpenCL context outlives the loop's simulations.
+  const BackendChoice choice = choose_engine_backend(backend, a.cl_device, engine_options, ctx);
   SimulationFactory factory = engine_simulations(engine_options);
   // SIGINT/SIGTERM/SIGHUP quit as Esc does (recording finished, stats printed), also when an
   // ignored SIGINT was inherited; kept until the recording is renamed into place.

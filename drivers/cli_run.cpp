@@ -11,9 +11,11 @@
 #include <vector>
 
 #include "drivers/cli.h"
+#include "drivers/cli_backend.h"
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
+#include "host/engine/rd_step.h"
 #include "host/engine/table1.h"
 #include "host/io/atomic_file.h"
 #include "host/io/state_io.h"
@@ -576,24 +578,12 @@ int do_run(RunArgs& a, CliContext& ctx) {
   // The engine, on an OpenCL device when asked for and possible (else the threads back end,
   // with one line saying why), and the saved state it resumes from.
   EngineOptions options;
-  if (backend == BackendKind::kSerial) options.backend = EngineOptions::Backend::kSerial;
   if (a.workers_opt->count()) options.workers = a.workers;
-  BackendChoice choice;
-  if (opencl_asked) {
-#if defined(ARDCELL_WITH_OPENCL)
-    choice = choose_backend(backend, a.cl_device, &OpenClKernels::prepare);
-#else
-    choice = choose_backend(backend, a.cl_device);
-#endif
-    if (!choice.message.empty()) std::fprintf(ctx.err, "%s\n", choice.message.c_str());
-    if (!choice.detail.empty()) std::fprintf(ctx.err, "%s\n", choice.detail.c_str());
-    if (choice.kind == BackendKind::kOpenCl) {
-      options.backend = EngineOptions::Backend::kOpenCl;
-      options.opencl = choice.opencl.get();
-    }
-  }
+  const BackendChoice choice = choose_engine_backend(backend, a.cl_device, options, ctx);
   std::unique_ptr<Engine> engine;
   if (Status s = make_engine(scene, options, engine); !s) return usage(s.message());
+  if (std::string line = generalized_stability_line(scene); !line.empty())
+    std::fprintf(ctx.err, "ardcell run: %s\n", line.c_str());
   SimState* state = &engine->state();
   if (!frame_field_available(*state, field))
     return usage("--show " + show + ": scene '" + scene.name + "' has no " + show +
