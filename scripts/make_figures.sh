@@ -95,6 +95,11 @@ done
 for m in advect ard-gray-scott ard-fhn ard-barkley; do
   fig "fig6_obstacle_$m" 1500 -- run "obstacle-$m" --size 96x192 --steps 1500 --every 1500
 done
+# Seed 003: generalized (non-Gaussian) diffusion textures, Turing and Gray-Scott, Table 2's (a),
+# (d) (axes) and (e) (diagonals).
+for q in turing-a turing-d turing-e gray-scott-d gray-scott-e; do
+  fig "seed003_$q" 400 -- run "mcgraw-$q" --size 128 --steps 400 --every 400
+done
 # The plain cavity's dye.
 fig cavity 1000 -- run cavity --size 128 --steps 1000 --every 1000
 
