@@ -66,9 +66,10 @@ const int kRegistered = [] {
         const RdScheme scheme = entry.first;
         const std::string name =
             std::string("Generalized/") + m.name + "/" + entry.second + "/" + std::to_string(n);
-        benchmark::RegisterBenchmark(name.c_str(), [&m, scheme, n](benchmark::State& s) {
-          run(s, m, scheme, n);
-        })->Unit(benchmark::kMillisecond)->UseRealTime();
+        benchmark::RegisterBenchmark(name.c_str(),
+                                     [&m, scheme, n](benchmark::State& s) { run(s, m, scheme, n); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
       }
   return 0;
 }();

@@ -40,13 +40,8 @@ double* component_for(TensorSequence& d, const std::string& key) {
     else
       return nullptr;
   }
-  double* table[5][5] = {};
-  table[2][0] = &d.xx, table[1][1] = &d.xy, table[0][2] = &d.yy;
-  table[3][0] = &d.xxx, table[2][1] = &d.xxy, table[1][2] = &d.xyy, table[0][3] = &d.yyy;
-  table[4][0] = &d.xxxx, table[3][1] = &d.xxxy, table[2][2] = &d.xxyy;
-  table[1][3] = &d.xyyy, table[0][4] = &d.yyyy;
   if (nx + ny < 2 || nx + ny > 4) return nullptr;
-  return table[nx][ny];
+  return &d.component(nx, ny);
 }
 
 // A Table 2 letter, or key=value pairs; "" when fine, else the one-line reason.

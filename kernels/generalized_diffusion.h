@@ -40,7 +40,10 @@ struct TensorSequence {
   double xxxx = 0, xxxy = 0, xxyy = 0, xyyy = 0, yyyy = 0;
 
   // The component with nx x indices and ny y indices (rank nx + ny in 2..4).
-  double component(int nx, int ny) const;
+  double component(int nx, int ny) const {
+    return const_cast<TensorSequence*>(this)->component(nx, ny);
+  }
+  double& component(int nx, int ny);
 };
 
 // The multiplicity l! / (nx! ny!) of a component (Eqn 16).

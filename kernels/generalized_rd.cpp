@@ -81,11 +81,12 @@ void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> 
   float* ring_a = scratch;
   float* ring_b = scratch + 5 * w;
   const auto slot = [](int y) { return wrap(y, 5); };
-  for (int y = y0 - 2; y <= y0 + 2; ++y) {
+  const bool diffuse_a = p.scale_a != 0.0f, diffuse_b = p.scale_b != 0.0f;
+  const bool ring = diffuse_a || diffuse_b;  // reaction or clamp alone reads no neighbour
+  for (int y = y0 - 2; ring && y <= y0 + 2; ++y) {
     load_wrapped_row(a, size, y, ring_a + w * std::size_t(slot(y)));
     load_wrapped_row(b, size, y, ring_b + w * std::size_t(slot(y)));
   }
-  const bool diffuse_a = p.scale_a != 0.0f, diffuse_b = p.scale_b != 0.0f;
   const float sa = p.scale_a, sb = p.scale_b, dt = p.dt;
   const float a_lo = p.a_lo, a_hi = p.a_hi, b_lo = p.b_lo, b_hi = p.b_hi;
   alignas(64) float acc_a[kChunk];
@@ -117,7 +118,7 @@ void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> 
       }
     }
     // The row two below the next one enters the ring where the row two above this one was.
-    if (y + 1 < y1) {
+    if (ring && y + 1 < y1) {
       load_wrapped_row(a, size, y + 3, ring_a + w * std::size_t(slot(y + 3)));
       load_wrapped_row(b, size, y + 3, ring_b + w * std::size_t(slot(y + 3)));
     }

@@ -175,12 +175,12 @@ void PeriodicStencilSolve::set_delta(double delta) {
   if (finite) {
     executor_->for_rows(width_, ny, [&](int x0, int x1) {
       for (int mx = x0; mx < x1; ++mx) {
-        Extremes e{INFINITY, 0, 0};
+        Extremes e{INFINITY, 0};
         const std::size_t base = std::size_t(mx) * std::size_t(ny);
         for (int my = 0; my < ny; ++my) {
           const std::complex<double> s = symbol_[base + std::size_t(my)];
           const double d = denominator(s, delta);
-          if (d < e.min) e.min = d, e.argmin = my;
+          e.min = std::min(e.min, d);
           e.max = std::max(e.max, d);
           // A vanishing d makes Inf or NaN here; such a table is never swapped in.
           staging_[base + std::size_t(my)] = Complex(scale / (1.0 - delta * s));

@@ -112,7 +112,6 @@ class PeriodicStencilSolve {
   struct Scratch;  // one worker's FFTW buffers
   struct Extremes {
     double min = 0, max = 0;  // of |1 - delta symbol| over one spectral column
-    int argmin = 0;           // my of the min
   };
   // The same |1 - delta symbol| as problem() and set_delta() compare, computed one way.
   static double denominator(std::complex<double> s, double delta) {

@@ -287,8 +287,6 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
   });
 }
 
-void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) {
-  solve.solve(x, delta);
-}
+void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) { solve.solve(x); }
 
 }  // namespace ardcell

@@ -155,9 +155,9 @@ class Device {
   // seed 003, Eqn 27 on a periodic grid (kernels/generalized_rd.h): a_out, b_out from a, b.
   virtual void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                               const GeneralizedTaps& k, const GeneralizedRdParams& p) = 0;
-  // x <- (I - delta K)^-1 x on the periodic grid, exactly (seed 003, Eqn 28;
-  // kernels/periodic_stencil_solve.h).
-  virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) = 0;
+  // x <- (I - delta K)^-1 x on the periodic grid with the solve's delta, exactly (seed 003,
+  // Eqn 28; kernels/periodic_stencil_solve.h).
+  virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) = 0;
 };
 
 // The CPU device over a RowExecutor (the engine's serial or threads back end): every op in bands
@@ -218,7 +218,7 @@ class CpuDevice final : public Device {
                    ExplicitScheme scheme, const ExplicitRdParams& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
-  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) override;
+  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
 
  private:
   // The interior rows of an nx x ny grid in bands: f(Box2 rows) or f(Box2 rows, worker).

@@ -160,8 +160,7 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
           return "rd.generalized (the tensor sequence)";
     if (ra.cell_size != rb.cell_size) return "rd.cell_size (the generalized stencil holds it)";
     if (ga.savitzky_golay_degree != gb.savitzky_golay_degree) return "rd.generalized.sg_degree";
-    if (ga.second_derivatives != gb.second_derivatives)
-      return "rd.generalized.second_derivatives";
+    if (ga.second_derivatives != gb.second_derivatives) return "rd.generalized.second_derivatives";
   }
   if (ra.react != rb.react) return "rd.react";
   if (ra.diffuse != rb.diffuse) return "rd.diffuse";

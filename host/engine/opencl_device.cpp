@@ -570,11 +570,11 @@ void OpenClDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_ou
   cl_->generalized_rd(da, db, out(a_out), out(b_out), weights, p);
 }
 
-void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) {
+void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
   say_fallback(DeviceOp::kPeriodicSolve, "rd.scheme implicit or semi-implicit",
                "the device has no FFT; rd.scheme explicit runs on it");
   host_in(x);
-  cpu_.periodic_solve(solve, x, delta);
+  cpu_.periodic_solve(solve, x);
   host_wrote(x);
 }
 

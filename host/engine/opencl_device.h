@@ -84,7 +84,7 @@ class OpenClDevice final : public Device {
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   // On the CPU (no FFT on the device yet), with one line.
-  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x, double delta) override;
+  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
 
   OpenClKernels& kernels() { return *cl_; }
   // Bytes moved between host and device so far (tests: a steady frame moves none).

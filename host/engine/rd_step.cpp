@@ -46,7 +46,8 @@ double rd_cell_of(const SceneConfig& scene) {
 // What multiplies the operator's stencil for A (or B): dt D / h^2 with the Laplacian; dt D with
 // the generalized operator, whose stencil carries h itself (generalized_stencil).
 double diffusion_scale(const SceneConfig& scene, bool b) {
-  const double h = scene.rd.diffusion_operator == RdOperator::kGeneralized ? 1.0 : rd_cell_of(scene);
+  const double h =
+      scene.rd.diffusion_operator == RdOperator::kGeneralized ? 1.0 : rd_cell_of(scene);
   return rd_step_of(scene) / (h * h) * scene.rd.anisotropy.isotropic_value *
          (b ? scene.rd.diffusion_b : scene.rd.diffusion_a);
 }
@@ -58,10 +59,8 @@ Stencil5x5 generalized_stencil(const SceneConfig& scene) {
   const RdConfig& rd = scene.rd;
   const double h = rd_cell_of(scene);
   TensorSequence d = rd.generalized.tensors;
-  const double s2 = 1.0 / (h * h), s3 = s2 / h, s4 = s3 / h;
-  for (double* c : {&d.xx, &d.xy, &d.yy}) *c *= s2;
-  for (double* c : {&d.xxx, &d.xxy, &d.xyy, &d.yyy}) *c *= s3;
-  for (double* c : {&d.xxxx, &d.xxxy, &d.xxyy, &d.xyyy, &d.yyyy}) *c *= s4;
+  for (int rank = 2; rank <= 4; ++rank)
+    for (int nx = 0; nx <= rank; ++nx) d.component(nx, rank - nx) *= std::pow(h, -rank);
   GeneralizedDiffusionOptions options;
   options.savitzky_golay_degree = rd.generalized.savitzky_golay_degree;
   options.second_derivatives = rd.generalized.second_derivatives;
@@ -201,12 +200,11 @@ namespace {
 bool same_reaction(const ReactionParams& a, const ReactionParams& b) {
   return a.model == b.model && a.F == b.F && a.k == b.k && a.turing_s == b.turing_s &&
          a.turing_beta == b.turing_beta && a.turing_supply == b.turing_supply &&
-         a.meinhardt_s == b.meinhardt_s &&
-         a.meinhardt_alpha == b.meinhardt_alpha && a.meinhardt_p1 == b.meinhardt_p1 &&
-         a.meinhardt_p2 == b.meinhardt_p2 && a.meinhardt_p3 == b.meinhardt_p3 &&
-         a.fhn_epsilon == b.fhn_epsilon && a.fhn_a0 == b.fhn_a0 && a.fhn_a1 == b.fhn_a1 &&
-         a.barkley_epsilon == b.barkley_epsilon && a.barkley_a == b.barkley_a &&
-         a.barkley_b == b.barkley_b;
+         a.meinhardt_s == b.meinhardt_s && a.meinhardt_alpha == b.meinhardt_alpha &&
+         a.meinhardt_p1 == b.meinhardt_p1 && a.meinhardt_p2 == b.meinhardt_p2 &&
+         a.meinhardt_p3 == b.meinhardt_p3 && a.fhn_epsilon == b.fhn_epsilon &&
+         a.fhn_a0 == b.fhn_a0 && a.fhn_a1 == b.fhn_a1 && a.barkley_epsilon == b.barkley_epsilon &&
+         a.barkley_a == b.barkley_a && a.barkley_b == b.barkley_b;
 }
 }  // namespace
 
@@ -382,8 +380,8 @@ void RdStepper::generalized_step(SimState& s) {
     dev_->swap(s.B, scratch_b_);
   }
   if (solve) {  // (I - dt D K)^-1, exactly (Eqn 28)
-    dev_->periodic_solve(*periodic_a_, s.A, periodic_a_->delta());
-    dev_->periodic_solve(*periodic_b_, s.B, periodic_b_->delta());
+    dev_->periodic_solve(*periodic_a_, s.A);
+    dev_->periodic_solve(*periodic_b_, s.B);
     // The solve's result clamped like every other result (kernels/generalized_rd.h says why).
     dev_->generalized_rd(s.A, s.B, scratch_a_, scratch_b_, *generalized_,
                          generalized_params(false, false));

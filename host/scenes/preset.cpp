@@ -197,9 +197,8 @@ const ParamSpec kParams[] = {
              "Crank-Nicolson instead of backward Euler diffusion"),
     ARD_ENUM("rd.operator", scene.rd.diffusion_operator, kOperators, true,
              "laplacian (Kim & Lin) | generalized (seed 003's 25-point operator; periodic)"),
-#define ARD_TENSOR(name, help_)                                                           \
-  ARD_NUMBER("rd.generalized." #name, scene.rd.generalized.tensors.name, -1e3, 1e3, true, \
-             help_)
+#define ARD_TENSOR(name, help_) \
+  ARD_NUMBER("rd.generalized." #name, scene.rd.generalized.tensors.name, -1e3, 1e3, true, help_)
     ARD_TENSOR(xx, "rank 2: D_xx"),
     ARD_TENSOR(xy, "rank 2: D_xy"),
     ARD_TENSOR(yy, "rank 2: D_yy"),

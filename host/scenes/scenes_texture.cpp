@@ -19,9 +19,8 @@ struct TextureSpec {
 
 // (d)'s anti-diffusion lies on the axes, where the 5x5 stencil resolves it best: it needs a
 // coarser cell than the others to stay above the grid scale.
-constexpr TextureSpec kSpecs[] = {{"a", kTable2A, 1.5}, {"b", kTable2B, 1.5},
-                                  {"c", kTable2C, 1.5}, {"d", kTable2D, 2.4},
-                                  {"e", kTable2E, 1.5}, {"f", kTable2F, 1.5}};
+constexpr TextureSpec kSpecs[] = {{"a", kTable2A, 1.5}, {"b", kTable2B, 1.5}, {"c", kTable2C, 1.5},
+                                  {"d", kTable2D, 2.4}, {"e", kTable2E, 1.5}, {"f", kTable2F, 1.5}};
 
 SceneConfig texture_base(const TextureSpec& t) {
   SceneConfig s;
@@ -72,8 +71,9 @@ SceneConfig turing_texture(const TextureSpec& t) {
 SceneConfig gray_scott_texture(const TextureSpec& t) {
   SceneConfig s = texture_base(t);
   s.name = std::string("mcgraw-gray-scott-") + t.letter;
-  s.description = std::string("seed 003 Figs. 3-5: Gray-Scott (F 0.04, k 0.06) with Table 2's "
-                              "tensor sequence (") +
+  s.description = std::string(
+                      "seed 003 Figs. 3-5: Gray-Scott (F 0.04, k 0.06) with Table 2's "
+                      "tensor sequence (") +
                   t.letter + "), periodic, semi-implicit by FFT";
   s.default_steps = 400;
   RdConfig& rd = s.rd;

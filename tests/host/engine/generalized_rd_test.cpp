@@ -47,13 +47,14 @@ TEST(GeneralizedRdKernel, MatchesTheDoubleStencilOnEverySequence) {
     p.scale_a = 0.05f;
     p.scale_b = 0.02f;
     std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
-    generalized_rd_rows(GeneralizedTaps(k), a.view(), b.view(), a_out.view(), b_out.view(), size,
-                        0, size.y, p, scratch.data());
+    generalized_rd_rows(GeneralizedTaps(k), a.view(), b.view(), a_out.view(), b_out.view(), size, 0,
+                        size.y, p, scratch.data());
     fill_periodic_halo(a);
     GeneralizedDiffusion(k).explicit_step_tile(a.view(), ref.view(), box_of_size(size), 0.05);
     double worst = 0;
     for (int y = 0; y < size.y; ++y)
-      for (int x = 0; x < size.x; ++x) worst = std::max(worst, double(std::abs(a_out(x, y) - ref(x, y))));
+      for (int x = 0; x < size.x; ++x)
+        worst = std::max(worst, double(std::abs(a_out(x, y) - ref(x, y))));
     EXPECT_LT(worst, 2e-6) << "sequence " << seq.name;
   }
 }
@@ -118,9 +119,8 @@ TEST(GeneralizedRdEngine, SemiImplicitStepIsTheExactSolve) {
   FieldF expected = engine.state().A;
   const double delta = scene.rd.dt * scene.rd.diffusion_a;  // K in cells carries 1 / h^2
   const double h = scene.domain_width / scene.size.x;
-  PeriodicStencilSolve solve(scene.size,
-                             assemble_generalized_stencil(TensorSequence{.xx = 1 / (h * h),
-                                                                         .yy = 1 / (h * h)}));
+  PeriodicStencilSolve solve(scene.size, assemble_generalized_stencil(
+                                             TensorSequence{.xx = 1 / (h * h), .yy = 1 / (h * h)}));
   solve.solve(expected, delta);
   engine.step();
   const FieldF& a = engine.state().A;
@@ -184,8 +184,8 @@ TEST(GeneralizedRdEngine, TexturesTileWithoutASeam) {
     for (int j = 0; j + 1 < 96; ++j)
       inside = std::max({inside, double(std::abs(b(j + 1, i) - b(j, i))),
                          double(std::abs(b(i, j + 1) - b(i, j)))});
-    seam = std::max({seam, double(std::abs(b(0, i) - b(95, i))),
-                     double(std::abs(b(i, 0) - b(i, 95)))});
+    seam = std::max(
+        {seam, double(std::abs(b(0, i) - b(95, i))), double(std::abs(b(i, 0) - b(i, 95)))});
   }
   EXPECT_GT(inside, 0.05) << "a pattern has grown";
   EXPECT_LE(seam, inside);

@@ -47,12 +47,12 @@ auto members(const ConcentrationBox& b) {
   return std::tie(a_lo, a_hi, b_lo, b_hi);
 }
 auto members(const ReactionParams& r) {
-  const auto& [model, F, k, turing_s, turing_beta, turing_supply, meinhardt_s, meinhardt_alpha, meinhardt_p1,
-               meinhardt_p2, meinhardt_p3, fhn_epsilon, fhn_a0, fhn_a1, barkley_epsilon, barkley_a,
-               barkley_b] = r;
-  return std::tie(model, F, k, turing_s, turing_beta, turing_supply, meinhardt_s, meinhardt_alpha, meinhardt_p1,
-                  meinhardt_p2, meinhardt_p3, fhn_epsilon, fhn_a0, fhn_a1, barkley_epsilon,
-                  barkley_a, barkley_b);
+  const auto& [model, F, k, turing_s, turing_beta, turing_supply, meinhardt_s, meinhardt_alpha,
+               meinhardt_p1, meinhardt_p2, meinhardt_p3, fhn_epsilon, fhn_a0, fhn_a1,
+               barkley_epsilon, barkley_a, barkley_b] = r;
+  return std::tie(model, F, k, turing_s, turing_beta, turing_supply, meinhardt_s, meinhardt_alpha,
+                  meinhardt_p1, meinhardt_p2, meinhardt_p3, fhn_epsilon, fhn_a0, fhn_a1,
+                  barkley_epsilon, barkley_a, barkley_b);
 }
 auto members(const AnisotropyParams& a) {
   const auto& [kind, isotropic_value, a1, a2, lobes, lobe_speed, samples, sample, theta0,
@@ -70,15 +70,16 @@ auto members(const GeneralizedRdConfig& g) {
 }
 auto members(const RdConfig& r) {
   const auto& [enabled, reaction, react, use_table, table_resolution, table_range_auto, table_range,
-               diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b, diffusion_solver,
-               boundary, boundary_a, boundary_b, crank_nicolson, advect, scheme, dt, cell_size,
-               steps_per_frame, initial, background_a, background_b, seed_a, seed_b, seed_size,
-               seed_cells, spots, seed_radius, noise, seed] = r;
+               diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b, anisotropy,
+               anisotropy_on_b, diffusion_solver, boundary, boundary_a, boundary_b, crank_nicolson,
+               advect, scheme, dt, cell_size, steps_per_frame, initial, background_a, background_b,
+               seed_a, seed_b, seed_size, seed_cells, spots, seed_radius, noise, seed] = r;
   return std::tie(enabled, reaction, react, use_table, table_resolution, table_range_auto,
-                  table_range, diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b, anisotropy, anisotropy_on_b,
-                  diffusion_solver, boundary, boundary_a, boundary_b, crank_nicolson, advect,
-                  scheme, dt, cell_size, steps_per_frame, initial, background_a, background_b,
-                  seed_a, seed_b, seed_size, seed_cells, spots, seed_radius, noise, seed);
+                  table_range, diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b,
+                  anisotropy, anisotropy_on_b, diffusion_solver, boundary, boundary_a, boundary_b,
+                  crank_nicolson, advect, scheme, dt, cell_size, steps_per_frame, initial,
+                  background_a, background_b, seed_a, seed_b, seed_size, seed_cells, spots,
+                  seed_radius, noise, seed);
 }
 
 // Empty when a and b are equal member by member (exactly), else the path of the first difference.
