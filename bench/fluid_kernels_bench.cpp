@@ -3,12 +3,16 @@
 // kernel must at least move: every input and output float read or written once).
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <random>
+#include <string>
 
 #include "host/engine/fluid_step.h"
 #include "kernels/advect.h"
 #include "kernels/stam_sweeps.h"
+#include "kernels/stencil_sweeps.h"
 #include "runtime/boundary.h"
+#include "runtime/thread/thread_backend.h"
 
 namespace ardcell {
 namespace {
@@ -65,6 +69,45 @@ void BM_StamJacobiSweep(benchmark::State& state) {
     benchmark::DoNotOptimize(a.raw());
   }
   set_counters(state, n, 3);  // x0, x_in in, x_out out
+}
+
+// 20 Jacobi sweeps of the engine's implicit-diffusion operator (kernels/stencil_sweeps.h), sweep
+// by sweep (one pass over the grid each) or temporally blocked (one pass), on the serial
+// executor or on the threads back end's workers (all cores). Args: N, blocked, threaded.
+void BM_JacobiSweeps20(benchmark::State& state) {
+  const Int2 n{int(state.range(0)), int(state.range(0))};
+  const bool blocked = state.range(1) != 0, threaded = state.range(2) != 0;
+  const StencilOperator op = assemble_stencil_operator(
+      n, 1.0, 0.75, nullptr, BoundaryKind::kNeumann, BoundaryKind::kNeumann);
+  stencil::UniformRows uniform(n.y);
+  uniform.analyse(op);
+  const FieldF b = noise(n, 6, 1.0f);
+  FieldF x = noise(n, 7, 1.0f), y(n, 1);
+  std::unique_ptr<ThreadBackend> backend;
+  std::unique_ptr<RowExecutor> owned;
+  RowExecutor* ex = &RowExecutor::serial();
+  if (threaded) {
+    backend = std::make_unique<ThreadBackend>(ThreadBackendOptions{});
+    owned = std::make_unique<RowExecutor>(*backend);
+    ex = owned.get();
+  }
+  stencil::JacobiBlocking blocking(n, ex->workers());
+  for (auto _ : state) {
+    if (blocked) {
+      blocking.sweeps(op, b, x, y, 20, *ex, &uniform);
+      std::swap(x, y);
+    } else {
+      for (int s = 0; s < 20; ++s) {
+        stencil::jacobi_sweep(op, b, x, y, *ex, &uniform);
+        std::swap(x, y);
+      }
+    }
+    benchmark::DoNotOptimize(x.raw());
+  }
+  state.SetLabel(std::string(blocked ? "blocked" : "sweep by sweep") + ", " +
+                 std::to_string(ex->workers()) + " workers");
+  state.counters["cell_sweeps/s"] = benchmark::Counter(
+      double(n.x) * n.y * 20 * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 void BM_StamRedBlackSweep(benchmark::State& state) {
@@ -129,6 +172,9 @@ BENCHMARK(BM_AdvectScalar)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_AdvectVelocity)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StamJacobiSweep)->Apply(sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StamRedBlackSweep)->Apply(sizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_JacobiSweeps20)
+    ->ArgsProduct({{256, 512, 1024, 2048, 4096}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Projection)->Apply(projection_args)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -43,7 +43,8 @@ std::unique_ptr<LinearSolver> LinearSolver::make(const SolverSettings& settings,
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "solver size must be positive");
   switch (settings.kind) {
     case SolverKind::kJacobi:
-      return solver_detail::make_jacobi_solver(settings, size, ex);
+      return solver_detail::make_jacobi_solver(settings, size, ex,
+                                               solver_detail::jacobi_blocking_pays(size));
     case SolverKind::kRedBlackGaussSeidel:
       return solver_detail::make_rbgs_solver(settings, size, ex);
     case SolverKind::kIccg:
@@ -51,7 +52,8 @@ std::unique_ptr<LinearSolver> LinearSolver::make(const SolverSettings& settings,
     case SolverKind::kMultigrid:
       return solver_detail::make_multigrid_solver(settings, size, ex);
   }
-  return solver_detail::make_jacobi_solver(settings, size, ex);
+  return solver_detail::make_jacobi_solver(settings, size, ex,
+                                           solver_detail::jacobi_blocking_pays(size));
 }
 
 }  // namespace ardcell

@@ -20,8 +20,11 @@ inline double relative_residual(const StencilOperator& op, const FieldF& b, cons
   return bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
 }
 
+// Whether fixed Jacobi sweeps on this grid run temporally blocked (stencil::JacobiBlocking):
+// when a sweep's fields outgrow the machine's last-level cache.
+bool jacobi_blocking_pays(Int2 size);
 std::unique_ptr<LinearSolver> make_jacobi_solver(const SolverSettings& s, Int2 size,
-                                                 RowExecutor& ex);
+                                                 RowExecutor& ex, bool blocked);
 std::unique_ptr<LinearSolver> make_rbgs_solver(const SolverSettings& s, Int2 size, RowExecutor& ex);
 std::unique_ptr<LinearSolver> make_iccg_solver(const SolverSettings& s, Int2 size, RowExecutor& ex);
 std::unique_ptr<LinearSolver> make_multigrid_solver(const SolverSettings& s, Int2 size,

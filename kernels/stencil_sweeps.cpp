@@ -1,5 +1,6 @@
 #include "kernels/stencil_sweeps.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "kernels/field_reductions.h"
@@ -69,32 +70,184 @@ void UniformRows::analyse(const StencilOperator& op, RowExecutor& ex) {
   });
 }
 
+namespace {
+
+// Row j of a Jacobi sweep, out = D^-1 (b + (D - A) x), from x's rows as r gives them: the one
+// expression every sweep (plain or temporally blocked) evaluates, so both give the same bits.
+inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, int nx, bool px,
+                       const UniformRows* uniform) {
+  if (uniform && uniform->uniform(j)) {
+    const float w = uniform->weight(j), d = uniform->diag(j);
+    for (int i = 1; i < nx - 1; ++i)
+      out[i] = (bj[i] + w * r.x0[i - 1] + w * r.x0[i + 1] + w * r.xb[i] + w * r.xa[i]) / d;
+  } else {
+    for (int i = 1; i < nx - 1; ++i)
+      out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
+                r.wya[i] * r.xa[i]) /
+               r.d[i];
+  }
+  out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
+  if (nx > 1) {
+    const int i = nx - 1;
+    out[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+  }
+}
+
+// Row j's share of |b - A x|^2 (r = b - A x written to out when not null). The squares go to
+// four running sums, cell i to sum i % 4 (then (s0 + s1) + (s2 + s3)): a fixed order, so the
+// bits do not depend on the banding, and the middle of the row vectorises; the edge cells take
+// the (periodic or weight-0) neighbours separately.
+inline double residual_row(const RowRefs& r, const float* bj, float* out, int nx, bool px) {
+  const auto cell = [&](int i, int il, int ir) { return residual_cell(r, bj, i, il, ir); };
+  double sum[4] = {0.0, 0.0, 0.0, 0.0};
+  const auto edge = [&](int i) {
+    const double ri = cell(i, left_of(i, nx, px), right_of(i, nx, px));
+    if (out) out[i] = float(ri);
+    sum[i % 4] += ri * ri;
+  };
+  edge(0);
+  int i = 1;
+  if (out) {
+    for (; i + 4 <= nx - 1; i += 4)
+      for (int k = 0; k < 4; ++k) {
+        const double ri = cell(i + k, i + k - 1, i + k + 1);
+        out[i + k] = float(ri);
+        sum[(i + k) % 4] += ri * ri;
+      }
+  } else {
+    for (; i + 4 <= nx - 1; i += 4)
+      for (int k = 0; k < 4; ++k) {
+        const double ri = cell(i + k, i + k - 1, i + k + 1);
+        sum[(i + k) % 4] += ri * ri;
+      }
+  }
+  for (; i < nx - 1; ++i) {
+    const double ri = cell(i, i - 1, i + 1);
+    if (out) out[i] = float(ri);
+    sum[i % 4] += ri * ri;
+  }
+  if (nx > 1) edge(nx - 1);
+  return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+}
+
+// A row's share of |f|^2: four running sums, cell i to sum i % 4, as residual_row (one running
+// sum is a chain of dependent additions).
+inline double norm2_row(const float* r, int nx) {
+  double sum[4] = {0.0, 0.0, 0.0, 0.0};
+  int i = 0;
+  for (; i + 4 <= nx; i += 4)
+    for (int k = 0; k < 4; ++k) sum[k] += double(r[i + k]) * r[i + k];
+  for (; i < nx; ++i) sum[i % 4] += double(r[i]) * r[i];
+  return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+}
+
+}  // namespace
+
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
                   RowExecutor& ex, const UniformRows* uniform) {
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
   ex.for_rows(ny, nx, [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
-      const RowRefs r = row_refs(op, x_in, j);
-      const float* bj = b.row(j);
-      float* out = x_out.row(j);
-      if (uniform && uniform->uniform(j)) {
-        const float w = uniform->weight(j), d = uniform->diag(j);
-        for (int i = 1; i < nx - 1; ++i)
-          out[i] = (bj[i] + w * r.x0[i - 1] + w * r.x0[i + 1] + w * r.xb[i] + w * r.xa[i]) / d;
-      } else {
-        for (int i = 1; i < nx - 1; ++i)
-          out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
-                    r.wya[i] * r.xa[i]) /
-                   r.d[i];
-      }
-      out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
-      if (nx > 1) {
-        const int i = nx - 1;
-        out[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
-      }
-    }
+    for (int j = y0; j < y1; ++j)
+      jacobi_row(row_refs(op, x_in, j), b.row(j), x_out.row(j), j, nx, px, uniform);
   });
+}
+
+JacobiBlocking::JacobiBlocking(Int2 size, int bands)
+    : size_(size),
+      bands_(std::max(1, bands)),
+      row_stride_((std::size_t(std::max(size.x, 1)) + 15) / 16 * 16 + 16),
+      rings_(std::size_t(bands_) * std::size_t(kMaxSweeps) * 3 * row_stride_),
+      residual_rows_(std::size_t(std::max(size.y, 0))),
+      rhs_rows_(std::size_t(std::max(size.y, 0))) {}
+
+// Band [y0, y1) of `sweeps` sweeps as a wavefront. Level s (x after s sweeps) is needed on the
+// band grown by sweeps - s rows, plus one for the residual (clipped to the grid unless y wraps):
+// level 0 is x_in itself, the band's own rows of the last level are x_out's, and every other
+// row lives in a ring of three rows per level (row v in slot v mod 3). Once row t of level 0 is
+// at hand, rows t - 1 of level 1, t - 2 of level 2, ... have all their inputs, so one ascending
+// pass over t computes every level while the rows it reads are still in cache. Rows are virtual
+// (v may leave [0, ny) when y wraps: v stands for row v mod ny); each is computed with
+// jacobi_row, as the plain sweep computes it.
+void JacobiBlocking::band(const StencilOperator& op, const FieldF& b, const FieldF& x_in,
+                          FieldF& x_out, int sweeps, int y0, int y1, float* rings,
+                          const UniformRows* uniform, bool norms) const {
+  const int nx = op.size.x, ny = op.size.y;
+  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  const bool py = op.boundary_y == BoundaryKind::kPeriodic;
+  const int extra = norms ? 1 : 0;
+  const auto wrap = [&](int v) { return ((v % ny) + ny) % ny; };
+  // Rows of level s: [lo(s), hi(s)).
+  const auto lo = [&](int s) {
+    const int v = y0 - (sweeps - s) - extra;
+    return py ? v : std::max(0, v);
+  };
+  const auto hi = [&](int s) {
+    const int v = y1 + (sweeps - s) + extra;
+    return py ? v : std::min(ny, v);
+  };
+  const auto ring_row = [&](int s, int v) {
+    return rings + (std::size_t(s - 1) * 3 + std::size_t(((v % 3) + 3) % 3)) * row_stride_;
+  };
+  const auto in_band = [&](int v) { return v >= y0 && v < y1; };
+  const auto level_row = [&](int s, int v) -> const float* {
+    if (s == 0) return x_in.row(wrap(v));
+    return s == sweeps && in_band(v) ? x_out.row(v) : ring_row(s, v);
+  };
+  // x's rows around row v of level s, for row j = v mod ny of the operator. Outside a wrapping
+  // y the grid's first and last rows take themselves as the missing neighbour (weight 0), as
+  // row_refs does.
+  const auto refs = [&](int s, int v, int j) {
+    const float* x0 = level_row(s, v);
+    return RowRefs{v - 1 >= lo(s) ? level_row(s, v - 1) : x0,
+                   x0,
+                   v + 1 < hi(s) ? level_row(s, v + 1) : x0,
+                   op.diag.row(j),
+                   op.wx.row(j),
+                   op.wy.row(j),
+                   op.wy.row(j + 1)};
+  };
+  for (int t = lo(0); t <= y1 + sweeps + extra; ++t) {
+    for (int s = 1; s <= sweeps; ++s) {
+      const int v = t - s;
+      if (v < lo(s) || v >= hi(s)) continue;
+      const int j = wrap(v);
+      float* out = s == sweeps && in_band(v) ? x_out.row(v) : ring_row(s, v);
+      jacobi_row(refs(s - 1, v, j), b.row(j), out, j, nx, px, uniform);
+    }
+    // The residual of row v once the last level's row v + 1 exists.
+    const int v = t - sweeps - 1;
+    if (norms && in_band(v)) {
+      residual_rows_[std::size_t(v)] = residual_row(refs(sweeps, v, v), b.row(v), nullptr, nx, px);
+      rhs_rows_[std::size_t(v)] = norm2_row(b.row(v), nx);
+    }
+  }
+}
+
+void JacobiBlocking::sweeps(const StencilOperator& op, const FieldF& b, const FieldF& x_in,
+                            FieldF& x_out, int sweeps, RowExecutor& ex, const UniformRows* uniform,
+                            Norms* norms) {
+  ARDCELL_CHECK(op.size == size_ && sweeps >= 1 && sweeps <= kMaxSweeps,
+                "JacobiBlocking: size or sweep count out of range");
+  const int ny = size_.y;
+  // A band per worker: each recomputes the levels of its neighbours' edge rows, so more bands
+  // would cost more, and fewer would leave a core idle.
+  const bool parallel = ex.workers() > 1 && long(size_.x) * ny >= RowExecutor::kMinParallelCells &&
+                        ny >= 2 * RowExecutor::kMinRowsPerBand;
+  const int bands =
+      parallel ? std::min({bands_, ex.workers(), ny / RowExecutor::kMinRowsPerBand}) : 1;
+  const std::size_t ring_floats = std::size_t(kMaxSweeps) * 3 * row_stride_;
+  ex.for_tasks(bands, [&](int i) {
+    band(op, b, x_in, x_out, sweeps, int(long(ny) * i / bands), int(long(ny) * (i + 1) / bands),
+         rings_.data() + ring_floats * std::size_t(i), uniform, norms != nullptr);
+  });
+  if (norms) {
+    *norms = Norms{};
+    for (int y = 0; y < ny; ++y) {
+      norms->residual2 += residual_rows_[std::size_t(y)];
+      norms->rhs2 += rhs_rows_[std::size_t(y)];
+    }
+  }
 }
 
 void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
@@ -141,44 +294,8 @@ double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, Fie
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
   return ex.sum_rows(ny, nx, [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) {
-      const RowRefs r = row_refs(op, x, j);
-      const float* bj = b.row(j);
-      float* out = res ? res->row(j) : nullptr;
-      const auto cell = [&](int i, int il, int ir) { return residual_cell(r, bj, i, il, ir); };
-      // The squares go to four running sums, cell i to sum i % 4 (then (s0 + s1) + (s2 + s3)):
-      // a fixed order, so the bits do not depend on the banding, and the middle of the row
-      // vectorises; the edge cells take the (periodic or weight-0) neighbours separately.
-      double sum[4] = {0.0, 0.0, 0.0, 0.0};
-      const auto edge = [&](int i) {
-        const double ri = cell(i, left_of(i, nx, px), right_of(i, nx, px));
-        if (out) out[i] = float(ri);
-        sum[i % 4] += ri * ri;
-      };
-      edge(0);
-      int i = 1;
-      if (out) {
-        for (; i + 4 <= nx - 1; i += 4)
-          for (int k = 0; k < 4; ++k) {
-            const double ri = cell(i + k, i + k - 1, i + k + 1);
-            out[i + k] = float(ri);
-            sum[(i + k) % 4] += ri * ri;
-          }
-      } else {
-        for (; i + 4 <= nx - 1; i += 4)
-          for (int k = 0; k < 4; ++k) {
-            const double ri = cell(i + k, i + k - 1, i + k + 1);
-            sum[(i + k) % 4] += ri * ri;
-          }
-      }
-      for (; i < nx - 1; ++i) {
-        const double ri = cell(i, i - 1, i + 1);
-        if (out) out[i] = float(ri);
-        sum[i % 4] += ri * ri;
-      }
-      if (nx > 1) edge(nx - 1);
-      partials[j] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
-    }
+    for (int j = y0; j < y1; ++j)
+      partials[j] = residual_row(row_refs(op, x, j), b.row(j), res ? res->row(j) : nullptr, nx, px);
   });
 }
 
@@ -202,17 +319,7 @@ void residual_field(const StencilOperator& op, const FieldF& b, const FieldF& x,
 
 double norm2_squared(const FieldF& f, RowExecutor& ex) {
   return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) {
-      const float* r = f.row(j);
-      // Four running sums, cell i to sum i % 4, as residual(): a fixed order that vectorises
-      // (one running sum is a chain of dependent additions).
-      double sum[4] = {0.0, 0.0, 0.0, 0.0};
-      int i = 0;
-      for (; i + 4 <= f.nx(); i += 4)
-        for (int k = 0; k < 4; ++k) sum[k] += double(r[i + k]) * r[i + k];
-      for (; i < f.nx(); ++i) sum[i % 4] += double(r[i]) * r[i];
-      partials[j] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
-    }
+    for (int j = y0; j < y1; ++j) partials[j] = norm2_row(f.row(j), f.nx());
   });
 }
 

@@ -39,6 +39,39 @@ class UniformRows {
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
                   RowExecutor& ex = RowExecutor::serial(), const UniformRows* uniform = nullptr);
 
+// Ghost-zone temporal blocking of Jacobi sweeps (seed 000, Jacobi being the real-time default):
+// `sweeps` sweeps from x_in into x_out in ONE pass over the grid, the same bits as `sweeps`
+// jacobi_sweep calls ping-ponging between two fields. The rows are cut into one band per worker;
+// a band computes the intermediate sweeps of its rows grown by the sweeps still to come (the
+// dependency cone) in rings of three rows per sweep held in cache, and writes only its own rows
+// of x_out, so no band waits for another and nothing but the result goes back to memory. The
+// cost is the cones' overlap: about sweeps^2 rows recomputed per band boundary.
+// With `norms`, the same pass also returns |b - A x_out|^2 and |b|^2, with the bits of
+// residual() and norm2_squared() (a solve's residual report without another pass).
+// x_in and x_out must differ. Scratch is allocated at construction; sweeps() allocates nothing.
+class JacobiBlocking {
+ public:
+  static constexpr int kMaxSweeps = 32;
+  struct Norms {
+    double residual2 = 0.0;  // |b - A x_out|^2
+    double rhs2 = 0.0;       // |b|^2
+  };
+  JacobiBlocking(Int2 size, int bands);
+  void sweeps(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
+              int sweeps, RowExecutor& ex = RowExecutor::serial(),
+              const UniformRows* uniform = nullptr, Norms* norms = nullptr);
+
+ private:
+  void band(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
+            int sweeps, int y0, int y1, float* rings, const UniformRows* uniform, bool norms) const;
+  Int2 size_;
+  int bands_;
+  std::size_t row_stride_;
+  std::vector<float> rings_;
+  // Per-row partials of the norms, added in row order as RowExecutor::sum_rows does.
+  mutable std::vector<double> residual_rows_, rhs_rows_;
+};
+
 // One red-black Gauss-Seidel sweep in place: cells with (x + y) even, then odd.
 void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x,
                 RowExecutor& ex = RowExecutor::serial());

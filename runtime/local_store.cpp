@@ -65,7 +65,37 @@ std::size_t l2_per_core() {
   return 0;
 }
 
+// The largest data cache level's size (not divided among the cores sharing it), 0 when unknown.
+std::size_t last_level_cache() {
+  std::size_t bytes = 0;
+  int deepest = 0;
+  for (int i = 0; i < 8; ++i) {
+    const std::string dir = "/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(i) + "/";
+    const std::string level = read_line(dir + "level");
+    if (level.empty() || read_line(dir + "type") == "Instruction") continue;
+    const int l = std::atoi(level.c_str());
+    const std::size_t size = parse_cache_size(read_line(dir + "size"));
+    if (l > deepest && size > 0) {
+      deepest = l;
+      bytes = size;
+    }
+  }
+  if (bytes > 0) return bytes;
+#if defined(_SC_LEVEL3_CACHE_SIZE)
+  if (const long l3 = sysconf(_SC_LEVEL3_CACHE_SIZE); l3 > 0) return std::size_t(l3);
+#endif
+  return 0;
+}
+
 }  // namespace
+
+std::size_t machine_last_level_cache_bytes() {
+  static const std::size_t bytes = [] {
+    const std::size_t llc = last_level_cache();
+    return llc > 0 ? llc : std::size_t(8) << 20;
+  }();
+  return bytes;
+}
 
 std::size_t machine_local_store_bytes() {
   static const std::size_t bytes = [] {

@@ -23,6 +23,11 @@ inline constexpr std::size_t kSpeLocalStoreBytes = 256 * 1024;
 // Table 1 blocked fluid+RD 512^2: 31 FPS with 256 KiB, 47 with 512 KiB, 59-67 with 1 MiB.
 std::size_t machine_local_store_bytes();
 
+// The machine's last-level data cache (the whole of it, as its cores share it), from sysfs, else
+// sysconf; 8 MiB where the machine does not say. Read once. What a pass over several fields must
+// exceed before streaming them through memory once per sweep costs more than blocking the sweeps.
+std::size_t machine_last_level_cache_bytes();
+
 class LocalStore {
  public:
   static constexpr int kSlots = 2;

@@ -6,7 +6,9 @@
 #include <cstring>
 #include <numbers>
 #include <random>
+#include <string>
 
+#include "kernels/solver_common.h"
 #include "kernels/stencil_sweeps.h"
 #include "runtime/thread/thread_backend.h"
 
@@ -268,6 +270,116 @@ TEST(UniformRows, JacobiSweepGivesTheSameBitsWithAndWithout) {
       EXPECT_EQ(std::memcmp(plain.raw(), fast.raw(), plain.raw_size() * sizeof(float)), 0)
           << int(bx) << int(by);
     }
+}
+
+// Temporally blocked Jacobi gives the bits of sweep-by-sweep Jacobi: every boundary kind, with
+// solid cells and a conductivity patch (rows that are not uniform), on grids whose bands are
+// thinner than the sweeps' cones (two bands of 4 or 5 rows, wrapping or not), for 1 to kMaxSweeps
+// sweeps, serial and on 2 to 4 workers; and the residual and right-hand side norms the same pass
+// returns, with the bits of the passes of their own.
+TEST(JacobiBlocking, SameBitsAsSweepBySweep) {
+  std::vector<std::unique_ptr<ThreadBackend>> backends;
+  std::vector<std::unique_ptr<RowExecutor>> executors;
+  for (int workers : {2, 3, 4}) {
+    ThreadBackendOptions o;
+    o.workers = workers;
+    backends.push_back(std::make_unique<ThreadBackend>(o));
+    executors.push_back(std::make_unique<RowExecutor>(*backends.back()));
+  }
+  for (Int2 size : {Int2{131, 97}, Int2{1024, 9}, Int2{2048, 8}, Int2{3, 40}})
+    for (BoundaryKind bx : {BoundaryKind::kPeriodic, BoundaryKind::kNeumann})
+      for (BoundaryKind by :
+           {BoundaryKind::kPeriodic, BoundaryKind::kNeumann, BoundaryKind::kDirichlet}) {
+        FieldF k(size, 1);
+        k.fill(1.0f);
+        for (int j = size.y / 3; j < size.y / 2; ++j)
+          for (int i = 0; i < size.x / 4; ++i) k(i, j) = 1.5f;
+        StencilOperator op = assemble_stencil_operator(size, 1.0, 2.3, &k, bx, by);
+        Field<uint8_t> solid(size, 1);
+        solid(size.x / 2, size.y - 2) = 1;
+        isolate_solid_cells(op, solid, 2.0);
+        stencil::UniformRows rows(size.y);
+        rows.analyse(op);
+        const FieldF b = random_field(size, 41), x = random_field(size, 42);
+        for (int sweeps : {1, 2, 7, stencil::JacobiBlocking::kMaxSweeps}) {
+          FieldF ping = x, pong(size, 1);
+          for (int s = 0; s < sweeps; ++s) {
+            stencil::jacobi_sweep(op, b, ping, pong, RowExecutor::serial(), &rows);
+            std::swap(ping, pong);
+          }
+          std::vector<RowExecutor*> all{&RowExecutor::serial()};
+          for (auto& e : executors) all.push_back(e.get());
+          for (RowExecutor* ex : all) {
+            stencil::JacobiBlocking blocking(size, ex->workers());
+            FieldF out(size, 1);
+            stencil::JacobiBlocking::Norms norms;
+            blocking.sweeps(op, b, x, out, sweeps, *ex, &rows,
+                            ex->workers() > 2 ? &norms : nullptr);
+            const std::string where = std::to_string(size.x) + "x" + std::to_string(size.y) +
+                                      " bx " + std::to_string(int(bx)) + " by " +
+                                      std::to_string(int(by)) + " " + std::to_string(sweeps) +
+                                      " sweeps, " + std::to_string(ex->workers()) + " workers";
+            for (int j = 0; j < size.y; ++j)
+              ASSERT_EQ(std::memcmp(out.row(j), ping.row(j), sizeof(float) * size_t(size.x)), 0)
+                  << where << ", row " << j;
+            if (ex->workers() > 2) {
+              // The fused norms: residual()'s and norm2_squared()'s bits.
+              const double residual2 = stencil::residual(op, b, ping, nullptr);
+              const double rhs2 = stencil::norm2_squared(b);
+              EXPECT_EQ(std::memcmp(&norms.residual2, &residual2, sizeof(double)), 0) << where;
+              EXPECT_EQ(std::memcmp(&norms.rhs2, &rhs2, sizeof(double)), 0) << where;
+            }
+          }
+        }
+      }
+}
+
+// A fixed-sweep Jacobi solve, sweep by sweep or temporally blocked (32 + 13 sweeps, the residual
+// report fused into the last pass for a non-singular operator), gives the solution and the
+// report of sweeping one sweep at a time and taking the residual afterwards, on 1 to 4 workers;
+// also for the singular pure-Neumann Poisson operator (null-space mean removed before the
+// residual).
+TEST(LinearSolver, FixedSweepJacobiMatchesSweepBySweep) {
+  const Int2 size{131, 97};
+  for (double alpha : {0.0, 1.0}) {
+    const StencilOperator op = assemble_stencil_operator(
+        size, alpha, 2.5, nullptr, BoundaryKind::kNeumann, BoundaryKind::kNeumann);
+    FieldF b = random_field(size, 51);
+    const FieldF x0 = random_field(size, 52);
+    stencil::NullSpace null_space(size);
+    null_space.analyse(op);
+    ASSERT_EQ(null_space.singular(), alpha == 0.0);
+    FieldF ping = x0, pong(size, 1);
+    for (int s = 0; s < 45; ++s) {
+      stencil::jacobi_sweep(op, b, ping, pong);
+      std::swap(ping, pong);
+    }
+    null_space.remove_mean(ping);
+    const double bb = null_space.consistent_norm2(b);
+    const double rr = null_space.consistent_part(stencil::residual(op, b, ping, &pong), pong,
+                                                 RowExecutor::serial());
+    const double expected = bb > 0.0 ? std::sqrt(rr / bb) : std::sqrt(rr);
+    for (int workers : {1, 2, 3, 4})
+      for (bool blocked : {false, true}) {
+        ThreadBackendOptions o;
+        o.workers = workers;
+        ThreadBackend backend(o);
+        RowExecutor ex(backend);
+        auto solver =
+            solver_detail::make_jacobi_solver({SolverKind::kJacobi, 45, 0.0}, size, ex, blocked);
+        solver->prepare(op);
+        FieldF x = x0;
+        const SolveReport got = solver->solve(op, b, x);
+        const std::string where = std::to_string(alpha) + ", " + std::to_string(workers) +
+                                  " workers, " + (blocked ? "blocked" : "sweep by sweep");
+        EXPECT_EQ(got.iterations, 45);
+        EXPECT_EQ(std::memcmp(&got.relative_residual, &expected, sizeof(double)), 0)
+            << where << ": " << got.relative_residual << " vs " << expected;
+        for (int j = 0; j < size.y; ++j)
+          ASSERT_EQ(std::memcmp(x.row(j), ping.row(j), sizeof(float) * std::size_t(size.x)), 0)
+              << where << ", row " << j;
+      }
+  }
 }
 
 // Multigrid around an obstacle: the pressure operator (Neumann walls and disc) converges to its
