@@ -1,0 +1,20 @@
+#pragma once
+// Control meshes built in code, so that surfaces run and test without a file.
+#include <cstdint>
+
+#include "host/surface/poly_mesh.h"
+
+namespace ardcell {
+
+// The cube [-1, 1]^3 with each face cut into k x k quads, outward-facing. Its Catmull-Clark
+// limit is the "cube-sphere": 8 extraordinary vertices of valence 3.
+PolyMesh cube_mesh(int k);
+
+// A torus of `around` x `tube` quads (major radius R, minor r): every vertex has valence 4.
+PolyMesh torus_mesh(int around, int tube, double R, double r);
+
+// The same faces, each with its vertex list rotated by a pseudo-random 0-3 places, so that the
+// patches' parametrisations meet with every quarter turn.
+PolyMesh rotate_faces(const PolyMesh& mesh, std::uint32_t seed);
+
+}  // namespace ardcell
