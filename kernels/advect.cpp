@@ -1,5 +1,6 @@
 #include "kernels/advect.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -241,6 +242,29 @@ struct FaceSampler {
   }
 };
 
+// The departure point of cell (x, y) under the face velocities (row y's uf at ul, vf's rows y
+// and y + 1 at vb, va): the midpoint rule, the midpoint's velocity sampled from the faces.
+inline void mac_departure(const FaceSampler& su, const FaceSampler& sv, const AxisLimits& ax,
+                          const AxisLimits& ay, float k, int x, const float* ul, const float* vb,
+                          const float* va, int y, Sample& s) {
+  const float ux = 0.5f * (ul[x] + ul[x + 1]), vy = 0.5f * (vb[x] + va[x]);
+  const float mx = float(x) - 0.5f * k * ux, my = float(y) - 0.5f * k * vy;
+  locate(ax, float(x) - k * su.at(mx, my), s.i0, s.s1);
+  locate(ay, float(y) - k * sv.at(mx, my), s.j0, s.t1);
+}
+
+// q_hat + (q0 - q_back) / 2 at a cell, clamped to the four cells of q0 around the sample s.
+inline float corrected(const View<const float>& q0, const Sample& s, float q_hat, float q0_here,
+                       float q_back) {
+  const float* r0 = q0.row(s.j0);
+  const float* r1 = q0.row(s.j0 + 1);
+  const float lo = std::min(std::min(r0[s.i0], r0[s.i0 + 1]), std::min(r1[s.i0], r1[s.i0 + 1]));
+  const float hi = std::max(std::max(r0[s.i0], r0[s.i0 + 1]), std::max(r1[s.i0], r1[s.i0 + 1]));
+  const float q = q_hat + 0.5f * (q0_here - q_back);
+  // Written so that a NaN lands on lo, as locate() does.
+  return std::min(q > lo ? q : lo, hi);
+}
+
 }  // namespace
 
 void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const float> vf,
@@ -300,11 +324,8 @@ void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const fl
     }
 #endif
     for (; x < region.max.x; ++x) {
-      const float ux = 0.5f * (ul[x] + ul[x + 1]), vy = 0.5f * (vb[x] + va[x]);
-      const float mx = float(x) - 0.5f * k * ux, my = float(y) - 0.5f * k * vy;
       Sample s;
-      locate(ax, float(x) - k * su.at(mx, my), s.i0, s.s1);
-      locate(ay, float(y) - k * sv.at(mx, my), s.j0, s.t1);
+      mac_departure(su, sv, ax, ay, k, x, ul, vb, va, y, s);
       out[x] = bilinear(q0, s);
     }
   }
@@ -324,6 +345,60 @@ void advect_velocity(View<const float> u0, View<const float> v0, View<float> u, 
   const View<const float> in[] = {u0, v0};
   const View<float> out[] = {u, v};
   advect_fields(u0, v0, in, out, region, params);
+}
+
+void maccormack_correct(View<const float> u, View<const float> v,
+                        std::span<const View<const float>> q0,
+                        std::span<const View<const float>> q_hat,
+                        std::span<const View<const float>> q_back, std::span<const View<float>> q,
+                        Box2 region, const AdvectParams& params) {
+  ARDCELL_CHECK(q0.size() == q.size() && q_hat.size() == q.size() && q_back.size() == q.size(),
+                "maccormack_correct: one q_hat, q_back and output per input");
+  if (region.empty() || q0.empty()) return;
+  Box2 b = u.box().intersected(v.box());
+  for (const View<const float>& f : q0) {
+    ARDCELL_CHECK(f.box() == q0[0].box(), "maccormack_correct: every source field needs one box");
+    b = b.intersected(f.box());
+  }
+  ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
+  const AxisLimits ax = axis_limits(b.min.x, b.max.x, params.domain.x, params.periodic);
+  const AxisLimits ay = axis_limits(b.min.y, b.max.y, params.domain.y, params.periodic);
+  const float k = params.dt_over_h;
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* ur = u.row(y);
+    const float* vr = v.row(y);
+    for (int x = region.min.x; x < region.max.x; ++x) {
+      Sample s;
+      back_trace(u, v, ax, ay, k, x, y, ur[x], vr[x], s);
+      for (std::size_t i = 0; i < q0.size(); ++i)
+        q[i].row(y)[x] =
+            corrected(q0[i], s, q_hat[i].row(y)[x], q0[i].row(y)[x], q_back[i].row(y)[x]);
+    }
+  }
+}
+
+void maccormack_correct_mac(View<const float> q0, View<const float> q_hat, View<const float> q_back,
+                            View<const float> uf, View<const float> vf, View<float> q, Box2 region,
+                            const AdvectParams& params) {
+  if (region.empty()) return;
+  const Int2 n = params.domain;
+  const FaceSampler su(uf, {n.x + 1, n.y}, {1, 0}, params.periodic, n);
+  const FaceSampler sv(vf, {n.x, n.y + 1}, {0, 1}, params.periodic, n);
+  const Box2& b = q0.box();
+  ARDCELL_CHECK(b.width() >= 2 && b.height() >= 2, "advect: source view too small");
+  const AxisLimits ax = axis_limits(b.min.x, b.max.x, n.x, params.periodic);
+  const AxisLimits ay = axis_limits(b.min.y, b.max.y, n.y, params.periodic);
+  const float k = params.dt_over_h;
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* ul = uf.row(y);
+    const float* vb = vf.row(y);
+    const float* va = vf.row(y + 1);
+    for (int x = region.min.x; x < region.max.x; ++x) {
+      Sample s;
+      mac_departure(su, sv, ax, ay, k, x, ul, vb, va, y, s);
+      q.row(y)[x] = corrected(q0, s, q_hat.row(y)[x], q0.row(y)[x], q_back.row(y)[x]);
+    }
+  }
 }
 
 }  // namespace ardcell

@@ -53,4 +53,30 @@ void advect_fields(View<const float> u, View<const float> v, std::span<const Vie
 void advect_scalar_mac(View<const float> q0, View<const float> uf, View<const float> vf,
                        View<float> q, Box2 region, const AdvectParams& params);
 
+// MacCormack's correction with its limiter (Selle, Fedkiw, Kim, Liu & Rossignac, "An
+// Unconditionally Stable MacCormack Method", J. Sci. Comput. 35, 2008): after the forward
+// semi-Lagrangian step q_hat = A(q0) and the backward one q_back = A^R(q_hat) (the same advection
+// with dt negated),
+//   q = q_hat + (q0 - q_back) / 2,
+// which cancels the leading error of A: second order where the field is smooth. The limiter
+// clamps q to the range of the four cells of q0 that A interpolated between at this cell's
+// departure point, so the correction creates no new extremum and the scheme keeps A's
+// unconditional stability. (Selle et al. also revert to q_hat instead of clamping; the clamp
+// keeps q continuous in q_hat, q0 and q_back. The bounds themselves jump where the departure
+// point crosses a cell edge, so two back ends that round a back-trace differently can differ
+// there by up to the local variation of q0.)
+// u, v: the velocity of the forward step (cell-centred, as advect_fields). Reads q0, u, v over
+// the region grown by ceil(dt/h |u|max) + 1, q_hat and q_back over the region. q[i] may be
+// q_hat[i] (each cell reads only its own q_hat); it must not alias q0 or q_back.
+void maccormack_correct(View<const float> u, View<const float> v,
+                        std::span<const View<const float>> q0,
+                        std::span<const View<const float>> q_hat,
+                        std::span<const View<const float>> q_back, std::span<const View<float>> q,
+                        Box2 region, const AdvectParams& params);
+
+// The same for a scalar carried by the MAC face velocities (advect_scalar_mac's departure point).
+void maccormack_correct_mac(View<const float> q0, View<const float> q_hat, View<const float> q_back,
+                            View<const float> uf, View<const float> vf, View<float> q, Box2 region,
+                            const AdvectParams& params);
+
 }  // namespace ardcell

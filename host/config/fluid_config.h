@@ -35,6 +35,12 @@ struct FluidEmitter {
   double swirl = 0.0;  // the force direction turns at this rate (rad per unit time)
 };
 
+// How the velocity and the dye are carried (kernels/advect.h).
+enum class AdvectionScheme : uint8_t {
+  kSemiLagrangian,  // Stam's: first order, the interpolation diffuses (seed 000 Eqn 20)
+  kMacCormack,      // Selle et al. 2008: a forward and a backward step, limited: second order
+};
+
 struct FluidConfig {
   FluidSceneKind kind = FluidSceneKind::kCavity;
   double viscosity = 0.01;  // kinematic; Re = lid_speed * L / viscosity for the cavity
@@ -51,6 +57,7 @@ struct FluidConfig {
   // continuous equation does and never leaves the range it started from (a global mass fixer
   // in the manner of semi-Lagrangian transport models).
   bool conserve_dye = true;
+  AdvectionScheme advection = AdvectionScheme::kSemiLagrangian;
 
   // obstacle: inflow through the top wall (downward, at inflow_speed), outflow at the bottom
   // (pressure 0), free-slip side walls, a solid disc.

@@ -40,6 +40,8 @@ const char* device_op_name(DeviceOp op) {
       return "scalar advection";
     case DeviceOp::kAdvectScalarMac:
       return "scalar advection (MAC faces)";
+    case DeviceOp::kMacCormack:
+      return "MacCormack correction";
     case DeviceOp::kRange:
       return "field range";
     case DeviceOp::kRestoreMass:
@@ -193,6 +195,39 @@ void CpuDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const Fiel
                                   const AdvectParams& p) {
   for_bands(q.size(), [&](Box2 rows) {
     ardcell::advect_scalar_mac(q0.view(), uf.view(), vf.view(), q.view(), rows, p);
+  });
+}
+
+void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
+                                   std::span<const FieldF* const> q_hat,
+                                   std::span<const FieldF* const> q_back, const FieldF& u,
+                                   const FieldF& v, std::span<FieldF* const> q,
+                                   const AdvectParams& p, bool mac) {
+  ARDCELL_CHECK(q0.size() == q.size() && q_hat.size() == q.size() && q_back.size() == q.size() &&
+                    q.size() <= std::size_t(kMaxAdvectFields) && !q.empty() &&
+                    (!mac || q.size() == 1),
+                "maccormack_correct: one q_hat, q_back and output per input, 1 to "
+                "kMaxAdvectFields (one with mac)");
+  if (mac) {
+    for_bands(q[0]->size(), [&](Box2 rows) {
+      ardcell::maccormack_correct_mac(q0[0]->view(), q_hat[0]->view(), q_back[0]->view(), u.view(),
+                                      v.view(), q[0]->view(), rows, p);
+    });
+    return;
+  }
+  std::array<View<const float>, kMaxAdvectFields> in, hat, back;
+  std::array<View<float>, kMaxAdvectFields> out;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    in[i] = q0[i]->view();
+    hat[i] = q_hat[i]->view();
+    back[i] = q_back[i]->view();
+    out[i] = q[i]->view();
+  }
+  const std::size_t n = q.size();
+  for_bands(q[0]->size(), [&](Box2 rows) {
+    ardcell::maccormack_correct(u.view(), v.view(), std::span(in.data(), n),
+                                std::span(hat.data(), n), std::span(back.data(), n),
+                                std::span(out.data(), n), rows, p);
   });
 }
 

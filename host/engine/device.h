@@ -48,6 +48,7 @@ enum class DeviceOp : uint8_t {
   kAdvectVelocity,
   kAdvectScalar,
   kAdvectScalarMac,
+  kMacCormack,
   kRange,
   kRestoreMass,
   kSolve,
@@ -122,6 +123,15 @@ class Device {
                               std::span<FieldF* const> q, const AdvectParams& p) = 0;
   virtual void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                                  const AdvectParams& p) = 0;
+  // MacCormack's limited correction (kernels/advect.h maccormack_correct): q[i] from q0[i], the
+  // forward step's q_hat[i] and the backward step's q_back[i], bounded at the departure point
+  // of (u, v) - or of the face velocities (u, v) = (uf, vf) with `mac` (one field then). q[i]
+  // may be q_hat[i].
+  virtual void maccormack_correct(std::span<const FieldF* const> q0,
+                                  std::span<const FieldF* const> q_hat,
+                                  std::span<const FieldF* const> q_back, const FieldF& u,
+                                  const FieldF& v, std::span<FieldF* const> q,
+                                  const AdvectParams& p, bool mac) = 0;
   // The interior's sum (rows added in order), minimum and maximum.
   virtual FieldRange range(const FieldF& f) = 0;
   // Puts `missing` mass back with weights (q - lo)(hi - q), clamped to [lo, hi]
@@ -202,6 +212,9 @@ class CpuDevice final : public Device {
                       std::span<FieldF* const> q, const AdvectParams& p) override;
   void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                          const AdvectParams& p) override;
+  void maccormack_correct(std::span<const FieldF* const> q0, std::span<const FieldF* const> q_hat,
+                          std::span<const FieldF* const> q_back, const FieldF& u, const FieldF& v,
+                          std::span<FieldF* const> q, const AdvectParams& p, bool mac) override;
   FieldRange range(const FieldF& f) override;
   void restore_mass(FieldF& f, double missing, float lo, float hi) override;
 

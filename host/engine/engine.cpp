@@ -140,6 +140,7 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
   if (a.domain_width != b.domain_width) return "grid.domain_width";
   if (fa.kind != fb.kind) return "fluid.scene";
   if (fa.walls != fb.walls) return "fluid.walls";
+  if (fa.advection != fb.advection) return "fluid.advection";
   if (fa.obstacle_x != fb.obstacle_x) return "fluid.obstacle_x";
   if (fa.obstacle_y != fb.obstacle_y) return "fluid.obstacle_y";
   if (fa.obstacle_radius != fb.obstacle_radius) return "fluid.obstacle_radius";

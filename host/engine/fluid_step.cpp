@@ -50,6 +50,7 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
       face_u_(Int2{size.x + 1, size.y}, 1),
       face_v_(Int2{size.x, size.y + 1}, 1) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0 && h > 0.0, "FluidStep: size and h must be positive");
+  if (config_.advection == AdvectionScheme::kMacCormack) back_ = FieldF(size, 1);
   const EdgeFill copy{EdgeRule::kCopy, 0.0f};
   const EdgeFill wall{EdgeRule::kMirror, 0.0f};
   fill_p_ = BoundaryFill::copy();
@@ -248,6 +249,36 @@ void FluidStep::advect(SimState& state) {
   const bool periodic = fill_u_.left.rule == EdgeRule::kPeriodic;
   const AdvectParams params{float(state.dt / h_), size_, periodic};
   dev_->advect_velocity(scratch_u_, scratch_v_, state.u, state.v, params);
+  if (config_.advection != AdvectionScheme::kMacCormack) return;
+  // MacCormack: the forward result carried back by the same velocity, then corrected by half
+  // the round trip's error (kernels/advect.h maccormack_correct).
+  fill_velocity(state);
+  AdvectParams backward = params;
+  backward.dt_over_h = -params.dt_over_h;
+  const FieldF* hat[] = {&state.u, &state.v};
+  FieldF* back[] = {&rhs_, &back_};
+  dev_->advect_scalars(hat, scratch_u_, scratch_v_, back, backward);
+  const FieldF* before[] = {&scratch_u_, &scratch_v_};
+  const FieldF* back_in[] = {&rhs_, &back_};
+  FieldF* out[] = {&state.u, &state.v};
+  dev_->maccormack_correct(before, hat, back_in, scratch_u_, scratch_v_, out, params, false);
+}
+
+// The dye from scratch_b_ (its value before, ghosts filled) by the divergence-free face
+// velocities, and with MacCormack the same correction as the velocity's.
+void FluidStep::advect_dye(SimState& state, const AdvectParams& params) {
+  dev_->advect_scalar_mac(scratch_b_, face_u_, face_v_, state.dye, params);
+  if (config_.advection != AdvectionScheme::kMacCormack) return;
+  dev_->fill_boundary(state.dye, fill_dye_);
+  if (!solid_.empty()) dev_->fill_obstacle(state.dye, solid_, ObstacleRule::kCopy);
+  AdvectParams backward = params;
+  backward.dt_over_h = -params.dt_over_h;
+  dev_->advect_scalar_mac(state.dye, face_u_, face_v_, rhs_, backward);
+  const FieldF* before[] = {&scratch_b_};
+  const FieldF* hat[] = {&state.dye};
+  const FieldF* back[] = {&rhs_};
+  FieldF* out[] = {&state.dye};
+  dev_->maccormack_correct(before, hat, back, face_u_, face_v_, out, params, true);
 }
 
 void FluidStep::diffuse_dye(SimState& state) {
@@ -276,7 +307,7 @@ void FluidStep::step(SimState& state) {
   const FieldRange before = fix_mass ? dev_->range(state.dye) : FieldRange{};
   const bool periodic = fill_dye_.left.rule == EdgeRule::kPeriodic;
   const AdvectParams params{float(state.dt / h_), size_, periodic};
-  dev_->advect_scalar_mac(scratch_b_, face_u_, face_v_, state.dye, params);
+  advect_dye(state, params);
   if (fix_mass) {
     // Advection's mass error, put back where it is least certain (Device::restore_mass).
     const double after = dev_->range(state.dye).sum;

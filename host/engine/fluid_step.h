@@ -70,6 +70,7 @@ class FluidStep {
   void diffuse_velocity(SimState& state);
   void diffuse_dye(SimState& state);
   void advect(SimState& state);
+  void advect_dye(SimState& state, const AdvectParams& params);
 
   FluidConfig config_;
   Device* dev_;
@@ -80,6 +81,7 @@ class FluidStep {
   Field<uint8_t> solid_;  // the obstacle mask (empty when none)
   std::unique_ptr<Operators> ops_;
   FieldF scratch_u_, scratch_v_, scratch_b_, rhs_;
+  FieldF back_;  // MacCormack's backward step (with rhs_); empty for semi-Lagrangian advection
   FieldF face_u_, face_v_;  // (nx + 1) x ny and nx x (ny + 1), halo 1
   FluidStepReport report_;
 };

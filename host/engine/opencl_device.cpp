@@ -254,6 +254,22 @@ void OpenClDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const F
   cl_->advect_scalar_mac(dq0, duf, dvf, out(q), box_of_size(q.size()), p);
 }
 
+void OpenClDevice::maccormack_correct(std::span<const FieldF* const> q0,
+                                      std::span<const FieldF* const> q_hat,
+                                      std::span<const FieldF* const> q_back, const FieldF& u,
+                                      const FieldF& v, std::span<FieldF* const> q,
+                                      const AdvectParams& p, bool mac) {
+  const DeviceField& du = in(u);
+  const DeviceField& dv = in(v);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const DeviceField& dq0 = in(*q0[i]);
+    const DeviceField& dhat = in(*q_hat[i]);
+    const DeviceField& dback = in(*q_back[i]);
+    cl_->maccormack_correct(dq0, dhat, dback, du, dv, out(*q[i]), box_of_size(q[i]->size()), p,
+                            mac);
+  }
+}
+
 FieldRange OpenClDevice::range(const FieldF& f) {
   const int ny = f.ny();
   cl_->row_ranges(in(f), 0, ny, partial_sum_, partial_lo_, partial_hi_);

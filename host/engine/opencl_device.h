@@ -67,6 +67,9 @@ class OpenClDevice final : public Device {
                       std::span<FieldF* const> q, const AdvectParams& p) override;
   void advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                          const AdvectParams& p) override;
+  void maccormack_correct(std::span<const FieldF* const> q0, std::span<const FieldF* const> q_hat,
+                          std::span<const FieldF* const> q_back, const FieldF& u, const FieldF& v,
+                          std::span<FieldF* const> q, const AdvectParams& p, bool mac) override;
   FieldRange range(const FieldF& f) override;
   void restore_mass(FieldF& f, double missing, float lo, float hi) override;
 

@@ -23,6 +23,7 @@ constexpr std::string_view kFluidScenes[] = {"none", "cavity", "obstacle", "ink"
 constexpr std::string_view kSolvers[] = {"jacobi", "rbgs", "iccg", "mg"};
 constexpr std::string_view kShows[] = {"dye", "speed", "vorticity", "pressure", "A", "B"};
 constexpr std::string_view kWalls[] = {"free-slip", "no-slip", "periodic"};
+constexpr std::string_view kAdvection[] = {"semi-lagrangian", "maccormack"};
 // In the order of the enums (kernels/reaction.h, anisotropy.h, stencil_operator.h, rd_config.h).
 constexpr std::string_view kModels[] = {"gray-scott",      "turing",  "meinhardt",
                                         "fitzhugh-nagumo", "barkley", "barkley-turbulent"};
@@ -152,6 +153,8 @@ const ParamSpec kParams[] = {
                "dye diffusion coefficient"),
     ARD_BOOL("fluid.conserve_dye", scene.fluid.conserve_dye, false,
              "put back the dye mass advection loses (closed domains)"),
+    ARD_ENUM("fluid.advection", scene.fluid.advection, kAdvection, true,
+             "semi-lagrangian (first order) | maccormack (second order, limited)"),
     ARD_NUMBER("fluid.inflow_speed", scene.fluid.inflow_speed, -1e3, 1e3, false,
                "obstacle: inflow speed through the top wall"),
     ARD_NUMBER("fluid.obstacle_x", scene.fluid.obstacle_x, -1e6, 1e6, true,

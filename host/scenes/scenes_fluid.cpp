@@ -51,6 +51,9 @@ SceneConfig ink_scene() {
   s.fluid.kind = FluidSceneKind::kInk;
   s.fluid.viscosity = 1e-4;
   s.fluid.walls = FluidWalls::kFreeSlip;
+  // At viscosity 1e-4 the swirls' detail is what semi-Lagrangian advection's interpolation
+  // smears first; MacCormack keeps it for about a fifth more time per frame.
+  s.fluid.advection = AdvectionScheme::kMacCormack;
   s.fluid.emitters = {
       {0.25, 0.3, 0.03, 2.0, 0.0, 4.0, 0.7},
       {0.75, 0.3, 0.03, 2.0, 0.0, 4.0, -0.9},

@@ -395,15 +395,12 @@ inline axis_t face_axis(int view_min, int view_max, int faces, int periodic, int
   return a;
 }
 
-// q = q0 carried by (uf, vf) over reg. q0 and q share one layout (q0 read over its whole
-// allocation: view); uf, vf have their own (uview, vview: their whole allocations). Reads uf,
-// vf and q0 over reg grown by ceil(k |u|max) + 1. One work-item per cell.
-__kernel void advect_scalar_mac(__global const float* q0, __global float* q, int stride,
-                                int origin, __global const float* uf, int us, int uo,
-                                __global const float* vf, int vs, int vo, int4 reg, int4 view,
-                                int4 uview, int4 vview, int2 domain, int periodic, float k) {
-  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
-  if (x >= reg.s2 || y >= reg.s3) return;
+// The departure point of cell (x, y) under the face velocities: the midpoint rule, the
+// midpoint's velocity sampled bilinearly from the faces (advect.cpp mac_departure).
+inline void mac_departure(__global const float* uf, int us, int uo, __global const float* vf,
+                          int vs, int vo, int4 view, int4 uview, int4 vview, int2 domain,
+                          int periodic, float k, int x, int y, int* i0, int* j0, float* s1,
+                          float* t1) {
   const int nx = domain.s0, ny = domain.s1;
   const axis_t uax = face_axis(uview.s0, uview.s2, nx + 1, periodic, nx);
   const axis_t uay = face_axis(uview.s1, uview.s3, ny, periodic, ny);
@@ -415,17 +412,78 @@ __kernel void advect_scalar_mac(__global const float* q0, __global float* q, int
   const float ux = 0.5f * (ul[x] + ul[x + 1]);
   const float vy = 0.5f * (vf[vo + y * vs + x] + vf[vo + (y + 1) * vs + x]);
   const float mx = (float)x - 0.5f * k * ux, my = (float)y - 0.5f * k * vy;
+  int fi, fj;
+  float fs, ft;
+  locate(uax, mx + 0.5f, &fi, &fs);
+  locate(uay, my + 0.0f, &fj, &ft);
+  const float um = bilinear(uf, us, uo, fi, fj, fs, ft);
+  locate(vax, mx + 0.0f, &fi, &fs);
+  locate(vay, my + 0.5f, &fj, &ft);
+  const float vm = bilinear(vf, vs, vo, fi, fj, fs, ft);
+  locate(ax, (float)x - k * um, i0, s1);
+  locate(ay, (float)y - k * vm, j0, t1);
+}
+
+// q = q0 carried by (uf, vf) over reg. q0 and q share one layout (q0 read over its whole
+// allocation: view); uf, vf have their own (uview, vview: their whole allocations). Reads uf,
+// vf and q0 over reg grown by ceil(k |u|max) + 1. One work-item per cell.
+__kernel void advect_scalar_mac(__global const float* q0, __global float* q, int stride,
+                                int origin, __global const float* uf, int us, int uo,
+                                __global const float* vf, int vs, int vo, int4 reg, int4 view,
+                                int4 uview, int4 vview, int2 domain, int periodic, float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
   int i0, j0;
   float s1, t1;
-  locate(uax, mx + 0.5f, &i0, &s1);
-  locate(uay, my + 0.0f, &j0, &t1);
-  const float um = bilinear(uf, us, uo, i0, j0, s1, t1);
-  locate(vax, mx + 0.0f, &i0, &s1);
-  locate(vay, my + 0.5f, &j0, &t1);
-  const float vm = bilinear(vf, vs, vo, i0, j0, s1, t1);
-  locate(ax, (float)x - k * um, &i0, &s1);
-  locate(ay, (float)y - k * vm, &j0, &t1);
+  mac_departure(uf, us, uo, vf, vs, vo, view, uview, vview, domain, periodic, k, x, y, &i0, &j0,
+                &s1, &t1);
   q[global_index(stride, origin, x, y)] = bilinear(q0, stride, origin, i0, j0, s1, t1);
+}
+
+// ---- MacCormack's limited correction (kernels/advect.h maccormack_correct): after the forward
+// step q_hat and the backward one q_back, q = q_hat + (q0 - q_back) / 2 clamped to the four cells
+// of q0 around the forward step's departure point. q may be q_hat (each cell reads its own).
+inline float maccormack_value(__global const float* q0, int stride, int origin, int i0, int j0,
+                              float q_hat, float q0_here, float q_back) {
+  __global const float* r0 = q0 + origin + j0 * stride;
+  __global const float* r1 = r0 + stride;
+  const float lo = min(min(r0[i0], r0[i0 + 1]), min(r1[i0], r1[i0 + 1]));
+  const float hi = max(max(r0[i0], r0[i0 + 1]), max(r1[i0], r1[i0 + 1]));
+  const float q = q_hat + 0.5f * (q0_here - q_back);
+  return min(q > lo ? q : lo, hi);
+}
+
+// Cell-centred velocity (u, v) of the forward step (advect_scalar's departure point); q0, u, v,
+// q_hat, q_back and q share one layout.
+__kernel void maccormack_correct(__global const float* q0, __global const float* q_hat,
+                                 __global const float* q_back, __global const float* u,
+                                 __global const float* v, __global float* q, int stride,
+                                 int origin, int4 reg, int4 view, int2 domain, int periodic,
+                                 float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  int i0, j0;
+  float s1, t1;
+  departure(u, v, stride, origin, view, domain, periodic, k, x, y, g, &i0, &j0, &s1, &t1);
+  q[g] = maccormack_value(q0, stride, origin, i0, j0, q_hat[g], q0[g], q_back[g]);
+}
+
+// By the MAC face velocities (advect_scalar_mac's departure point and layouts).
+__kernel void maccormack_correct_mac(__global const float* q0, __global const float* q_hat,
+                                     __global const float* q_back, __global float* q, int stride,
+                                     int origin, __global const float* uf, int us, int uo,
+                                     __global const float* vf, int vs, int vo, int4 reg,
+                                     int4 view, int4 uview, int4 vview, int2 domain, int periodic,
+                                     float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  int i0, j0;
+  float s1, t1;
+  mac_departure(uf, us, uo, vf, vs, vo, view, uview, vview, domain, periodic, k, x, y, &i0, &j0,
+                &s1, &t1);
+  const int g = global_index(stride, origin, x, y);
+  q[g] = maccormack_value(q0, stride, origin, i0, j0, q_hat[g], q0[g], q_back[g]);
 }
 
 // ---- Sources (kernels/sources.h), halo 0.

@@ -565,6 +565,39 @@ void OpenClKernels::advect_scalar_mac(const DeviceField& q0, const DeviceField& 
   enqueue_cells(k, region);
 }
 
+void OpenClKernels::maccormack_correct(const DeviceField& q0, const DeviceField& q_hat,
+                                       const DeviceField& q_back, const DeviceField& u,
+                                       const DeviceField& v, DeviceField& q, Box2 region,
+                                       const AdvectParams& p, bool mac) {
+  check_same_layout(q0, q);
+  check_same_layout(q0, q_hat);
+  check_same_layout(q0, q_back);
+  ARDCELL_CHECK(q.buffer.get() != q0.buffer.get() && q.buffer.get() != q_back.buffer.get(),
+                "maccormack_correct: q aliases q0 or q_back");
+  if (region.empty()) return;
+  const Box2 view = q0.with_halo();
+  ARDCELL_CHECK(view.width() >= 2 && view.height() >= 2, "advect: source view too small");
+  const cl_int2 domain = {{p.domain.x, p.domain.y}};
+  if (mac) {
+    ARDCELL_CHECK(u.with_halo().contains(Box2{region.min, {region.max.x + 1, region.max.y}}) &&
+                      v.with_halo().contains(Box2{region.min, {region.max.x, region.max.y + 1}}),
+                  "maccormack_correct: uf or vf do not hold the region's faces");
+    cl_kernel k = kernel("maccormack_correct_mac");
+    set_kernel_args(k, q0.buffer, q_hat.buffer, q_back.buffer, q.buffer, q0.stride, q0.origin, u,
+                    v, box4(region), box4(view), box4(u.with_halo()), box4(v.with_halo()), domain,
+                    int(p.periodic), p.dt_over_h);
+    enqueue_cells(k, region);
+    return;
+  }
+  check_same_layout(q0, u);
+  check_same_layout(q0, v);
+  cl_kernel k = kernel("maccormack_correct");
+  set_kernel_args(k, q0.buffer, q_hat.buffer, q_back.buffer, u.buffer, v.buffer, q.buffer,
+                  q0.stride, q0.origin, box4(region), box4(view), domain, int(p.periodic),
+                  p.dt_over_h);
+  enqueue_cells(k, region);
+}
+
 void OpenClKernels::fill_obstacle(DeviceField& f, const DeviceField& solid, Box2 region,
                                   ObstacleRule rule) {
   check_same_layout(f, solid);

@@ -203,6 +203,11 @@ class OpenClKernels {
   // (as whole-field Views). q0 and q share one layout; q must not alias q0.
   void advect_scalar_mac(const DeviceField& q0, const DeviceField& uf, const DeviceField& vf,
                          DeviceField& q, Box2 region, const AdvectParams& p);
+  // Twins of maccormack_correct and maccormack_correct_mac (kernels/advect.h): one field; q may
+  // be q_hat. (u, v): the cell-centred velocity, or the face velocities with `mac`.
+  void maccormack_correct(const DeviceField& q0, const DeviceField& q_hat,
+                          const DeviceField& q_back, const DeviceField& u, const DeviceField& v,
+                          DeviceField& q, Box2 region, const AdvectParams& p, bool mac);
   // Twin of fill_obstacle (runtime/boundary.h); solid from upload_mask, f's layout. Reads f
   // and solid over region grown by 1.
   void fill_obstacle(DeviceField& f, const DeviceField& solid, Box2 region, ObstacleRule rule);

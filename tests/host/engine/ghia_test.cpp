@@ -3,54 +3,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include "host/engine/engine.h"
 #include "host/scenes/scene_registry.h"
+#include "tests/support/ghia_reference.h"
 
 namespace ardcell {
 namespace {
 
-struct GhiaPoint {
-  double position;  // y for Table I (u on x = 0.5), x for Table II (v on y = 0.5)
-  double value;     // at Re = 100
-};
+class Ghia : public ::testing::TestWithParam<AdvectionScheme> {};
 
-// Reads the Re = 100 column: Table I rows are "y u100 ...", Table II rows are
-// "gridpoint x v100 ..."; '#' and '-' lines are comments.
-std::vector<GhiaPoint> read_ghia(const std::string& file, int position_column) {
-  std::ifstream in(std::string(ARDCELL_SHARED_DIR) + "/refdata/ghia/" + file);
-  EXPECT_TRUE(in.good()) << "cannot open " << file;
-  std::vector<GhiaPoint> points;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    std::vector<double> numbers;
-    double value;
-    while (row >> value) numbers.push_back(value);
-    if (line.empty() || line[0] == '#' || numbers.size() < size_t(position_column) + 2) continue;
-    points.push_back({numbers[position_column], numbers[position_column + 1]});
-  }
-  return points;
-}
-
-// Bilinear interpolation of a cell-centred field at a point (domain units), with the ghost cells
-// (filled by the boundary rules) giving the wall values.
-double sample(const FieldF& f, double h, double x, double y) {
-  const double gx = x / h - 0.5, gy = y / h - 0.5;  // cell (i, j) is centred at ((i+.5)h, (j+.5)h)
-  const int i0 = std::min(std::max(int(std::floor(gx)), -1), f.nx() - 1);
-  const int j0 = std::min(std::max(int(std::floor(gy)), -1), f.ny() - 1);
-  const double s = gx - i0, t = gy - j0;
-  return (1 - t) * ((1 - s) * f(i0, j0) + s * f(i0 + 1, j0)) +
-         t * ((1 - s) * f(i0, j0 + 1) + s * f(i0 + 1, j0 + 1));
-}
-
-TEST(Ghia, CavityRe100MatchesGhia1982) {
-  const auto u_ref = read_ghia("ghia1982_tableI_u_vertical_centerline.txt", 0);
-  const auto v_ref = read_ghia("ghia1982_tableII_v_horizontal_centerline.txt", 1);
+TEST_P(Ghia, CavityRe100MatchesGhia1982) {
+  const auto u_ref = ghia::read(false, 100);
+  const auto v_ref = ghia::read(true, 100);
   ASSERT_EQ(u_ref.size(), 17u);
   ASSERT_EQ(v_ref.size(), 17u);
 
@@ -58,6 +24,7 @@ TEST(Ghia, CavityRe100MatchesGhia1982) {
   scene.size = {128, 128};
   scene.dt = 0.02;
   set_reynolds_number(scene.fluid, 100.0, scene.domain_width);
+  scene.fluid.advection = GetParam();
   ASSERT_NEAR(scene.fluid.viscosity, 0.01, 1e-12);
   Engine engine(scene);
   SimState& s = engine.state();
@@ -84,13 +51,13 @@ TEST(Ghia, CavityRe100MatchesGhia1982) {
   ASSERT_LT(rate, 1e-3);
 
   double u_error = 0.0, v_error = 0.0;
-  for (const GhiaPoint& p : u_ref) {
-    const double ours = sample(s.u, s.h, 0.5, p.position);
+  for (const ghia::Point& p : u_ref) {
+    const double ours = ghia::sample(s.u, s.h, 0.5, p.position);
     u_error = std::max(u_error, std::abs(ours - p.value));
     std::printf("u(0.5, %.4f) = %+.5f  Ghia %+.5f\n", p.position, ours, p.value);
   }
-  for (const GhiaPoint& p : v_ref) {
-    const double ours = sample(s.v, s.h, p.position, 0.5);
+  for (const ghia::Point& p : v_ref) {
+    const double ours = ghia::sample(s.v, s.h, p.position, 0.5);
     v_error = std::max(v_error, std::abs(ours - p.value));
     std::printf("v(%.4f, 0.5) = %+.5f  Ghia %+.5f\n", p.position, ours, p.value);
   }
@@ -106,6 +73,15 @@ TEST(Ghia, CavityRe100MatchesGhia1982) {
   EXPECT_LT(u_error, 0.01);
   EXPECT_LT(v_error, 0.01);
 }
+
+INSTANTIATE_TEST_SUITE_P(Advection, Ghia,
+                         ::testing::Values(AdvectionScheme::kSemiLagrangian,
+                                           AdvectionScheme::kMacCormack),
+                         [](const ::testing::TestParamInfo<AdvectionScheme>& info) {
+                           return info.param == AdvectionScheme::kMacCormack
+                                      ? std::string("MacCormack")
+                                      : std::string("SemiLagrangian");
+                         });
 
 }  // namespace
 }  // namespace ardcell

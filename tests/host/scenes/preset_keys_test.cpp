@@ -24,10 +24,10 @@ auto members(const SceneConfig& s) {
 }
 auto members(const FluidConfig& f) {
   const auto& [kind, viscosity, lid_speed, viscosity_solver, pressure_solver, dye_diffusion,
-               conserve_dye, inflow_speed, obstacle_x, obstacle_y, obstacle_radius,
+               conserve_dye, advection, inflow_speed, obstacle_x, obstacle_y, obstacle_radius,
                inflow_dye_stripes, walls, emitters] = f;
   return std::tie(kind, viscosity, lid_speed, viscosity_solver, pressure_solver, dye_diffusion,
-                  conserve_dye, inflow_speed, obstacle_x, obstacle_y, obstacle_radius,
+                  conserve_dye, advection, inflow_speed, obstacle_x, obstacle_y, obstacle_radius,
                   inflow_dye_stripes, walls, emitters);
 }
 auto members(const FluidEmitter& e) {
