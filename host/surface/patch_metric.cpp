@@ -75,6 +75,18 @@ PatchMetric sample_limit_metric(const LimitSurface& surface, int n) {
   return metric;
 }
 
+std::array<PatchField, 3> cell_positions(const LimitSurface& surface, const PatchGrid& grid) {
+  std::array<PatchField, 3> out{grid.make_field(), grid.make_field(), grid.make_field()};
+  const int n = grid.n();
+  for (int p = 0; p < grid.patches(); ++p)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const auto x = surface.position(p, (i + 0.5) / n, (j + 0.5) / n);
+        for (int k = 0; k < 3; ++k) out[k][grid.index(p, i, j)] = x[k];
+      }
+  return out;
+}
+
 PatchMetric flat_metric(const PatchTopology& topo, int n, double scale) {
   PatchMetric metric(n, topo.patches);
   MetricSample m;

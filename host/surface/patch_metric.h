@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "host/surface/limit_surface.h"
+#include "host/surface/patch_grid.h"
 #include "host/surface/patch_topology.h"
 
 namespace ardcell {
@@ -59,6 +60,9 @@ class PatchMetric {
 
 // Samples the limit surface's metric for N x N cells per patch.
 PatchMetric sample_limit_metric(const LimitSurface& surface, int n);
+
+// The limit surface's position at every cell centre, as x, y, z fields (ghosts 0).
+std::array<PatchField, 3> cell_positions(const LimitSurface& surface, const PatchGrid& grid);
 
 // Every patch a flat square of side `scale` (g = scale^2 I), for tests.
 PatchMetric flat_metric(const PatchTopology& topo, int n, double scale);

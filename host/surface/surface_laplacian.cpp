@@ -1,0 +1,170 @@
+#include "host/surface/surface_laplacian.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ardcell {
+
+SurfaceLaplacian::SurfaceLaplacian(const PatchTopology& topo, const PatchMetric& metric,
+                                   CornerGhosts corners)
+    : grid_(topo, metric.n(), corners) {
+  const int n = metric.n(), patches = topo.patches;
+  const double h = 1.0 / n;
+  const std::size_t faces = std::size_t(n + 1) * n;
+  ax_.resize(faces * patches), bx_.resize(faces * patches);
+  ay_.resize(faces * patches), by_.resize(faces * patches);
+  area_.resize(std::size_t(n) * n * patches), diag_.resize(area_.size());
+  f1_.resize(ax_.size()), f2_.resize(ay_.size()), lap_.resize(area_.size());
+  for (int p = 0; p < patches; ++p) {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const MetricSample& m = metric.at(p, 2 * i + 1, 2 * j + 2);  // x1-face (i - 1/2, j)
+        const std::size_t k = p * faces + std::size_t(j) * (n + 1) + i;
+        ax_[k] = m.sqrt_g * m.gi11;
+        bx_[k] = m.sqrt_g * m.gi12;
+      }
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const MetricSample& m = metric.at(p, 2 * i + 2, 2 * j + 1);  // x2-face (i, j - 1/2)
+        const std::size_t k = p * faces + std::size_t(j) * n + i;
+        ay_[k] = m.sqrt_g * m.gi22;
+        by_[k] = m.sqrt_g * m.gi12;
+      }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        area_[(std::size_t(p) * n + j) * n + i] = metric.at(p, 2 * i + 2, 2 * j + 2).sqrt_g * h * h;
+    surface_laplacian_diagonal(stencil(p), cells(diag_, p), n);
+  }
+}
+
+PatchStencil SurfaceLaplacian::stencil(int p) const {
+  const int n = grid_.n();
+  const std::size_t faces = std::size_t(n + 1) * n;
+  const Box2 xfaces{{0, 0}, {n + 1, n}}, yfaces{{0, 0}, {n, n + 1}};
+  return PatchStencil{View<const double>(ax_.data() + p * faces, n + 1, xfaces),
+                      View<const double>(bx_.data() + p * faces, n + 1, xfaces),
+                      View<const double>(ay_.data() + p * faces, n, yfaces),
+                      View<const double>(by_.data() + p * faces, n, yfaces), cells(area_, p)};
+}
+
+View<const double> SurfaceLaplacian::cells(const std::vector<double>& v, int p) const {
+  const int n = grid_.n();
+  return View<const double>(v.data() + std::size_t(p) * n * n, n, Box2{{0, 0}, {n, n}});
+}
+
+View<double> SurfaceLaplacian::cells(std::vector<double>& v, int p) const {
+  const int n = grid_.n();
+  return View<double>(v.data() + std::size_t(p) * n * n, n, Box2{{0, 0}, {n, n}});
+}
+
+void SurfaceLaplacian::stitch_fluxes() const {
+  const int n = grid_.n();
+  const std::size_t faces = std::size_t(n + 1) * n;
+  // The flux array element and the sign that makes it outward, for face m of edge e.
+  auto outward = [&](int p, int e, int m, double*& at) -> double {
+    double* f1 = f1_.data() + p * faces;  // (i, j) at j * (n + 1) + i
+    double* f2 = f2_.data() + p * faces;  // (i, j) at j * n + i
+    switch (e) {
+      case 0:
+        at = f2 + m;
+        return -1;  // (m, 0)
+      case 1:
+        at = f1 + std::size_t(m) * (n + 1) + n;
+        return 1;  // (n, m)
+      case 2:
+        at = f2 + std::size_t(n) * n + (n - 1 - m);
+        return 1;  // (n-1-m, n)
+      default:
+        at = f1 + std::size_t(n - 1 - m) * (n + 1);
+        return -1;  // (0, n-1-m)
+    }
+  };
+  for (const auto& s : grid_.shared_edges())
+    for (int m = 0; m < n; ++m) {
+      double *a, *b;
+      const double sa = outward(s.p, s.e, m, a), sb = outward(s.q, s.f, n - 1 - m, b);
+      const double mean = 0.5 * (sa * *a - sb * *b);  // outward from p
+      *a = sa * mean;
+      *b = -sb * mean;
+    }
+  for (const auto& [p, e] : grid_.boundary_edges())
+    for (int m = 0; m < n; ++m) {
+      double* a;
+      outward(p, e, m, a);
+      *a = 0;
+    }
+}
+
+void SurfaceLaplacian::apply(PatchField& phi, PatchField& out) const {
+  const int n = grid_.n();
+  const std::size_t faces = std::size_t(n + 1) * n;
+  grid_.exchange(phi);
+  const Box2 xfaces{{0, 0}, {n + 1, n}}, yfaces{{0, 0}, {n, n + 1}};
+  for (int p = 0; p < grid_.patches(); ++p)
+    surface_face_fluxes(grid_.view(std::as_const(phi), p), stencil(p),
+                        View<double>(f1_.data() + p * faces, n + 1, xfaces),
+                        View<double>(f2_.data() + p * faces, n, yfaces), n);
+  stitch_fluxes();
+  for (int p = 0; p < grid_.patches(); ++p) {
+    const View<double> o = grid_.view(out, p);
+    surface_flux_divergence(View<const double>(f1_.data() + p * faces, n + 1, xfaces),
+                            View<const double>(f2_.data() + p * faces, n, yfaces), cells(area_, p),
+                            o.crop(Box2{{0, 0}, {n, n}}), n);
+  }
+}
+
+double SurfaceLaplacian::total(const PatchField& phi) const {
+  const int n = grid_.n();
+  double sum = 0;
+  for (int p = 0; p < grid_.patches(); ++p)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) sum += cell_area(p, i, j) * phi[grid_.index(p, i, j)];
+  return sum;
+}
+
+double SurfaceLaplacian::area() const {
+  double sum = 0;
+  for (double a : area_) sum += a;
+  return sum;
+}
+
+DiffusionReport SurfaceLaplacian::implicit_diffusion(PatchField& x, const PatchField& b, double c,
+                                                     const DiffusionSolve& solve) const {
+  const int n = grid_.n();
+  if (lap_interior_.size() != x.size()) lap_interior_.assign(x.size(), 0.0);
+  PatchField& lap = lap_interior_;
+  double bmax = 0;
+  for (int p = 0; p < grid_.patches(); ++p)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) bmax = std::max(bmax, std::abs(b[grid_.index(p, i, j)]));
+  if (bmax == 0) bmax = 1;
+  DiffusionReport report;
+  for (;;) {
+    apply(x, lap);
+    double rmax = 0;
+    for (int p = 0; p < grid_.patches(); ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const std::size_t k = grid_.index(p, i, j);
+          rmax = std::max(rmax, std::abs(b[k] - x[k] + c * lap[k]));
+        }
+    report.residual = rmax / bmax;
+    if (report.residual <= solve.tolerance || report.sweeps >= solve.max_sweeps) break;
+    for (int p = 0; p < grid_.patches(); ++p) {
+      const Box2 inner{{0, 0}, {n, n}};
+      surface_jacobi_update(grid_.view(b, p).crop(inner),
+                            grid_.view(std::as_const(lap), p).crop(inner), cells(diag_, p),
+                            grid_.view(x, p).crop(inner), c, n);
+    }
+    ++report.sweeps;
+  }
+  // The exact solution has total(x) = total(b) (lap is conservative); a Jacobi iterate has it
+  // only to its residual. A constant is in lap's null space: shift by the difference.
+  const double shift = (total(b) - total(x)) / area();
+  for (int p = 0; p < grid_.patches(); ++p)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) x[grid_.index(p, i, j)] += shift;
+  return report;
+}
+
+}  // namespace ardcell

@@ -1,0 +1,70 @@
+#pragma once
+// The Laplace-Beltrami operator on a whole patched surface and implicit diffusion with it
+// (seed 004, Sec. 4.2 and 6; the per-patch stencil is kernels/surface_laplacian.h).
+//
+// Conservation. Each patch computes the fluxes through its own edge faces from its own ghost
+// cells; across a patch edge the two sides agree to truncation error, not to rounding (the
+// cross terms read corner ghosts, which each side fills its own way). Each shared edge face's
+// two fluxes are therefore replaced by their mean before the divergence, so that what leaves
+// one patch enters the other and sum(sqrt(G) h^2 lap phi) = 0 on a closed surface.
+//
+// Implicit diffusion (I - c lap) x = b, c = dt r, by Jacobi sweeps with a ghost exchange after
+// each (the seed's Sec. 7.3.2), to a relative residual or a sweep count. The exact solution
+// keeps the total, total(x) = total(b); a Jacobi iterate keeps it only to its residual, so the
+// answer is the last iterate shifted by the constant (lap's null space on a closed surface, and
+// with no-flux boundaries) that restores the total: conserved to rounding after any number of
+// sweeps, the residual changed by that constant alone.
+#include <vector>
+
+#include "host/surface/patch_grid.h"
+#include "host/surface/patch_metric.h"
+#include "kernels/surface_laplacian.h"
+
+namespace ardcell {
+
+struct DiffusionSolve {
+  double tolerance = 1e-8;  // max |b - (I - c lap) y| / max |b|
+  int max_sweeps = 2000;
+};
+
+struct DiffusionReport {
+  int sweeps = 0;
+  double residual = 0;  // relative, of the last Jacobi iterate
+};
+
+class SurfaceLaplacian {
+ public:
+  SurfaceLaplacian(const PatchTopology& topo, const PatchMetric& metric,
+                   CornerGhosts corners = CornerGhosts::kDiagonalExtrapolate);
+
+  const PatchGrid& grid() const { return grid_; }
+  int n() const { return grid_.n(); }
+  int patches() const { return grid_.patches(); }
+
+  // out = lap phi on every interior cell (phi's ghost ring is filled first).
+  void apply(PatchField& phi, PatchField& out) const;
+  // sum over cells of sqrt(G) h^2 phi: the integral of phi over the surface.
+  double total(const PatchField& phi) const;
+  double area() const;
+  // sqrt(G) h^2 of cell (i, j) of patch p.
+  double cell_area(int p, int i, int j) const {
+    return area_[(std::size_t(p) * n() + j) * n() + i];
+  }
+
+  // Solves (I - c lap) x = b; x holds the first guess on entry. b's ghosts are not read.
+  DiffusionReport implicit_diffusion(PatchField& x, const PatchField& b, double c,
+                                     const DiffusionSolve& solve) const;
+
+ private:
+  PatchStencil stencil(int p) const;
+  View<const double> cells(const std::vector<double>& v, int p) const;
+  View<double> cells(std::vector<double>& v, int p) const;
+  void stitch_fluxes() const;
+
+  PatchGrid grid_;
+  std::vector<double> ax_, bx_, ay_, by_, area_, diag_;
+  // Scratch (the operator is used from one thread at a time).
+  mutable std::vector<double> f1_, f2_, lap_, lap_interior_;
+};
+
+}  // namespace ardcell
