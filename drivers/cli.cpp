@@ -19,7 +19,8 @@ namespace ardcell {
   X(tablet)                    \
   X(live)                      \
   X(propagator)                \
-  X(texture)
+  X(texture)                   \
+  X(surface)
 
 #define ARDCELL_DECLARE_COMMAND(name) void add_##name##_command(CLI::App&, CliContext&);
 ARDCELL_SUBCOMMANDS(ARDCELL_DECLARE_COMMAND)

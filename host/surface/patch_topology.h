@@ -17,9 +17,10 @@
 // R is a rotation by a multiple of 90 degrees (both frames have determinant -1) and t is
 // integer, so cell centres map onto cell centres. R is the Jacobian of the transition: a
 // contravariant vector maps as v' = R v, the metric as g' = R g R^T (R^-T = R), the inverse
-// metric the same way. (The seed's phi_<e_i,e_j> are these maps for some edge pairs; its
-// prose for vectors is not relied on: tests/host/surface/patch_topology_test.cpp checks the
-// round trip and the metric continuity.)
+// metric the same way. The seed's point map phi_<e_i,e_j> o T_e_i is this map; its Jacobian
+// is a rotation by -<e_i,e_j> quarter turns, not the printed "M_i = R_{i pi/2},
+// counterclockwise" (tests/host/surface/patch_topology_test.cpp checks both, the round trip and
+// the metric continuity).
 #include <array>
 #include <vector>
 

@@ -41,6 +41,52 @@ TEST(EdgeTransition, RoundTripIsTheIdentityForEveryEdgePair) {
     }
 }
 
+// The seed's Sec. 2: the point map across edge e_i into the neighbour's edge e_j is
+// phi_<e_i,e_j> o T_e_i with <e_i, e_j> = (4 + e_i - (e_j + 2) % 4) % 4, which is ours. Its
+// Jacobian, which carries vectors, is a rotation by -<e_i,e_j> quarter turns: the printed
+// "M_i = R_{i pi/2}, counterclockwise" turns the wrong way for odd i.
+TEST(EdgeTransition, PointMapIsTheSeedsAndItsJacobianTurnsClockwise) {
+  using Map = std::array<double, 2> (*)(double, double);
+  const Map phi[4] = {[](double x, double y) {
+                        return std::array<double, 2>{x, y};
+                      },
+                      [](double x, double y) {
+                        return std::array<double, 2>{y, 1 - x};
+                      },
+                      [](double x, double y) {
+                        return std::array<double, 2>{1 - x, 1 - y};
+                      },
+                      [](double x, double y) {
+                        return std::array<double, 2>{1 - y, x};
+                      }};
+  const Map shift[4] = {[](double x, double y) {
+                          return std::array<double, 2>{x, y + 1};
+                        },
+                        [](double x, double y) {
+                          return std::array<double, 2>{x - 1, y};
+                        },
+                        [](double x, double y) {
+                          return std::array<double, 2>{x, y - 1};
+                        },
+                        [](double x, double y) {
+                          return std::array<double, 2>{x + 1, y};
+                        }};
+  for (int e = 0; e < 4; ++e)
+    for (int f = 0; f < 4; ++f) {
+      const int t = (4 + e - (f + 2) % 4) % 4;
+      const EdgeTransition tr = make_transition(1, e, f);
+      for (double x : {-0.1, 0.3, 1.1})
+        for (double y : {-0.2, 0.6, 1.05}) {
+          const auto s = shift[e](x, y);
+          const auto want = phi[t](s[0], s[1]);
+          const auto got = tr.map_point({x, y});
+          EXPECT_NEAR(got[0], want[0], 1e-15);
+          EXPECT_NEAR(got[1], want[1], 1e-15);
+        }
+      EXPECT_EQ(tr.quarter_turns, (4 - t) % 4) << e << " " << f;
+    }
+}
+
 TEST(PatchTopology, NeighboursAgreeOnEveryEdge) {
   for (const PolyMesh& mesh :
        {rotate_faces(cube_mesh(2), 7), rotate_faces(torus_mesh(8, 6, 2, 0.7), 3)}) {

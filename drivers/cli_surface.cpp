@@ -1,0 +1,177 @@
+// `ardcell surface`: Gray-Scott reaction-diffusion on the Catmull-Clark limit surface of a
+// control mesh (seed 004, docs/surfaces.md), written as a PLY of the limit surface with the
+// field as vertex colours.
+//
+// A subcommand of its own, not a scene of `ardcell run`: the patches do not run on the engine
+// yet (no Device ops, back ends, frames or state files, which run's flags are about); once
+// patches are blocks of the frame plan it becomes `ardcell run surface-gray-scott`.
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "drivers/cli.h"
+
+#if ARDCELL_WITH_OPENSUBDIV
+#include "host/io/atomic_file.h"
+#include "host/io/surface_ply.h"
+#include "host/surface/limit_surface.h"
+#include "host/surface/patch_metric.h"
+#include "host/surface/procedural_mesh.h"
+#include "host/surface/surface_gray_scott.h"
+#endif
+
+namespace ardcell {
+namespace {
+
+#if ARDCELL_WITH_OPENSUBDIV
+
+constexpr long long kMaxCells = 1LL << 24;  // about 3 GB of fields and metric at most
+
+struct SurfaceArgs {
+  std::string mesh, shape = "torus", out, reaction = "euler", field = "b", colormap = "magma";
+  int patch_cells = 16, steps = 3000;
+  unsigned seed = 1;
+  double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
+  CLI::Option *mesh_opt, *shape_opt, *scale_opt;
+};
+
+Status control_mesh(const SurfaceArgs& a, PolyMesh& mesh) {
+  if (a.mesh_opt->count()) return read_obj(a.mesh, {}, mesh);
+  if (a.shape == "torus")
+    mesh = torus_mesh(8, 4, 2.0, 0.8);
+  else if (a.shape == "cube-sphere")
+    mesh = cube_mesh(2);
+  else
+    return Status::error("--shape '" + a.shape + "': expected torus or cube-sphere");
+  return Status::ok();
+}
+
+int do_surface(SurfaceArgs& a, CliContext& ctx) {
+  auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "surface", m); };
+  const int n = a.patch_cells;
+  if (n < 2 || n > 1024 || (n & (n - 1)) != 0)
+    return usage("--patch-cells " + std::to_string(n) + ": expected a power of two in 2..1024");
+  if (a.steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
+  SurfaceRdParams params;
+  params.reaction.F = float(a.F);
+  params.reaction.k = float(a.k);
+  if (const char* problem = reaction_params_problem(params.reaction)) return usage(problem);
+  if (a.reaction == "implicit")
+    params.scheme = SurfaceReaction::kImplicit;
+  else if (a.reaction != "euler")
+    return usage("--reaction '" + a.reaction + "': expected euler (the seed's) or implicit");
+  if (a.field != "a" && a.field != "b") return usage("--field '" + a.field + "': expected a or b");
+  SurfacePlyOptions ply;
+  if (!parse_colormap(a.colormap, ply.colormap))
+    return usage("--colormap '" + a.colormap + "': expected " + std::string(colormap_names()));
+  if (Status s = check_output_path(a.out, false); !s) return usage("--out " + s.message());
+
+  PolyMesh mesh;
+  if (Status s = control_mesh(a, mesh); !s) return usage(s.message());
+  LimitSurface surface;
+  if (Status s = LimitSurface::build(std::move(mesh), {}, surface); !s)
+    return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + s.message());
+  const long long cells = (long long)surface.patches() * n * n;
+  if (cells > kMaxCells)
+    return usage(std::to_string(surface.patches()) + " patches of " + std::to_string(n) + "^2 " +
+                 "cells are " + std::to_string(cells) + " cells (expected at most " +
+                 std::to_string(kMaxCells) + ": a smaller --patch-cells)");
+
+  const auto start = std::chrono::steady_clock::now();
+  const SurfaceLaplacian op(surface.topology(), sample_limit_metric(surface, n));
+  // Pattern scale: the classic flat model's cell, 1/20 of a mean patch's side by default.
+  const double side = std::sqrt(op.area() / op.patches());
+  const double length = a.scale_opt->count() ? a.scale : side / 20;
+  const SurfaceRdParams rates = gray_scott_for_length(length);
+  params.diffusion_a = rates.diffusion_a;
+  params.diffusion_b = rates.diffusion_b;
+  params.dt = a.dt;
+  params.solve.tolerance = a.tolerance;
+  std::fprintf(ctx.out,
+               "patches=%d%s cells=%lld area=%.4g scale=%.4g r_a=%.4g r_b=%.4g F=%g k=%g dt=%g "
+               "reaction=%s\n",
+               surface.patches(), surface.refined() ? " (refined once)" : "", cells, op.area(),
+               length, params.diffusion_a, params.diffusion_b, a.F, a.k, a.dt, a.reaction.c_str());
+  std::fflush(ctx.out);
+  SurfaceGrayScott rd(op, params);
+  rd.seed_spots(cell_positions(surface, op.grid()), a.seed, 3 * op.patches(), 0.2 * side);
+
+  StopSignals signals;
+  int done = 0;
+  int sweeps = 0;
+  for (; done < a.steps && !StopSignals::requested(); ++done) sweeps += rd.step().sweeps;
+  if (done < a.steps) {
+    std::fprintf(ctx.err, "ardcell surface: interrupted after %d of %d steps; nothing written\n",
+                 done, a.steps);
+    return StopSignals::exit_code(kExitOk);
+  }
+  const PatchField& field = a.field == "a" ? rd.a() : rd.b();
+  // b lives in [0, ~0.45] in Gray-Scott's patterns, a in [~0.2, 1].
+  ply.lo = a.field == "a" ? 0.2 : 0.0;
+  ply.hi = a.field == "a" ? 1.0 : 0.45;
+  if (Status s = write_surface_ply(a.out, surface, op.grid(), field, ply); !s) {
+    std::fprintf(ctx.err, "ardcell surface: %s\n", s.message().c_str());
+    return kExitFailure;
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fprintf(ctx.out, "steps=%d mean_sweeps=%.1f seconds=%.2f out=%s\n", done,
+               done ? double(sweeps) / done : 0.0, seconds, a.out.c_str());
+  std::fflush(ctx.out);
+  return StopSignals::exit_code(kExitOk);
+}
+
+#endif  // ARDCELL_WITH_OPENSUBDIV
+
+}  // namespace
+
+void add_surface_command(CLI::App& app, CliContext& ctx) {
+  CLI::App* cmd = app.add_subcommand(
+      "surface",
+      "Gray-Scott on the Catmull-Clark limit surface of a mesh (OBJ or built in), written as a "
+      "PLY with the field as vertex colours");
+#if ARDCELL_WITH_OPENSUBDIV
+  auto args = std::make_shared<SurfaceArgs>();
+  SurfaceArgs& a = *args;
+  a.mesh_opt = cmd->add_option("--mesh", a.mesh,
+                               "control mesh, a Wavefront OBJ (quads, or mixed: refined once)");
+  a.shape_opt = cmd->add_option("--shape", a.shape,
+                                "built-in mesh when no --mesh: torus (32 patches, default) or "
+                                "cube-sphere (24)");
+  a.mesh_opt->excludes(a.shape_opt);
+  cmd->add_option("--patch-cells", a.patch_cells, "N: N x N cells a patch, a power of two (16)");
+  cmd->add_option("--steps", a.steps, "steps of dt (3000)");
+  cmd->add_option("--out", a.out, "the PLY to write")->required();
+  cmd->add_option("--reaction", a.reaction,
+                  "euler (the seed's forward Euler) or implicit (ardcell's backward Euler)");
+  cmd->add_option("--F", a.F, "Gray-Scott feed (0.055)")->check(finite_range(0, 1));
+  cmd->add_option("--k", a.k, "Gray-Scott kill (0.062)")->check(finite_range(0, 1));
+  cmd->add_option("--dt", a.dt, "time step (1)")->check(finite_range(1e-6, 100));
+  a.scale_opt = cmd->add_option("--scale", a.scale,
+                                "the flat model's cell in surface units: sets the wavelength "
+                                "(default: a patch's side / 20)")
+                    ->check(finite_range(1e-9, 1e9));
+  cmd->add_option("--tolerance", a.tolerance, "implicit diffusion's relative residual (1e-6)")
+      ->check(finite_range(1e-14, 1));
+  cmd->add_option("--seed", a.seed, "random start (1)");
+  cmd->add_option("--field", a.field, "a or b (b)");
+  cmd->add_option("--colormap", a.colormap, std::string(colormap_names()) + " (magma)");
+  cmd->callback([args, &ctx] {
+    try {
+      ctx.exit_code = do_surface(*args, ctx);
+    } catch (const std::bad_alloc&) {
+      ctx.exit_code =
+          cli_usage_error(ctx, "surface", "out of memory (expected a smaller --patch-cells)");
+    }
+  });
+#else
+  cmd->allow_extras();
+  cmd->callback([&ctx] {
+    ctx.exit_code = cli_usage_error(
+        ctx, "surface", "this ardcell was built without OpenSubdiv (-DARDCELL_WITH_OPENSUBDIV=ON)");
+  });
+#endif
+}
+
+}  // namespace ardcell

@@ -1,0 +1,97 @@
+// `ardcell surface` (the real binary): a PLY of the limit surface with the field as vertex
+// colours from the built-in meshes and from an OBJ, and bad input as one line, exit 2, nothing
+// written.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/drivers/binary_run_fixture.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SurfaceCli : public BinaryRunTest {
+ protected:
+  // The PLY's vertex and face counts from its header, and that the body has their size.
+  void expect_ply(const fs::path& path, long long vertices, long long faces) {
+    const std::string ply = slurp(path);
+    const auto end = ply.find("end_header\n");
+    ASSERT_NE(end, std::string::npos);
+    const std::string header = ply.substr(0, end);
+    EXPECT_EQ(header.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
+    EXPECT_NE(header.find("element vertex " + std::to_string(vertices) + "\n"), std::string::npos)
+        << header;
+    EXPECT_NE(header.find("element face " + std::to_string(faces) + "\n"), std::string::npos);
+    EXPECT_NE(header.find("property uchar red"), std::string::npos);
+    const std::size_t body = ply.size() - (end + std::strlen("end_header\n"));
+    EXPECT_EQ(body, std::size_t(vertices * 27 + faces * 17));
+  }
+  bool only_file(const char* name) const {
+    int count = 0;
+    for (const auto& e : fs::directory_iterator(work()))
+      count += e.path().filename() != name ? 100 : 1;
+    return count == 1;
+  }
+};
+
+TEST_F(SurfaceCli, BuiltInTorusToPly) {
+  const BinaryRunResult r = run("surface --patch-cells 4 --steps 20 --out t.ply");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("patches=32 cells=512 ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("steps=20 "), std::string::npos) << r.out;
+  expect_ply(work() / "t.ply", 32 * 25, 32 * 16);
+  EXPECT_TRUE(only_file("t.ply"));  // no temporary left behind
+}
+
+TEST_F(SurfaceCli, MixedObjIsRefinedOnce) {
+  // A square pyramid: one quad and four triangles, 16 quads after one refinement.
+  std::ofstream(work() / "p.obj")
+      << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 1.5\n"
+         "f 4/1/1 3/1/1 2/1/1 1/1/1\nf 1 2 5\nf 2 3 5\nf 3//1 4//1 5//1\n"
+         "f -2 -5 -1\n";
+  const BinaryRunResult r =
+      run("surface --mesh p.obj --patch-cells 4 --steps 5 --reaction implicit --field a "
+          "--out p.ply");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("patches=16 (refined once) cells=256 ", 0), 0u) << r.out;
+  expect_ply(work() / "p.ply", 16 * 25, 16 * 16);
+}
+
+TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
+  std::ofstream(work() / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";
+  std::ofstream(work() / "fin.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 1\nv 0 0 1\n"
+                                       "v 1 0 -1\nv 0 0 -1\nf 1 2 3 4\nf 2 1 6 5\nf 1 2 7 8\n";
+  const std::pair<const char*, const char*> cases[] = {
+      {"surface --patch-cells 12 --out x.ply",
+       "ardcell surface: --patch-cells 12: expected a power of two in 2..1024\n"},
+      {"surface --mesh bad.obj --out x.ply",
+       "ardcell surface: bad.obj: line 3: face index 3 names no vertex (2 so far)\n"},
+      {"surface --mesh fin.obj --out x.ply",
+       "ardcell surface: fin.obj: non-manifold edge 1-2: shared by 3 or more faces (1, 2, 3)\n"},
+      {"surface --mesh missing.obj --out x.ply", nullptr},
+      {"surface --shape klein --out x.ply",
+       "ardcell surface: --shape 'klein': expected torus or cube-sphere\n"},
+      {"surface --reaction rk4 --out x.ply",
+       "ardcell surface: --reaction 'rk4': expected euler (the seed's) or implicit\n"},
+      {"surface --patch-cells 1024 --out x.ply", nullptr},
+      {"surface --out no/such/folder/x.ply", nullptr},
+  };
+  for (const auto& [args, message] : cases) {
+    const BinaryRunResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("ardcell surface: ", 0), 0u) << r.err;
+    if (message) {
+      EXPECT_EQ(r.err, message) << args;
+    }
+    EXPECT_FALSE(fs::exists(work() / "x.ply")) << args;
+  }
+}
+
+}  // namespace
+}  // namespace ardcell
