@@ -26,7 +26,9 @@ namespace {
 
 #if ARDCELL_WITH_OPENSUBDIV
 
-constexpr long long kMaxCells = 1LL << 24;  // about 3 GB of fields and metric at most
+// About 350 bytes a cell while the metric is sampled (7 doubles at 4 samples a cell), 130
+// after: at most about 1.5 GB.
+constexpr long long kMaxCells = 1LL << 22;
 
 struct SurfaceArgs {
   std::string mesh, shape = "torus", out, reaction = "euler", field = "b", colormap = "magma";
@@ -79,7 +81,14 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
                  std::to_string(kMaxCells) + ": a smaller --patch-cells)");
 
   const auto start = std::chrono::steady_clock::now();
-  const SurfaceLaplacian op(surface.topology(), sample_limit_metric(surface, n));
+  Status geometry = Status::ok();
+  const SurfaceLaplacian op = [&] {  // the metric is needed only to build the operator
+    const PatchMetric metric = sample_limit_metric(surface, n);
+    geometry = metric.check_nondegenerate();
+    return SurfaceLaplacian(surface.topology(), metric);
+  }();
+  if (!geometry)
+    return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + geometry.message());
   // Pattern scale: the classic flat model's cell, 1/20 of a mean patch's side by default.
   const double side = std::sqrt(op.area() / op.patches());
   const double length = a.scale_opt->count() ? a.scale : side / 20;

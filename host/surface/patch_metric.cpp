@@ -1,6 +1,8 @@
 #include "host/surface/patch_metric.h"
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace ardcell {
 
@@ -59,6 +61,24 @@ void PatchMetric::fill_ghost_ring(const PatchTopology& topo) {
       at(p, a, b) = m;
     }
   }
+}
+
+Status PatchMetric::check_nondegenerate() const {
+  for (int p = 0; p < patches_; ++p)
+    for (int b = 1; b < side() - 1; ++b)
+      for (int a = 1; a < side() - 1; ++a) {
+        if (a % 2 == 1 && b % 2 == 1) continue;  // a cell corner
+        const MetricSample& m = at(p, a, b);
+        if (std::isfinite(m.sqrt_g) && m.sqrt_g > 0 && std::isfinite(m.gi11) &&
+            std::isfinite(m.gi12) && std::isfinite(m.gi22))
+          continue;
+        char where[96];
+        std::snprintf(where, sizeof where, "patch %d at (%.4g, %.4g)", p + 1, coordinate(a),
+                      coordinate(b));
+        return Status::error(std::string("the limit surface is degenerate (no tangent plane) in ") +
+                             where + ": coincident or folded control points?");
+      }
+  return Status::ok();
 }
 
 PatchMetric sample_limit_metric(const LimitSurface& surface, int n) {

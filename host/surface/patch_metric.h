@@ -17,6 +17,7 @@
 #include <array>
 #include <vector>
 
+#include "host/config/status.h"
 #include "host/surface/limit_surface.h"
 #include "host/surface/patch_grid.h"
 #include "host/surface/patch_topology.h"
@@ -52,6 +53,12 @@ class PatchMetric {
 
   // Fills the ghost ring of every patch from its neighbours (see above).
   void fill_ghost_ring(const PatchTopology& topo);
+
+  // Every sample the Laplace-Beltrami operator reads (cell centres and faces) has a finite,
+  // positive sqrt(G); one line naming the first patch and point where not (a degenerate
+  // control mesh: coincident vertices, a folded face). The cell corners are not read: at an
+  // extraordinary vertex of valence 3 the limit parametrisation has G = 0 there.
+  Status check_nondegenerate() const;
 
  private:
   int n_ = 0, patches_ = 0;

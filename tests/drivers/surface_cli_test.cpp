@@ -66,6 +66,9 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
   std::ofstream(work() / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";
   std::ofstream(work() / "fin.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 1\nv 0 0 1\n"
                                        "v 1 0 -1\nv 0 0 -1\nf 1 2 3 4\nf 2 1 6 5\nf 1 2 7 8\n";
+  std::ofstream(work() / "point.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
+                                         "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 4 3 2\nf 5 6 7 8\n"
+                                         "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
   const std::pair<const char*, const char*> cases[] = {
       {"surface --patch-cells 12 --out x.ply",
        "ardcell surface: --patch-cells 12: expected a power of two in 2..1024\n"},
@@ -74,6 +77,9 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
       {"surface --mesh fin.obj --out x.ply",
        "ardcell surface: fin.obj: non-manifold edge 1-2: shared by 3 or more faces (1, 2, 3)\n"},
       {"surface --mesh missing.obj --out x.ply", nullptr},
+      {"surface --mesh point.obj --patch-cells 2 --out x.ply",
+       "ardcell surface: point.obj: the limit surface is degenerate (no tangent plane) in patch 1 "
+       "at (0.25, 0): coincident or folded control points?\n"},
       {"surface --shape klein --out x.ply",
        "ardcell surface: --shape 'klein': expected torus or cube-sphere\n"},
       {"surface --reaction rk4 --out x.ply",
