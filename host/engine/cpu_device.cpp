@@ -9,6 +9,7 @@
 
 #include "host/engine/device.h"
 #include "kernels/field_reductions.h"
+#include "kernels/gray_scott9.h"
 #include "kernels/periodic_stencil_solve.h"
 #include "kernels/stencil_operator.h"
 #include "runtime/row_executor.h"
@@ -58,6 +59,8 @@ const char* device_op_name(DeviceOp op) {
       return "implicit diffusion";
     case DeviceOp::kExplicitRd:
       return "explicit reaction-diffusion";
+    case DeviceOp::kGrayScott9Steps:
+      return "seed 001's temporally blocked steps";
     case DeviceOp::kGeneralizedRd:
       return "generalized reaction-diffusion";
     case DeviceOp::kPeriodicSolve:
@@ -310,6 +313,13 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
       });
       break;
   }
+}
+
+void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
+                                  const GrayScott9Params& p) {
+  GrayScott9Blocked::adopt(a);
+  GrayScott9Blocked::adopt(b);
+  blocked.run(a, b, steps, p);
 }
 
 void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,

@@ -30,6 +30,7 @@
 
 namespace ardcell {
 
+class GrayScott9Blocked;
 class PeriodicStencilSolve;
 class RowExecutor;
 
@@ -57,6 +58,7 @@ enum class DeviceOp : uint8_t {
   kConductivity,
   kImplicitDiffusion,
   kExplicitRd,
+  kGrayScott9Steps,
   kGeneralizedRd,
   kPeriodicSolve,
   kCount
@@ -162,6 +164,11 @@ class Device {
   enum class ExplicitScheme : uint8_t { k5, k9, kGrayScott9 };
   virtual void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                            ExplicitScheme scheme, const ExplicitRdParams& p) = 0;
+  // Seed 001's scheme (explicit 9-point Gray-Scott, periodic): `steps` steps of a and b in place,
+  // temporally blocked (kernels/gray_scott9.h; `blocked` made for the grid on the device's
+  // executor). A and B should have GrayScott9Blocked::kHalo; others are given it (an allocation).
+  virtual void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
+                                 const GrayScott9Params& p) = 0;
   // seed 003, Eqn 27 on a periodic grid (kernels/generalized_rd.h): a_out, b_out from a, b.
   virtual void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                               const GeneralizedTaps& k, const GeneralizedRdParams& p) = 0;
@@ -229,6 +236,8 @@ class CpuDevice final : public Device {
                                  const FieldF* conductivity, const DiffusionStep& s) override;
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                    ExplicitScheme scheme, const ExplicitRdParams& p) override;
+  void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
+                         const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;

@@ -38,10 +38,8 @@ std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
   if (options.backend == EngineOptions::Backend::kSerial) return std::make_unique<SerialBackend>();
   ThreadBackendOptions t;
   t.workers = options.workers;
-  // Unpinned: an engine shares the machine with threads it does not own (seed 001's
-  // ParallelGrayScott9, the live display, other processes of a kiosk). Pinned, the host thread
-  // kept core 0 and the scheduler put ParallelGrayScott9's worker beside it: seed 001 ran at
-  // 3.0-3.4 ms per frame instead of 0.8.
+  // Unpinned: an engine shares the machine with threads it does not own (the live display,
+  // other processes of a kiosk), and a pinned thread cannot leave a core another one holds.
   t.pin = false;
   return std::make_unique<ThreadBackend>(t);
 }

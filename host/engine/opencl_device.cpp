@@ -38,6 +38,8 @@ void OpenClDevice::reserve(Int2 grid) {
 // multigrid and implicit diffusion with fixed Jacobi or RBGS sweeps; the other settings fall back
 // (implicit_diffusion, solve).
 bool OpenClDevice::supports(DeviceOp op) const {
+  // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
+  if (op == DeviceOp::kGrayScott9Steps) return false;
   return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve;
 }
 
@@ -555,6 +557,17 @@ void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
       cl_->explicit_rd5(da, db, da_out, db_out, all, p);
       break;
   }
+}
+
+void OpenClDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
+                                     const GrayScott9Params& p) {
+  say_fallback(DeviceOp::kGrayScott9Steps, "rd.scheme explicit9",
+               "temporal blocking is the CPU's; the engine steps the 9-point twin here");
+  host_in(a);
+  host_in(b);
+  cpu_.gray_scott9_steps(blocked, a, b, steps, p);
+  host_wrote(a);
+  host_wrote(b);
 }
 
 const OpenClBuffer& OpenClDevice::stencil_weights(const GeneralizedTaps& k) {

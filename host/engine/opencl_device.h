@@ -84,6 +84,9 @@ class OpenClDevice final : public Device {
                                  const FieldF* conductivity, const DiffusionStep& s) override;
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                    ExplicitScheme scheme, const ExplicitRdParams& p) override;
+  // On the CPU (the engine steps seed 001 with the 9-point twin here instead), with one line.
+  void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
+                         const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   // On the CPU (no FFT on the device yet), with one line.

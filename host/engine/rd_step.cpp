@@ -175,17 +175,15 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
     table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
     device.host_wrote(table_);
   }
-  conductivity_ = FieldF(scene.size, 1);
-  scratch_a_ = FieldF(scene.size, 1);
-  scratch_b_ = FieldF(scene.size, 1);
-  device.reserve(scene.size);
-  // Seed 001's scheme on the CPU: a frame's steps temporally blocked on every core (it steps
-  // the host fields itself).
+  // Seed 001's scheme: a frame's steps in one op, temporally blocked, where the device has it.
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
       rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic &&
-      device.fields_on_host())
-    parallel_gs9_ =
-        std::make_unique<ParallelGrayScott9>(scene.size, gray_scott9_params(), ex.workers());
+      device.supports(DeviceOp::kGrayScott9Steps))
+    gray_scott9_ = std::make_unique<GrayScott9Blocked>(scene.size, ex);
+  conductivity_ = FieldF(scene.size, 1);
+  scratch_a_ = FieldF(scene.size, chemical_halo());
+  scratch_b_ = FieldF(scene.size, chemical_halo());
+  device.reserve(scene.size);
 }
 
 GrayScott9Params RdStepper::gray_scott9_params() const {
@@ -225,7 +223,6 @@ void RdStepper::update_parameters(const SceneConfig& scene) {
     table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
     dev_->host_wrote(table_);
   }
-  if (parallel_gs9_) parallel_gs9_->set_params(gray_scott9_params());
   if (periodic_a_) periodic_a_->set_delta(diffusion_scale(scene_, false));
   if (periodic_b_) periodic_b_->set_delta(diffusion_scale(scene_, true));
 }
@@ -242,8 +239,9 @@ std::string RdStepper::parameter_problem(const SceneConfig& scene) const {
 
 void RdStepper::init_state(SimState& s) const {
   const Int2 n = scene_.size;
-  if (s.A.empty() || s.A.size() != n) s.A = FieldF(n, 1);
-  if (s.B.empty() || s.B.size() != n) s.B = FieldF(n, 1);
+  const int halo = chemical_halo();
+  if (s.A.empty() || s.A.size() != n || s.A.halo() != halo) s.A = FieldF(n, halo);
+  if (s.B.empty() || s.B.size() != n || s.B.halo() != halo) s.B = FieldF(n, halo);
   if (s.theta0.empty() || s.theta0.size() != n) {
     s.theta0 = FieldF(n, 1);
     s.theta0.fill(rd_.anisotropy.theta0);
@@ -390,38 +388,6 @@ void RdStepper::generalized_step(SimState& s) {
   }
 }
 
-void RdStepper::parallel_gray_scott9_frame(SimState& s) {
-  ParallelGrayScott9& sim = *parallel_gs9_;
-  // run() reads its a() and b() and writes them back: lend it the state's own fields (same
-  // size, halo and stride), so that nothing is copied around the run.
-  const auto same_layout = [](const FieldF& f, const FieldF& g) {
-    return f.size() == g.size() && f.halo() == g.halo() && f.stride() == g.stride();
-  };
-  if (same_layout(s.A, sim.a()) && same_layout(s.B, sim.b())) {
-    std::swap(s.A, sim.a());
-    std::swap(s.B, sim.b());
-    sim.run(rd_.steps_per_frame);
-    std::swap(s.A, sim.a());
-    std::swap(s.B, sim.b());
-    return;
-  }
-  const std::size_t row_bytes = sizeof(float) * std::size_t(scene_.size.x);
-  RowExecutor& ex = dev_->executor();
-  ex.for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y) {
-      std::memcpy(sim.a().row(y), s.A.row(y), row_bytes);
-      std::memcpy(sim.b().row(y), s.B.row(y), row_bytes);
-    }
-  });
-  sim.run(rd_.steps_per_frame);
-  ex.for_rows(scene_.size.y, scene_.size.x, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y) {
-      std::memcpy(s.A.row(y), sim.a().row(y), row_bytes);
-      std::memcpy(s.B.row(y), sim.b().row(y), row_bytes);
-    }
-  });
-}
-
 void RdStepper::advect(SimState& s) {
   fill_chemical_ghosts(s);
   const double scene_h = scene_.domain_width / scene_.size.x;
@@ -438,8 +404,8 @@ void RdStepper::advect(SimState& s) {
 void RdStepper::step(SimState& s) {
   ARDCELL_CHECK(!s.A.empty() && s.A.size() == scene_.size && s.B.size() == scene_.size,
                 "RD step needs A and B of the scene's size (RdStepper::init_state)");
-  if (parallel_gs9_) {
-    parallel_gray_scott9_frame(s);
+  if (gray_scott9_) {
+    dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params());
   } else {
     for (int k = 0; k < rd_.steps_per_frame; ++k) {
       if (generalized_) {

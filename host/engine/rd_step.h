@@ -10,9 +10,10 @@
 // one pass; `semi-implicit` is Eqn 28 (explicit reaction, then (I - dt D K)^-1 by FFT,
 // kernels/periodic_stencil_solve.h); `implicit` is Eqn 6's reaction, then the same solve.
 // rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
-// Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps on every core
-// with ParallelGrayScott9 (host/engine/rd_parallel_gray_scott.h), temporally blocked; the other
-// explicit cases step whole fields one step at a time. Every stage is an op of the engine's
+// Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps as one op where the
+// device has it (Device::gray_scott9_steps: the CPU's temporally blocked kernels/gray_scott9.h,
+// whose A and B have halo GrayScott9Blocked::kHalo); the other explicit cases, and seed 001's
+// on OpenCL, step whole fields one step at a time. Every stage is an op of the engine's
 // Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers,
 // or OpenCL).
 // Nothing is allocated in step() once constructed.
@@ -22,8 +23,8 @@
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
 #include "host/engine/device.h"
-#include "host/engine/rd_parallel_gray_scott.h"
 #include "kernels/aniso_diffusion.h"
+#include "kernels/gray_scott9.h"
 #include "kernels/periodic_stencil_solve.h"
 #include "kernels/reaction_table.h"
 
@@ -49,7 +50,7 @@ class RdStepper {
   ~RdStepper();
 
   // Allocates A, B when absent (and theta0 when absent: filled with rd.anisotropy.theta0; a
-  // painted theta0 is kept) with halo 1 and writes the initial pattern. Deterministic for a
+  // painted theta0 is kept) and writes the initial pattern. Deterministic for a
   // given rd.seed.
   void init_state(SimState& s) const;
 
@@ -71,6 +72,9 @@ class RdStepper {
   double rd_h() const { return h_; }
 
  private:
+  // The halo init_state() gives A and B, and the fields they swap with: GrayScott9Blocked::kHalo
+  // for seed 001's blocked steps, else 1 (theta0's).
+  int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : 1; }
   void fill_chemical_ghosts(SimState& s);
   void react(SimState& s);
   void diffuse(SimState& s);
@@ -79,8 +83,6 @@ class RdStepper {
   void generalized_step(SimState& s);
   GeneralizedRdParams generalized_params(bool react, bool diffuse) const;
   GrayScott9Params gray_scott9_params() const;
-  // A frame's steps of seed 001's scheme with parallel_gs9_: A and B are copied in and out.
-  void parallel_gray_scott9_frame(SimState& s);
   void advect(SimState& s);
 
   SceneConfig scene_;
@@ -92,7 +94,7 @@ class RdStepper {
   std::unique_ptr<PeriodicStencilSolve> periodic_a_, periodic_b_;  // its implicit solves
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
-  std::unique_ptr<ParallelGrayScott9> parallel_gs9_;
+  std::unique_ptr<GrayScott9Blocked> gray_scott9_;  // seed 001's scheme (gray_scott9_steps)
   RdStepStats stats_;
 };
 

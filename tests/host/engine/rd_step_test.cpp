@@ -350,10 +350,11 @@ TEST(RdStep, TableAndNewtonGiveTheSamePattern) {
   EXPECT_LT(err, 5e-3);
 }
 
-// Seed 001's scheme (explicit 9-point Gray-Scott, wrap) runs a frame's steps through
-// ParallelGrayScott9 on every core. Against the whole-field kernel stepped one step at a time
-// (gray_scott9_explicit_tile, the same update with other float rounding), from seed 001's
-// start on a 72x56 crop, over 30 frames of 10 steps, and after a live change of F and k.
+// Seed 001's scheme (explicit 9-point Gray-Scott, wrap) runs a frame's steps as one op,
+// temporally blocked (Device::gray_scott9_steps: GrayScott9Blocked, kernels/gray_scott9.h; on
+// several workers: engine_backend_parity_test). Against the whole-field kernel stepped one step
+// at a time (gray_scott9_explicit_tile, the same update with other float rounding), from seed
+// 001's start on a 72x56 crop, over 30 frames of 10 steps, and after a live change of F and k.
 TEST(RdStep, Seed001SchemeRunsInParallelAndAgreesWithTheWholeFieldKernel) {
   SceneConfig s = builtin_scenes().find("seed001")->make();
   s.size = {72, 56};

@@ -1,14 +1,14 @@
-#include "host/engine/rd_parallel_gray_scott.h"
+#include "kernels/gray_scott9.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <thread>
 #include <utility>
 #include <vector>
+
+#include "runtime/row_executor.h"
 
 #if defined(__AVX512F__) || defined(__AVX__)
 #include <immintrin.h>
@@ -86,11 +86,7 @@ constexpr auto kLaneSeq = std::make_index_sequence<kLanes>{};
 // sum):
 //   A' = ca S_A + pa A + q - dt A B^2,   ca = 0.05 DA, pa = 1 - 1.8 DA - dt F, q = dt F
 //   B' = cb S_B + pb B + dt A B^2,       cb = 0.05 DB, pb = 1 - 1.8 DB - dt (F + k)
-struct RowCoeffs {
-  float ca, cb, pa, pb, q, dt;
-  // What the vectors outside a call's [jlo, jhi) hold when that range is not the whole row.
-  float fixed_a = 0, fixed_b = 0;
-};
+using RowCoeffs = GrayScott9Blocked::RowCoeffs;
 
 RowCoeffs row_coeffs(const GrayScott9Params& p) {
   return {0.05f * p.diffusion_a,
@@ -194,8 +190,7 @@ void gray_scott9_rows_simd(const float* const* a_rows, const float* const* b_row
     advance((jhi - 1) * kLanes, false);
 }
 
-using RowsKernel = void (*)(const float* const*, const float* const*, float* const*, float* const*,
-                            int, int, int, const RowCoeffs&);
+using RowsKernel = GrayScott9Blocked::RowsKernel;
 
 // Periodic ghosts of a row freshly written over vectors [jlo, jhi) (the rest holds `fixed`);
 // the padding past x = n is zeroed so that it stays finite.
@@ -276,63 +271,16 @@ Int2 differing_vectors(const float* a, const float* b, const float* fixed_a, con
   return {first, end};
 }
 
-// One meeting point per block of steps. Spins up to 20000 pauses (a few hundred microseconds,
-// about one block), then sleeps in the kernel so that a loaded machine is not made worse.
-// With 200 pauses a waiter usually went to sleep and paid a futex wake-up per block: quiet
-// 400^2, 2000 steps, 6 runs each: 52-70 ms (spin 200) against 47-59 ms (spin 20000).
-// The last thread to arrive runs `on_complete` before anyone leaves (as std::barrier's
-// completion function): it sees everything the others did before arriving, and they see what
-// it did.
-class BlockBarrier {
- public:
-  explicit BlockBarrier(int n) : n_(n) {}
-  template <class OnComplete>
-  void wait(OnComplete&& on_complete) {
-    const int gen = gen_.load(std::memory_order_acquire);
-    if (count_.fetch_add(1, std::memory_order_acq_rel) == n_ - 1) {
-      on_complete();
-      count_.store(0, std::memory_order_relaxed);
-      gen_.fetch_add(1, std::memory_order_release);
-      gen_.notify_all();
-      return;
-    }
-    for (int spins = 0; spins < 20000; ++spins) {
-      if (gen_.load(std::memory_order_acquire) != gen) return;
-#if defined(__x86_64__) || defined(__i386__)
-      __builtin_ia32_pause();
-#endif
-    }
-    while (gen_.load(std::memory_order_acquire) == gen) gen_.wait(gen, std::memory_order_acquire);
-  }
-
- private:
-  const int n_;
-  std::atomic<int> count_{0};
-  std::atomic<int> gen_{0};
-};
-
-void wrap_rows_x(FieldF& f, int y0, int y1) {
-  const int nx = f.nx();
-  for (int y = y0; y < y1; ++y) {
-    float* r = f.row(y);
-    r[-1] = r[nx - 1];
-    r[nx] = r[0];
-  }
-}
-
-void copy_row(FieldF& f, int from, int to) {
-  std::memcpy(f.row(to) - 1, f.row(from) - 1, sizeof(float) * std::size_t(f.nx() + 2));
+// The periodic ghost rows y = -1 and y = ny (corners included) from the rows they wrap.
+void wrap_rows_y(FieldF& f) {
+  const std::size_t bytes = sizeof(float) * std::size_t(f.nx() + 2);
+  std::memcpy(f.row(-1) - 1, f.row(f.ny() - 1) - 1, bytes);
+  std::memcpy(f.row(f.ny()) - 1, f.row(0) - 1, bytes);
 }
 
 }  // namespace
 
-void wrap_periodic(FieldF& f) {
-  wrap_rows_x(f, 0, f.ny());
-  copy_row(f, f.ny() - 1, -1);
-  copy_row(f, 0, f.ny());
-}
-
-void ParallelGrayScott9::RowStore::resize(int rows, std::ptrdiff_t stride) {
+void GrayScott9Blocked::RowStore::resize(int rows, std::ptrdiff_t stride) {
   stride_ = stride;
   const std::size_t bytes = std::size_t(rows) * std::size_t(stride) * sizeof(float);
   data_.reset(static_cast<float*>(std::aligned_alloc(64, std::max<std::size_t>(bytes, 64))));
@@ -340,72 +288,48 @@ void ParallelGrayScott9::RowStore::resize(int rows, std::ptrdiff_t stride) {
   std::memset(data_.get(), 0, bytes);
 }
 
-ParallelGrayScott9::ParallelGrayScott9(Int2 size, const GrayScott9Params& params, int threads,
-                                       int block_steps)
-    : size_(size), params_(params) {
+GrayScott9Blocked::GrayScott9Blocked(Int2 size, RowExecutor& ex, int bands, int block_steps)
+    : size_(size), ex_(&ex) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "grid must be non-empty");
   ARDCELL_CHECK(block_steps > 0, "block_steps must be positive");
-  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
-  threads_ = std::clamp(threads, 1, size.y);
-  // A block's halo must lie within the neighbouring band's published edge rows.
-  block_steps_ = std::min(block_steps, size.y / threads_);
+  if (bands <= 0) bands = ex.workers();
+  const int n = std::clamp(bands, 1, size.y);
+  // A block's halo must lie within the neighbouring band's edge rows.
+  block_steps_ = std::min(block_steps, size.y / n);
   // Balancing keeps bands at least this tall: halos stay within the neighbour, and the two
   // ends of a band do not overlap where the grid allows it.
-  min_band_rows_ = std::min(2 * block_steps_, size.y / threads_);
-  a_ = FieldF(size, 1);
-  b_ = FieldF(size, 1);
+  min_band_rows_ = std::min(2 * block_steps_, size.y / n);
   vectors_ = (size.x + kLanes - 1) / kLanes;
-  // x = -RowStore::kPad .. kLanes * (vectors_ + 1) - 1, rounded up to whole 64-byte lines.
-  stride_ = (RowStore::kPad + std::ptrdiff_t(kLanes) * (vectors_ + 1) + 15) / 16 * 16;
-  grid_a_.resize(size.y, stride_);
-  grid_b_.resize(size.y, stride_);
-  bands_.resize(std::size_t(threads_));
-  for (int t = 0; t < threads_; ++t) {
+  // x = -kHalo .. kLanes * (vectors_ + 1) - 1: within a row of a field of halo kHalo (whose
+  // stride is a multiple of 32 floats of at least nx + 2 kHalo).
+  stride_ = RowStore::kPad + std::ptrdiff_t(kLanes) * (vectors_ + 1);
+  bands_.resize(std::size_t(n));
+  for (int t = 0; t < n; ++t) {
     Band& band = bands_[std::size_t(t)];
-    band.y0 = int(int64_t(size.y) * t / threads_);
-    band.y1 = int(int64_t(size.y) * (t + 1) / threads_);
+    band.y0 = int(int64_t(size.y) * t / n);
+    band.y1 = int(int64_t(size.y) * (t + 1) / n);
     band.ring.resize(std::max(1, block_steps_ - 1) * kRingRows * 2, stride_);
     band.next.assign(std::size_t(block_steps_ + 1), 0);
     band.lo.assign(std::size_t(block_steps_ + 1), 0);
     band.hi.assign(std::size_t(block_steps_ + 1), 0);
-    band.edges.resize(2 * 2 * 2 * block_steps_, stride_);
+    band.edges.resize(2 * 2 * block_steps_, stride_);
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
-  workers_.reserve(std::size_t(threads_ - 1));
-  for (int t = 1; t < threads_; ++t) workers_.emplace_back([this, t] { worker_loop(t); });
 }
 
-ParallelGrayScott9::~ParallelGrayScott9() {
-  stopping_.store(true, std::memory_order_release);
-  job_generation_.fetch_add(1, std::memory_order_release);
-  job_generation_.notify_all();
-  workers_.clear();  // joins
+GrayScott9Blocked::~GrayScott9Blocked() = default;
+
+void GrayScott9Blocked::adopt(FieldF& f) {
+  if (fits(f)) return;
+  FieldF g = make_field(f.size());
+  const int h = std::min(f.halo(), kHalo);
+  copy_box(std::as_const(f).view(), g.view(), f.interior().grown(h));
+  f = std::move(g);
 }
 
-void ParallelGrayScott9::worker_loop(int t) {
-  uint32_t seen = 0;
-  for (;;) {
-    job_generation_.wait(seen, std::memory_order_acquire);
-    seen = job_generation_.load(std::memory_order_acquire);
-    if (stopping_.load(std::memory_order_acquire)) return;
-    job_(job_context_, t);
-    jobs_done_.fetch_add(1, std::memory_order_acq_rel);
-    jobs_done_.notify_all();
-  }
-}
-
-void ParallelGrayScott9::seed_square() {
-  a_.fill(1.0f);
-  b_.fill(0.0f);
-  for (int y = 0; y < 10; ++y)
-    for (int x = 0; x < 10; ++x) {
-      const int px = size_.x / 2 + x - 5, py = size_.y / 2 + y - 5;
-      if (px >= 0 && px < size_.x && py >= 0 && py < size_.y) b_(px, py) = 1.0f;
-    }
-}
-
-float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
+float* GrayScott9Blocked::band_row(Band& band, int parity, int y, int chem) {
+  if (parity == 0) return field_row(y, chem);
   const int kmax = block_steps_;
   int edge = -1;
   if (y - band.y0 < kmax) {
@@ -413,15 +337,15 @@ float* ParallelGrayScott9::band_row(Band& band, int parity, int y, int chem) {
   } else if (band.y1 - y <= kmax) {
     edge = 2 * kmax - (band.y1 - y);
   }
-  if (edge < 0) return grid_row(y, chem);
-  return band.edges.row(((parity * 2 + chem) * 2) * kmax + edge);
+  if (edge < 0) return field_row(y, chem);
+  return band.edges.row(chem * 2 * kmax + edge);
 }
 
-void ParallelGrayScott9::copy_whole_row(const float* from, float* to) const {
+void GrayScott9Blocked::copy_whole_row(const float* from, float* to) const {
   std::memcpy(to - RowStore::kPad, from - RowStore::kPad, sizeof(float) * std::size_t(stride_));
 }
 
-std::vector<int> ParallelGrayScott9::band_starts() const {
+std::vector<int> GrayScott9Blocked::band_starts() const {
   std::vector<int> starts;
   for (const Band& band : bands_) starts.push_back(band.y0);
   return starts;
@@ -437,12 +361,13 @@ int balanced_boundary_shift(double busy_a, double busy_b, int rows_a, int rows_b
   return std::clamp(half == 0 ? (x > 0 ? 1 : -1) : half, -max_rows, max_rows);
 }
 
-void ParallelGrayScott9::balance_bands(int parity) {
-  if (threads_ < 2 || !balancing_) return;
+void GrayScott9Blocked::balance_bands(int parity) {
+  const int n = bands();
+  if (n < 2 || !balancing_) return;
   if (probe_state_ == 0 && ++blocks_since_balance_ < kBalanceBlocks) return;
   blocks_since_balance_ = 0;
-  const int max_rows = std::max(2 * block_steps_, size_.y / (8 * threads_));
-  for (int t = 0; t + 1 < threads_; ++t) {
+  const int max_rows = std::max(2 * block_steps_, size_.y / (8 * n));
+  for (int t = 0; t + 1 < n; ++t) {
     Band& a = bands_[std::size_t(t)];
     Band& b = bands_[std::size_t(t + 1)];
     int shift = 0;
@@ -461,224 +386,221 @@ void ParallelGrayScott9::balance_bands(int parity) {
   for (Band& band : bands_) band.busy_ns = 0;
 }
 
-void ParallelGrayScott9::move_boundary(int t, int to, int parity) {
+void GrayScott9Blocked::move_boundary(int t, int to, int parity) {
   Band& a = bands_[std::size_t(t)];
   Band& b = bands_[std::size_t(t + 1)];
   const int from = a.y1;
   // Rows whose storage depends on the boundary: within block_steps_ of its old or new place.
   const int z0 = std::max(a.y0, std::min(from, to) - block_steps_);
   const int z1 = std::min(b.y1, std::max(from, to) + block_steps_);
-  // Through the grid rows (an end row's grid row is otherwise unused), so that no copy
-  // overwrites a row still to be moved.
+  // Through the field's rows (an end row's field row holds the other parity, which the next
+  // block rewrites), so that no copy overwrites a row still to be moved.
   for (int y = z0; y < z1; ++y)
     for (int chem = 0; chem < 2; ++chem) {
       float* held = band_row(y < a.y1 ? a : b, parity, y, chem);
-      if (held != grid_row(y, chem)) copy_whole_row(held, grid_row(y, chem));
+      if (held != field_row(y, chem)) copy_whole_row(held, field_row(y, chem));
     }
   a.y1 = to;
   b.y0 = to;
   for (int y = z0; y < z1; ++y)
     for (int chem = 0; chem < 2; ++chem) {
       float* place = band_row(y < a.y1 ? a : b, parity, y, chem);
-      if (place != grid_row(y, chem)) copy_whole_row(grid_row(y, chem), place);
+      if (place != field_row(y, chem)) copy_whole_row(field_row(y, chem), place);
     }
 }
 
-void ParallelGrayScott9::run(int64_t steps) {
+void GrayScott9Blocked::prepare_band(int t) {
+  Band& band = bands_[std::size_t(t)];
+  const int nx = size_.x, nv = vectors_;
+  Int2* activity = row_activity_.data() + std::size_t(parity_) * std::size_t(size_.y);
+  for (int y = band.y0; y < band.y1; ++y) {
+    float* ra = field_row(y, 0);
+    float* rb = field_row(y, 1);
+    finish_row(ra, nx, nv, 0, nv, 0.0f);
+    finish_row(rb, nx, nv, 0, nv, 0.0f);
+    if (skip_)
+      activity[y] = differing_vectors(ra, rb, fixed_rows_.row(0), fixed_rows_.row(1), nx, 0, nv);
+    if (parity_ == 1)
+      for (int chem = 0; chem < 2; ++chem) {
+        float* place = band_row(band, 1, y, chem);
+        if (place != field_row(y, chem)) copy_whole_row(field_row(y, chem), place);
+      }
+  }
+}
+
+void GrayScott9Blocked::step_band(int t) {
+  const auto started = std::chrono::steady_clock::now();
+  const int nx = size_.x, ny = size_.y, n = bands(), nv = vectors_, kmax = block_steps_;
+  const int k = block_k_, parity = parity_;
+  const RowCoeffs& coeffs = coeffs_;
+  Band& band = bands_[std::size_t(t)];
+  Band& above = bands_[std::size_t((t + n - 1) % n)];
+  Band& below = bands_[std::size_t((t + 1) % n)];
+  const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
+  auto ring_row = [&](int level, int y, int chem) {
+    const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
+    return band.ring.row(((level - 1) * kRingRows + slot) * 2 + chem);
+  };
+  int* next = band.next.data();  // next[l]: the next row level l computes
+  int* lo = band.lo.data();      // level l computes rows [lo[l], hi[l])
+  int* hi = band.hi.data();
+  int64_t updates = 0;
+  const int y0 = band.y0, y1 = band.y1;
+  const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
+  Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
+  // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
+  // [jlo, jhi) that differ from the fixed point, grown by one cell per level. Outside them
+  // every level holds the fixed point. Without skipping: everything.
+  const bool skipping = skip_ && k > 1;
+  int rlo = y0 - k, rhi = y1 + k, jlo = 0, jhi = nv;
+  if (skipping) {
+    rlo = y1 + k;
+    rhi = y0 - k;
+    int first = nv, end = 0;
+    for (int y = y0 - k; y < y1 + k; ++y) {
+      const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
+      if (v.y <= v.x) continue;
+      rlo = std::min(rlo, y);
+      rhi = y + 1;
+      first = std::min(first, v.x);
+      end = std::max(end, v.y);
+    }
+    // A change within k cells of a row's end reaches the other end through the wrap.
+    const int reach = (k + kLanes - 1) / kLanes;
+    if (first * kLanes - k >= 0 && end * kLanes - 1 + k < nx) {
+      jlo = first - reach;
+      jhi = std::min(nv, end + reach);
+    }
+    for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
+  }
+  const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
+  for (int l = 1; l <= k; ++l) {
+    lo[l] = std::max(y0 - (k - l), rlo - l);
+    hi[l] = std::min(y1 + (k - l), rhi + l);
+    next[l] = lo[l];
+  }
+  // The band's end rows alternate between two copies; the next copy must hold the fixed point
+  // wherever this block does not write it.
+  if (skipping)
+    for (int y = y0; y < y1; ++y) {
+      if (y - y0 >= kmax && y1 - y > kmax) continue;  // updated in place
+      if (!idle && y >= lo[k] && y < hi[k] && jlo == 0 && jhi == nv) continue;
+      copy_whole_row(fixed_row[0], band_row(band, 1 - parity, y, 0));
+      copy_whole_row(fixed_row[1], band_row(band, 1 - parity, y, 1));
+    }
+  // Level 0 and level k: a band's rows more than kmax from its ends are updated in place (level
+  // k writes row y after level 1 has read it for the last time); the kmax rows at either end,
+  // which the neighbours read as halo, alternate between two copies by block parity.
+  auto level0 = [&](int y, int chem) -> const float* {
+    if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
+    if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
+    return band_row(band, parity, y, chem);
+  };
+  auto input = [&](int level, int y, int chem) -> const float* {
+    if (level == 0) return level0(y, chem);
+    if (y < lo[level] || y >= hi[level]) return fixed_row[chem];
+    return ring_row(level, y, chem);
+  };
+  // Level l (1 .. k) spans the band grown by k - l rows (and, when skipping, the changing rows
+  // grown by l). Wavefront: each sweep lets every level compute its next two rows (one at a
+  // span's end) once its inputs, rows y - 1 .. y + 2 of level l - 1, exist, and as long as it
+  // does not overwrite ring rows that level l + 1 still reads (rows >= next[l + 1] - 1). A
+  // level's rows outside its span hold the fixed point and need no wait.
+  // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through the
+  // ring and are written back once no longer read.
+  int written_back = y0;
+  while (!idle && next[k] < hi[k]) {
+    bool progressed = false;
+    for (int l = 1; l <= k; ++l) {
+      const int y = next[l];
+      const int rows = std::min(2, hi[l] - y);
+      if (rows <= 0) continue;
+      if (l > 1 && next[l - 1] < std::min(y + rows + 1, hi[l - 1])) continue;
+      if (l < k && next[l + 1] < hi[l + 1] && y + rows - kRingRows >= next[l + 1]) continue;
+      if (l == k && k > 1 && next[1] < std::min(y + rows + 1, hi[1])) continue;
+      const bool to_band = l == k && k > 1;
+      const float* a_in[4];
+      const float* b_in[4];
+      float* a_out[2];
+      float* b_out[2];
+      for (int r = 0; r < rows + 2; ++r) {
+        a_in[r] = input(l - 1, y - 1 + r, 0);
+        b_in[r] = input(l - 1, y - 1 + r, 1);
+      }
+      for (int r = 0; r < rows; ++r) {
+        a_out[r] = to_band ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
+        b_out[r] = to_band ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
+      }
+      kernel_[rows - 1](a_in, b_in, a_out, b_out, nv, jlo, jhi, coeffs);
+      for (int r = 0; r < rows; ++r) {
+        finish_row(a_out[r], nx, nv, jlo, jhi, coeffs.fixed_a);
+        finish_row(b_out[r], nx, nv, jlo, jhi, coeffs.fixed_b);
+        if (skipping && l == k)
+          next_activity[y + r] =
+              differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);
+      }
+      updates += int64_t(rows) * (std::min(jhi * kLanes, nx) - jlo * kLanes);
+      next[l] = y + rows;
+      progressed = true;
+    }
+    ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
+    for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
+         ++written_back) {
+      copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
+      copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
+    }
+  }
+  for (; k == 1 && written_back < y1; ++written_back) {
+    copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
+    copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
+  }
+  band.updates += updates;
+  band.busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                      std::chrono::steady_clock::now() - started)
+                      .count();
+}
+
+void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott9Params& params) {
   last_run_cell_updates_ = 0;
   if (steps <= 0) return;
-  const int nx = size_.x, ny = size_.y, n = threads_, nv = vectors_, kmax = block_steps_;
-  const std::size_t row_bytes = sizeof(float) * std::size_t(nx);
-  for (Band& band : bands_)
-    for (int y = band.y0; y < band.y1; ++y) {
-      float* ra = band_row(band, 0, y, 0);
-      float* rb = band_row(band, 0, y, 1);
-      std::memcpy(ra, a_.row(y), row_bytes);
-      std::memcpy(rb, b_.row(y), row_bytes);
-      finish_row(ra, nx, nv, 0, nv, 0.0f);
-      finish_row(rb, nx, nv, 0, nv, 0.0f);
-    }
-  RowCoeffs coeffs = row_coeffs(params_);
-  const bool unit_dt = params_.dt == 1.0f;  // drops a multiply: dt * abb == abb then
-  const RowsKernel kernel[2] = {
-      unit_dt ? &gray_scott9_rows_simd<1, true> : &gray_scott9_rows_simd<1, false>,
-      unit_dt ? &gray_scott9_rows_simd<2, true> : &gray_scott9_rows_simd<2, false>};
-  fixed_a_ = a_(0, 0);
-  fixed_b_ = b_(0, 0);
-  const bool skip =
-      skip_quiescent_ && kmax > 1 && find_fixed_point(kernel[0], coeffs, fixed_a_, fixed_b_);
-  if (skip) {
-    coeffs.fixed_a = fixed_a_;
-    coeffs.fixed_b = fixed_b_;
+  ARDCELL_CHECK(a.size() == size_ && b.size() == size_ && fits(a) && fits(b),
+                "GrayScott9Blocked::run: fields of the grid's size and halo kHalo (adopt())");
+  fields_[0] = &a;
+  fields_[1] = &b;
+  coeffs_ = row_coeffs(params);
+  const bool unit_dt = params.dt == 1.0f;  // drops a multiply: dt * abb == abb then
+  kernel_[0] = unit_dt ? &gray_scott9_rows_simd<1, true> : &gray_scott9_rows_simd<1, false>;
+  kernel_[1] = unit_dt ? &gray_scott9_rows_simd<2, true> : &gray_scott9_rows_simd<2, false>;
+  // Blocks of k or k - 1 steps, the longer first: a block of one step records no differing
+  // vectors, so it may only be followed by blocks of one step. The first block reads the parity
+  // that makes the last one end in the fields (even), so nothing is copied back.
+  const int64_t blocks = (steps + block_steps_ - 1) / block_steps_;
+  const int64_t short_k = steps / blocks, long_blocks = steps % blocks;
+  float fixed_a = a(0, 0), fixed_b = b(0, 0);
+  skip_ = skip_quiescent_ && short_k + (long_blocks > 0 ? 1 : 0) > 1 &&
+          find_fixed_point(kernel_[0], coeffs_, fixed_a, fixed_b);
+  if (skip_) {
+    coeffs_.fixed_a = fixed_a;
+    coeffs_.fixed_b = fixed_b;
     float* fa = fixed_rows_.row(0);
     float* fb = fixed_rows_.row(1);
-    std::fill(fa - RowStore::kPad, fa - RowStore::kPad + stride_, fixed_a_);
-    std::fill(fb - RowStore::kPad, fb - RowStore::kPad + stride_, fixed_b_);
-    for (Band& band : bands_)
-      for (int y = band.y0; y < band.y1; ++y)
-        row_activity_[std::size_t(y)] =
-            differing_vectors(band_row(band, 0, y, 0), band_row(band, 0, y, 1), fa, fb, nx, 0, nv);
+    std::fill(fa - RowStore::kPad, fa - RowStore::kPad + stride_, fixed_a);
+    std::fill(fb - RowStore::kPad, fb - RowStore::kPad + stride_, fixed_b);
   }
-  BlockBarrier barrier(n);
-  std::atomic<int64_t> cell_updates{0};
-  auto work = [&](int t) {
-    Band& band = bands_[std::size_t(t)];
-    Band& above = bands_[std::size_t((t + n - 1) % n)];
-    Band& below = bands_[std::size_t((t + 1) % n)];
-    const float* fixed_row[2] = {fixed_rows_.row(0), fixed_rows_.row(1)};
-    auto ring_row = [&](int level, int y, int chem) {
-      const int slot = int(unsigned(y + kRingRows * ny) % unsigned(kRingRows));
-      return band.ring.row(((level - 1) * kRingRows + slot) * 2 + chem);
-    };
-    int* next = band.next.data();  // next[l]: the next row level l computes
-    int* lo = band.lo.data();      // level l computes rows [lo[l], hi[l])
-    int* hi = band.hi.data();
-    int64_t updates = 0;
-    int parity = 0;
-    auto started = std::chrono::steady_clock::now();
-    for (int64_t done = 0; done < steps;) {
-      const int k = int(std::min<int64_t>(kmax, steps - done));
-      const int y0 = band.y0, y1 = band.y1;  // balancing moves them between blocks
-      const Int2* activity = row_activity_.data() + std::size_t(parity) * std::size_t(ny);
-      Int2* next_activity = row_activity_.data() + std::size_t(1 - parity) * std::size_t(ny);
-      // What this block computes: the level-0 rows [rlo, rhi) (band and halo) and vectors
-      // [jlo, jhi) that differ from the fixed point, grown by one cell per level. Outside
-      // them every level holds the fixed point. Without skipping: everything.
-      const bool skipping = skip && k > 1;
-      int rlo = y0 - k, rhi = y1 + k, jlo = 0, jhi = nv;
-      if (skipping) {
-        rlo = y1 + k;
-        rhi = y0 - k;
-        int first = nv, end = 0;
-        for (int y = y0 - k; y < y1 + k; ++y) {
-          const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
-          if (v.y <= v.x) continue;
-          rlo = std::min(rlo, y);
-          rhi = y + 1;
-          first = std::min(first, v.x);
-          end = std::max(end, v.y);
-        }
-        // A change within k cells of a row's end reaches the other end through the wrap.
-        const int reach = (k + kLanes - 1) / kLanes;
-        if (first * kLanes - k >= 0 && end * kLanes - 1 + k < nx) {
-          jlo = first - reach;
-          jhi = std::min(nv, end + reach);
-        }
-        for (int y = y0; y < y1; ++y) next_activity[y] = Int2{0, 0};
-      }
-      const bool idle = rhi <= rlo;  // all at the fixed point: nothing changes in this block
-      for (int l = 1; l <= k; ++l) {
-        lo[l] = std::max(y0 - (k - l), rlo - l);
-        hi[l] = std::min(y1 + (k - l), rhi + l);
-        next[l] = lo[l];
-      }
-      // The band's end rows alternate between two copies; the next copy must hold the fixed
-      // point wherever this block does not write it.
-      if (skipping)
-        for (int y = y0; y < y1; ++y) {
-          if (y - y0 >= kmax && y1 - y > kmax) continue;  // updated in place
-          if (!idle && y >= lo[k] && y < hi[k] && jlo == 0 && jhi == nv) continue;
-          copy_whole_row(fixed_row[0], band_row(band, 1 - parity, y, 0));
-          copy_whole_row(fixed_row[1], band_row(band, 1 - parity, y, 1));
-        }
-      // Level 0 and level k: a band's rows more than kmax from its ends are updated in place
-      // (level k writes row y after level 1 has read it for the last time); the kmax rows at
-      // either end, which the neighbours read as halo, alternate between two copies by block
-      // parity.
-      auto level0 = [&](int y, int chem) -> const float* {
-        if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
-        if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
-        return band_row(band, parity, y, chem);
-      };
-      auto input = [&](int level, int y, int chem) -> const float* {
-        if (level == 0) return level0(y, chem);
-        if (y < lo[level] || y >= hi[level]) return fixed_row[chem];
-        return ring_row(level, y, chem);
-      };
-      // Level l (1 .. k) spans the band grown by k - l rows (and, when skipping, the changing
-      // rows grown by l). Wavefront: each sweep lets every level compute its next two rows
-      // (one at a span's end) once its inputs, rows y - 1 .. y + 2 of level l - 1, exist, and
-      // as long as it does not overwrite ring rows that level l + 1 still reads (rows >=
-      // next[l + 1] - 1). A level's rows outside its span hold the fixed point and need no
-      // wait.
-      // With k = 1 the only level reads rows y - 1 .. y + 1 in place, so its rows go through
-      // the ring and are written back once no longer read.
-      int written_back = y0;
-      while (!idle && next[k] < hi[k]) {
-        bool progressed = false;
-        for (int l = 1; l <= k; ++l) {
-          const int y = next[l];
-          const int rows = std::min(2, hi[l] - y);
-          if (rows <= 0) continue;
-          if (l > 1 && next[l - 1] < std::min(y + rows + 1, hi[l - 1])) continue;
-          if (l < k && next[l + 1] < hi[l + 1] && y + rows - kRingRows >= next[l + 1]) continue;
-          if (l == k && k > 1 && next[1] < std::min(y + rows + 1, hi[1])) continue;
-          const bool to_grid = l == k && k > 1;
-          const float* a_in[4];
-          const float* b_in[4];
-          float* a_out[2];
-          float* b_out[2];
-          for (int r = 0; r < rows + 2; ++r) {
-            a_in[r] = input(l - 1, y - 1 + r, 0);
-            b_in[r] = input(l - 1, y - 1 + r, 1);
-          }
-          for (int r = 0; r < rows; ++r) {
-            a_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 0) : ring_row(l, y + r, 0);
-            b_out[r] = to_grid ? band_row(band, 1 - parity, y + r, 1) : ring_row(l, y + r, 1);
-          }
-          kernel[rows - 1](a_in, b_in, a_out, b_out, nv, jlo, jhi, coeffs);
-          for (int r = 0; r < rows; ++r) {
-            finish_row(a_out[r], nx, nv, jlo, jhi, coeffs.fixed_a);
-            finish_row(b_out[r], nx, nv, jlo, jhi, coeffs.fixed_b);
-            if (skipping && l == k)
-              next_activity[y + r] =
-                  differing_vectors(a_out[r], b_out[r], fixed_row[0], fixed_row[1], nx, jlo, jhi);
-          }
-          updates += int64_t(rows) * (std::min(jhi * kLanes, nx) - jlo * kLanes);
-          next[l] = y + rows;
-          progressed = true;
-        }
-        ARDCELL_CHECK(progressed, "Gray-Scott wavefront stalled");
-        for (const int end = k == 1 ? std::min(next[1] - 1, y1) : y0; written_back < end;
-             ++written_back) {
-          copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
-          copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
-        }
-      }
-      for (; k == 1 && written_back < y1; ++written_back) {
-        copy_whole_row(ring_row(1, written_back, 0), band_row(band, 1 - parity, written_back, 0));
-        copy_whole_row(ring_row(1, written_back, 1), band_row(band, 1 - parity, written_back, 1));
-      }
-      parity = 1 - parity;
-      band.busy_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
-                          std::chrono::steady_clock::now() - started)
-                          .count();
-      barrier.wait([&] { balance_bands(parity); });
-      started = std::chrono::steady_clock::now();
-      done += k;
-    }
-    cell_updates.fetch_add(updates, std::memory_order_relaxed);
-  };
-  if (n > 1) {
-    job_ = [](void* context, int t) { (*static_cast<decltype(work)*>(context))(t); };
-    job_context_ = &work;
-    jobs_done_.store(0, std::memory_order_relaxed);
-    job_generation_.fetch_add(1, std::memory_order_release);
-    job_generation_.notify_all();
+  for (Band& band : bands_) band.updates = 0;
+  parity_ = int(blocks % 2);
+  const int n = bands();
+  ex_->for_tasks(n, [this](int t) { prepare_band(t); });
+  for (int64_t i = 0; i < blocks; ++i) {
+    block_k_ = int(short_k + (i < long_blocks ? 1 : 0));
+    ex_->for_tasks(n, [this](int t) { step_band(t); });
+    parity_ = 1 - parity_;
+    balance_bands(parity_);
   }
-  work(0);
-  for (int done = jobs_done_.load(std::memory_order_acquire); done < n - 1;
-       done = jobs_done_.load(std::memory_order_acquire))
-    jobs_done_.wait(done, std::memory_order_acquire);
-  last_run_cell_updates_ = cell_updates.load();
-  const int final_parity = int(((steps + kmax - 1) / kmax) % 2);
-  for (Band& band : bands_)
-    for (int y = band.y0; y < band.y1; ++y) {
-      std::memcpy(a_.row(y), band_row(band, final_parity, y, 0), row_bytes);
-      std::memcpy(b_.row(y), band_row(band, final_parity, y, 1), row_bytes);
-    }
-  wrap_periodic(a_);
-  wrap_periodic(b_);
+  for (const Band& band : bands_) last_run_cell_updates_ += band.updates;
+  wrap_rows_y(a);
+  wrap_rows_y(b);
+  fields_[0] = fields_[1] = nullptr;
 }
 
 }  // namespace ardcell
