@@ -5,8 +5,11 @@
 // own drivers/*.cpp (it calls app.add_subcommand(...) and sets a callback that stores its exit
 // code in ctx.exit_code), then add the one line `X(<name>)` to ARDCELL_SUBCOMMANDS in
 // drivers/cli.cpp. Report bad input with cli_usage_error (one line, exit code 2).
+#include <time.h>
+
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <string>
@@ -18,10 +21,22 @@ inline constexpr int kExitFailure = 1;  // a run that started failed (disk full,
 inline constexpr int kExitUsage = 2;    // bad input: flags, scenes, sizes, folders, states
 
 // What the subcommands of one invocation share.
+// CPU time this process has used (every thread, exec and dynamic loading included).
+inline double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 struct CliContext {
   int exit_code = kExitOk;  // returned by main(); set by the subcommand that ran
   std::FILE* out = stdout;
   std::FILE* err = stderr;
+  // When main() made it, and the CPU time the process had used by then (exec, the dynamic
+  // loader, static initialisers: work the process does without waiting): `run --stats` reports
+  // the start-up from them.
+  std::chrono::steady_clock::time_point main_started = std::chrono::steady_clock::now();
+  double cpu_before_main_s = process_cpu_seconds();
 };
 
 using CommandInstaller = void (*)(CLI::App& app, CliContext& ctx);

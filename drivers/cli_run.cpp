@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <ctime>
 #include <filesystem>
@@ -197,6 +198,11 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   std::vector<FrameSink*> sink_ptrs;
   for (auto& s : outputs.sinks) sink_ptrs.push_back(s.get());
   OfflineRunSummary summary;
+  // Start-up: from exec to the first frame, i.e. the CPU time before main() (the process does
+  // not wait then) and the wall time since.
+  const double main_to_first_frame_ms =
+      1e3 *
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - ctx.main_started).count();
   Status run = run_offline(stepper, options, sink_ptrs, summary);
   if (!run) {
     std::fprintf(ctx.err, "ardcell run: %s\n", run.message().c_str());
@@ -228,6 +234,10 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
     const std::size_t timed = std::min(frame_seconds.size(), std::size_t(summary.steps));
     const FrameTimeStats st = frame_time_stats(std::span<double>(frame_seconds).first(timed));
     std::fprintf(ctx.out, "%s\n", format_frame_time_stats(st).c_str());
+    std::fprintf(ctx.out,
+                 "start ms: to_first_frame=%.1f (before main %.1f cpu, main to first frame %.1f)\n",
+                 1e3 * ctx.cpu_before_main_s + main_to_first_frame_ms, 1e3 * ctx.cpu_before_main_s,
+                 main_to_first_frame_ms);
     if (after_run) after_run();
   }
   std::fflush(ctx.out);
