@@ -1,8 +1,7 @@
 #include "kernels/periodic_stencil_solve.h"
 
-// <complex> before <fftw3.h>: fftwf_complex (float[2]) and std::complex<float> share a layout,
-// which FFTW documents; the buffers are std::complex<float> and cast at the execute calls.
-#include <fftw3.h>
+// The buffers are std::complex<float>, cast at the execute calls (kernels/fftw_buffers.h).
+#include "kernels/fftw_buffers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,16 +22,6 @@ std::mutex& fftw_planner_mutex() {
 namespace {
 
 using Complex = std::complex<float>;
-
-fftwf_plan plan_of(void* p) { return static_cast<fftwf_plan>(p); }
-fftwf_complex* fftw_of(Complex* p) { return reinterpret_cast<fftwf_complex*>(p); }
-
-template <class T>
-T* fftw_alloc(std::size_t count) {
-  void* p = fftwf_malloc(count * sizeof(T));
-  if (!p) throw std::bad_alloc();
-  return static_cast<T*>(p);
-}
 
 // exp(2 pi i r / n) for r in [0, n), with r reduced to [0, n / 2] before the cosine: the
 // quarter points are exact and exp(2 pi i (n - r) / n) is the exact conjugate of the r one, so
@@ -103,24 +92,13 @@ PeriodicStencilSolve::PeriodicStencilSolve(Int2 size, const Stencil5x5& stencil,
     s->row = fftw_alloc<Complex>(std::size_t(width_));
     s->columns = fftw_alloc<Complex>(std::size_t(kColumnBlock) * std::size_t(col_stride_));
     // Same alignment as the planning buffers (worker 0's): the plans' codelets may assume it.
-    ARDCELL_CHECK(fftwf_alignment_of(s->real) == fftwf_alignment_of(scratch_[0]->real) &&
-                      fftwf_alignment_of(reinterpret_cast<float*>(s->row)) ==
-                          fftwf_alignment_of(reinterpret_cast<float*>(scratch_[0]->row)) &&
-                      fftwf_alignment_of(reinterpret_cast<float*>(s->columns)) ==
-                          fftwf_alignment_of(reinterpret_cast<float*>(scratch_[0]->columns)),
+    ARDCELL_CHECK(same_fftw_alignment(s->real, scratch_[0]->real) &&
+                      same_fftw_alignment(s->row, scratch_[0]->row) &&
+                      same_fftw_alignment(s->columns, scratch_[0]->columns),
                   "PeriodicStencilSolve: FFTW scratch alignment differs between workers");
   }
   Scratch& s0 = *scratch_[0];
-  // FFTW_ESTIMATE does not touch the arrays; out-of-place rows (c2r may destroy its input: it is
-  // scratch), in-place columns.
-  row_forward_ = fftwf_plan_dft_r2c_1d(nx, s0.real, fftw_of(s0.row), FFTW_ESTIMATE);
-  row_inverse_ = fftwf_plan_dft_c2r_1d(nx, fftw_of(s0.row), s0.real, FFTW_ESTIMATE);
-  column_forward_ =
-      fftwf_plan_dft_1d(ny, fftw_of(s0.columns), fftw_of(s0.columns), FFTW_FORWARD, FFTW_ESTIMATE);
-  column_inverse_ =
-      fftwf_plan_dft_1d(ny, fftw_of(s0.columns), fftw_of(s0.columns), FFTW_BACKWARD, FFTW_ESTIMATE);
-  ARDCELL_CHECK(row_forward_ && row_inverse_ && column_forward_ && column_inverse_,
-                "PeriodicStencilSolve: FFTW could not plan");
+  plans_ = make_row_column_plans(nx, ny, s0.real, s0.row, s0.columns);
   // delta = 0: the identity (times FFTW's 1 / (nx ny)), always well-posed.
   const float scale = float(1.0 / (double(nx) * double(ny)));
   std::fill(multipliers_.begin(), multipliers_.end(), Complex(scale, 0.0f));
@@ -128,8 +106,7 @@ PeriodicStencilSolve::PeriodicStencilSolve(Int2 size, const Stencil5x5& stencil,
 
 PeriodicStencilSolve::~PeriodicStencilSolve() {
   std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-  for (void* p : {row_forward_, row_inverse_, column_forward_, column_inverse_})
-    if (p) fftwf_destroy_plan(plan_of(p));
+  destroy_row_column_plans(plans_);
   for (Scratch* s : scratch_) {
     fftwf_free(s->real);
     fftwf_free(s->row);
@@ -201,7 +178,7 @@ void PeriodicStencilSolve::forward_rows(const FieldF& x, int y0, int y1, int wor
   const std::size_t nx = std::size_t(size_.x), w = std::size_t(width_);
   for (int y = y0; y < y1; ++y) {
     std::memcpy(s.real, x.row(y), nx * sizeof(float));
-    fftwf_execute_dft_r2c(plan_of(row_forward_), s.real, fftw_of(s.row));
+    fftwf_execute_dft_r2c(plan_of(plans_.row_forward), s.real, fftw_of(s.row));
     std::memcpy(spectrum_ + std::size_t(y) * w, s.row, w * sizeof(Complex));
   }
 }
@@ -219,10 +196,10 @@ void PeriodicStencilSolve::columns(int b0, int b1, int worker) {
     }
     for (int c = 0; c < count; ++c) {
       Complex* col = s.columns + c * col_stride_;
-      fftwf_execute_dft(plan_of(column_forward_), fftw_of(col), fftw_of(col));
+      fftwf_execute_dft(plan_of(plans_.column_forward), fftw_of(col), fftw_of(col));
       const Complex* m = multipliers_.data() + std::size_t(x0 + c) * std::size_t(ny);
       for (int my = 0; my < ny; ++my) col[my] *= m[my];
-      fftwf_execute_dft(plan_of(column_inverse_), fftw_of(col), fftw_of(col));
+      fftwf_execute_dft(plan_of(plans_.column_inverse), fftw_of(col), fftw_of(col));
     }
     for (int my = 0; my < ny; ++my) {
       Complex* dst = spectrum_ + std::size_t(my) * w + std::size_t(x0);
@@ -236,7 +213,7 @@ void PeriodicStencilSolve::inverse_rows(FieldF& x, int y0, int y1, int worker) {
   const std::size_t nx = std::size_t(size_.x), w = std::size_t(width_);
   for (int y = y0; y < y1; ++y) {
     std::memcpy(s.row, spectrum_ + std::size_t(y) * w, w * sizeof(Complex));
-    fftwf_execute_dft_c2r(plan_of(row_inverse_), fftw_of(s.row), s.real);
+    fftwf_execute_dft_c2r(plan_of(plans_.row_inverse), fftw_of(s.row), s.real);
     std::memcpy(x.row(y), s.real, nx * sizeof(float));
   }
 }

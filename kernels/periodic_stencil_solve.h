@@ -51,6 +51,16 @@ namespace ardcell {
 // fftwf_malloc/free made next to them). Any other code that plans FFTW transforms must hold it.
 std::mutex& fftw_planner_mutex();
 
+// The four 1D FFTW plans of a 2D transform done as rows (real-to-complex and back, nx cells) and
+// then columns (complex, ny, in place), kept opaque (fftwf_plan: no fftw3.h here); made and
+// destroyed under fftw_planner_mutex() (kernels/fftw_buffers.h).
+struct FftwRowColumnPlans {
+  void* row_forward = nullptr;
+  void* row_inverse = nullptr;
+  void* column_forward = nullptr;
+  void* column_inverse = nullptr;
+};
+
 class PeriodicStencilSolve {
  public:
   // Columns transformed per task of the y pass: 8 complex floats, one 64-byte cache line of
@@ -134,10 +144,7 @@ class PeriodicStencilSolve {
   std::vector<Extremes> extremes_;                // per spectral column, for set_delta
   std::complex<float>* spectrum_ = nullptr;       // [my][mx], fftwf_malloc'd
   std::vector<Scratch*> scratch_;                 // one per worker
-  void* row_forward_ = nullptr;                   // fftwf_plan (kept opaque: no fftw3.h here)
-  void* row_inverse_ = nullptr;
-  void* column_forward_ = nullptr;
-  void* column_inverse_ = nullptr;
+  FftwRowColumnPlans plans_;
 };
 
 }  // namespace ardcell

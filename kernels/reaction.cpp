@@ -295,6 +295,14 @@ ImplicitResult implicit_reaction_cell(const ReactionParams& p, double dt, double
   return {A, B, 0.0, 0};
 }
 
+ImplicitResult trapezoidal_reaction_cell(const ReactionParams& p, double dt, double A, double B,
+                                         double tolerance) {
+  double ra, rb;
+  reaction_rates(p, A, B, ra, rb);
+  const double half = 0.5 * dt;
+  return implicit_reaction_cell(p, half, A + half * ra, B + half * rb, tolerance);
+}
+
 double implicit_reaction_residual(const ReactionParams& p, double dt, double A, double B,
                                   double a_hat, double b_hat) {
   double ra, rb;
@@ -307,6 +315,22 @@ double implicit_reaction_residual(const ReactionParams& p, double dt, double A, 
   return std::max(std::abs(res_a), std::abs(res_b));
 }
 
+namespace {
+// cell(A, B, A_out, B_out) over region, row by row; each cell is read before it is written, so
+// the outputs may alias the inputs.
+template <class Cell>
+void for_each_cell(View<const float> a, View<const float> b, View<float> a_out, View<float> b_out,
+                   Box2 region, const Cell& cell) {
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* ar = a.row(y);
+    const float* br = b.row(y);
+    float* ao = a_out.row(y);
+    float* bo = b_out.row(y);
+    for (int x = region.min.x; x < region.max.x; ++x) cell(ar[x], br[x], ao[x], bo[x]);
+  }
+}
+}  // namespace
+
 void gray_scott_implicit_tile(View<const float> a, View<const float> b, View<float> a_out,
                               View<float> b_out, Box2 region, const GrayScottImplicitParams& gp) {
   ReactionParams p;
@@ -314,19 +338,13 @@ void gray_scott_implicit_tile(View<const float> a, View<const float> b, View<flo
   p.F = gp.F;
   p.k = gp.k;
   const double dt = gp.dt;
-  for (int y = region.min.y; y < region.max.y; ++y) {
-    const float* ar = a.row(y);
-    const float* br = b.row(y);
-    float* ao = a_out.row(y);
-    float* bo = b_out.row(y);
-    for (int x = region.min.x; x < region.max.x; ++x) {
-      const double A = std::clamp(double(ar[x]), 0.0, 1.0);
-      const double B = std::max(double(br[x]), 0.0);
-      const ImplicitResult r = solve_gray_scott(p, dt, A, B, 1e-9);
-      ao[x] = float(r.a);
-      bo[x] = float(r.b);
-    }
-  }
+  for_each_cell(a, b, a_out, b_out, region, [&](float a_in, float b_in, float& ao, float& bo) {
+    const double A = std::clamp(double(a_in), 0.0, 1.0);
+    const double B = std::max(double(b_in), 0.0);
+    const ImplicitResult r = solve_gray_scott(p, dt, A, B, 1e-9);
+    ao = float(r.a);
+    bo = float(r.b);
+  });
 }
 
 void reaction_implicit_tile(View<const float> a, View<const float> b, View<float> a_out,
@@ -335,34 +353,30 @@ void reaction_implicit_tile(View<const float> a, View<const float> b, View<float
     gray_scott_implicit_tile(a, b, a_out, b_out, region, {p.F, p.k, dt});
     return;
   }
-  for (int y = region.min.y; y < region.max.y; ++y) {
-    const float* ar = a.row(y);
-    const float* br = b.row(y);
-    float* ao = a_out.row(y);
-    float* bo = b_out.row(y);
-    for (int x = region.min.x; x < region.max.x; ++x) {
-      const ImplicitResult r = implicit_reaction_cell(p, dt, ar[x], br[x]);
-      ao[x] = float(r.a);
-      bo[x] = float(r.b);
-    }
-  }
+  for_each_cell(a, b, a_out, b_out, region, [&](float A, float B, float& ao, float& bo) {
+    const ImplicitResult r = implicit_reaction_cell(p, dt, A, B);
+    ao = float(r.a);
+    bo = float(r.b);
+  });
+}
+
+void reaction_trapezoidal_tile(View<const float> a, View<const float> b, View<float> a_out,
+                               View<float> b_out, Box2 region, const ReactionParams& p, float dt) {
+  for_each_cell(a, b, a_out, b_out, region, [&](float A, float B, float& ao, float& bo) {
+    const ImplicitResult r = trapezoidal_reaction_cell(p, dt, A, B);
+    ao = float(r.a);
+    bo = float(r.b);
+  });
 }
 
 void reaction_explicit_tile(View<const float> a, View<const float> b, View<float> a_out,
                             View<float> b_out, Box2 region, const ReactionParams& p, float dt) {
-  for (int y = region.min.y; y < region.max.y; ++y) {
-    const float* ar = a.row(y);
-    const float* br = b.row(y);
-    float* ao = a_out.row(y);
-    float* bo = b_out.row(y);
-    for (int x = region.min.x; x < region.max.x; ++x) {
-      double ra, rb;
-      const double A = ar[x], B = br[x];
-      reaction_rates(p, A, B, ra, rb);
-      ao[x] = float(A + dt * ra);
-      bo[x] = float(B + dt * rb);
-    }
-  }
+  for_each_cell(a, b, a_out, b_out, region, [&](float A, float B, float& ao, float& bo) {
+    double ra, rb;
+    reaction_rates(p, A, B, ra, rb);
+    ao = float(A + dt * ra);
+    bo = float(B + dt * rb);
+  });
 }
 
 }  // namespace ardcell
