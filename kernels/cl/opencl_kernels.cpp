@@ -63,6 +63,13 @@ void reaction_args(const ReactionParams& p, float q[5]) {
   }
 }
 
+// The model's invariant box (a_lo, a_hi, b_lo, b_hi), into which the implicit updates clamp
+// their inputs.
+cl_float4 invariant_box_arg(const ReactionParams& p) {
+  const ConcentrationBox box = invariant_box(p);
+  return {{float(box.a_lo), float(box.a_hi), float(box.b_lo), float(box.b_hi)}};
+}
+
 int tiles_of(Box2 region, int tw, int th) {
   return ((region.width() + tw - 1) / tw) * ((region.height() + th - 1) / th);
 }
@@ -108,15 +115,11 @@ void OpenClKernels::check_same_layout(const DeviceField& a, const DeviceField& b
 void OpenClKernels::reaction_implicit(const DeviceField& a, const DeviceField& b,
                                       DeviceField& a_out, DeviceField& b_out, Box2 region,
                                       const ReactionParams& p, float dt) {
-  check_same_layout(a, b);
-  check_same_layout(a, a_out);
-  check_same_layout(a, b_out);
+  check_same_layout(a, b, a_out, b_out);
   if (region.empty()) return;
   float q[5];
   reaction_args(p, q);
-  const ConcentrationBox box = invariant_box(p);
-  const cl_float4 clamp_box = {
-      {float(box.a_lo), float(box.a_hi), float(box.b_lo), float(box.b_hi)}};
+  const cl_float4 clamp_box = invariant_box_arg(p);
   const int tw = tiling_.tile_w, th = tiling_.tile_h;
   cl_kernel k = kernel("reaction_implicit");
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
@@ -197,9 +200,7 @@ void ClReactionTable::upload(OpenClContext& ctx, const ReactionTableView& table)
 
 void OpenClKernels::reaction_table(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                                    DeviceField& b_out, Box2 region, const ClReactionTable& table) {
-  check_same_layout(a, b);
-  check_same_layout(a, a_out);
-  check_same_layout(a, b_out);
+  check_same_layout(a, b, a_out, b_out);
   ARDCELL_CHECK(table.data && table.n >= 2, "reaction table: not uploaded");
   if (region.empty()) return;
   const cl_float4 range = {{table.a_lo, table.a_hi, table.b_lo, table.b_hi}};
@@ -780,14 +781,41 @@ void OpenClKernels::subtract_masked(DeviceField& f, const DeviceField& mask, flo
   enqueue_cells(k, f.interior());
 }
 
+// ---- The second-order schemes' per-cell kernels -------------------------------------------------
+
+void OpenClKernels::reaction_trapezoidal(const DeviceField& a, const DeviceField& b,
+                                         DeviceField& a_out, DeviceField& b_out, Box2 region,
+                                         const ReactionParams& p, float dt) {
+  check_same_layout(a, b, a_out, b_out);
+  if (region.empty()) return;
+  float q[5];
+  reaction_args(p, q);
+  cl_kernel k = kernel("reaction_trapezoidal");
+  set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
+                  box4(region), int(p.model), q[0], q[1], q[2], q[3], q[4], invariant_box_arg(p),
+                  dt);
+  enqueue_cells(k, region);
+}
+
+void OpenClKernels::sbdf_rhs(DeviceField& a, DeviceField& b, DeviceField& a_prev,
+                             DeviceField& b_prev, Box2 region, const SbdfRhsParams& p) {
+  check_same_layout(a, b, a_prev, b_prev);
+  if (region.empty()) return;
+  float q[5];
+  reaction_args(p.reaction, q);
+  cl_kernel k = kernel("sbdf_rhs");
+  set_kernel_args(k, a.buffer, b.buffer, a_prev.buffer, b_prev.buffer, a.stride, a.origin,
+                  box4(region), int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt, p.order,
+                  int(p.react));
+  enqueue_cells(k, region);
+}
+
 // ---- Explicit reaction-diffusion ----------------------------------------------------------------
 
 bool OpenClKernels::check_explicit_rd_args(const DeviceField& a, const DeviceField& b,
                                            const DeviceField& a_out, const DeviceField& b_out,
                                            Box2 region) const {
-  check_same_layout(a, b);
-  check_same_layout(a, a_out);
-  check_same_layout(a, b_out);
+  check_same_layout(a, b, a_out, b_out);
   ARDCELL_CHECK(a_out.buffer.get() != a.buffer.get() && a_out.buffer.get() != b.buffer.get() &&
                     b_out.buffer.get() != a.buffer.get() && b_out.buffer.get() != b.buffer.get(),
                 "explicit RD: outputs alias inputs");

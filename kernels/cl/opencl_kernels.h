@@ -14,6 +14,7 @@
 #include "kernels/anisotropy.h"
 #include "kernels/explicit_rd.h"
 #include "kernels/generalized_rd.h"
+#include "kernels/imex_rd.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
 #include "kernels/reaction_table.h"
@@ -126,6 +127,13 @@ class OpenClKernels {
   // Gray-Scott). Outputs may alias inputs.
   void reaction_implicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                          DeviceField& b_out, Box2 region, const ReactionParams& p, float dt);
+
+  // Twin of reaction_trapezoidal_tile (the trapezoidal rule over dt; outputs may alias inputs).
+  void reaction_trapezoidal(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                            DeviceField& b_out, Box2 region, const ReactionParams& p, float dt);
+  // Twin of sbdf_rhs_tile (kernels/imex_rd.h), in place over region.
+  void sbdf_rhs(DeviceField& a, DeviceField& b, DeviceField& a_prev, DeviceField& b_prev,
+                Box2 region, const SbdfRhsParams& p);
 
   // Twin of reaction_table_tile (outputs may alias inputs).
   void reaction_table(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
@@ -259,6 +267,13 @@ class OpenClKernels {
   // Work-groups for `tiles` tiles, and the global size.
   std::size_t groups_for(int tiles) const;
   void check_same_layout(const DeviceField& a, const DeviceField& b) const;
+  // The four fields of a per-cell reaction launch share a's layout.
+  void check_same_layout(const DeviceField& a, const DeviceField& b, const DeviceField& c,
+                         const DeviceField& d) const {
+    check_same_layout(a, b);
+    check_same_layout(a, c);
+    check_same_layout(a, d);
+  }
   // The explicit RD twins' argument checks; false when the region is empty (nothing to do).
   bool check_explicit_rd_args(const DeviceField& a, const DeviceField& b, const DeviceField& a_out,
                               const DeviceField& b_out, Box2 region) const;

@@ -108,17 +108,17 @@ inline real rd_newton(const rd_cell_t* s, real lo, real hi, real x0, real tol) {
   return x;
 }
 
-// One cell: (A, B) -> (A^, B^).
+// One cell: (A, B) -> (A^, B^), from inputs in real (rd_implicit_cell's floats, or the
+// trapezoidal rule's forward half step).
 // Inputs are first clamped into the model's invariant box (a_lo..b_hi, infinite where open),
 // where each bracket provably holds a root, as implicit_reaction_cell does.
-inline void rd_implicit_cell(int model, float p0, float p1, float p2, float p3, float p4,
-                             float4 box, float dtf, float af, float bf, float* a_out,
-                             float* b_out) {
+inline void rd_implicit_real(int model, float p0, float p1, float p2, float p3, float p4,
+                             float4 box, real dt_in, real af, real bf, float* a_out, float* b_out) {
   rd_cell_t s;
   s.model = model;
-  s.dt = (real)dtf;
-  s.A = clamp((real)af, (real)box.s0, (real)box.s1);
-  s.B = clamp((real)bf, (real)box.s2, (real)box.s3);
+  s.dt = dt_in;
+  s.A = clamp(af, (real)box.s0, (real)box.s1);
+  s.B = clamp(bf, (real)box.s2, (real)box.s3);
   s.turbulent = model == 5;
   const real tol = max((real)1e-9, (real)RD_MIN_TOL);
   const real dt = s.dt, A = s.A, B = s.B;
@@ -199,6 +199,12 @@ inline void rd_implicit_cell(int model, float p0, float p1, float p2, float p3, 
       return;
     }
   }
+}
+
+inline void rd_implicit_cell(int model, float p0, float p1, float p2, float p3, float p4,
+                             float4 box, float dtf, float af, float bf, float* a_out,
+                             float* b_out) {
+  rd_implicit_real(model, p0, p1, p2, p3, p4, box, (real)dtf, (real)af, (real)bf, a_out, b_out);
 }
 
 // Eqn 6 over `region` in tiles: A, B in, A^, B^ out (outputs may alias the inputs). lbuf holds
@@ -374,4 +380,58 @@ __kernel void gray_scott9_explicit(__global const float* a, __global const float
   const float abb = A * B * B;
   a_out[g] = A + ca * sa - ma * A + dt * (F * (1.0f - A) - abb);
   b_out[g] = B + cb * sb - mb * B + dt * (abb - fk * B);
+}
+
+// ---- The second-order schemes' per-cell kernels (docs/numerics.md, "Reaction-diffusion in
+// time"). Halo 0, one work-item per cell, in real in the C++ order.
+
+// Twin of reaction_trapezoidal_tile (kernels/reaction.h): the trapezoidal rule over dt as Eqn 6
+// over dt / 2 from the forward half step (A, B) + dt / 2 R(A, B). Model ids, p0..p4 and box as
+// reaction_implicit's. Outputs may alias the inputs.
+__kernel void reaction_trapezoidal(__global const float* a, __global const float* b,
+                                   __global float* a_out, __global float* b_out, int stride,
+                                   int origin, int4 reg, int model, float p0, float p1, float p2,
+                                   float p3, float p4, float4 box, float dt) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  const real A = a[g], B = b[g];
+  real ra, rb;
+  rd_rates(model, p0, p1, p2, p3, p4, A, B, &ra, &rb);
+  const real half_dt = (real)0.5 * (real)dt;
+  float ao, bo;
+  rd_implicit_real(model, p0, p1, p2, p3, p4, box, half_dt, A + half_dt * ra, B + half_dt * rb, &ao,
+                   &bo);
+  a_out[g] = ao;
+  b_out[g] = bo;
+}
+
+// Twin of sbdf_rhs_tile (kernels/imex_rd.h): a, b <- SBDF1 (order 1) or SBDF2 (order 2)
+// right-hand side; a_prev, b_prev <- a, b. react 0: no reaction terms.
+__kernel void sbdf_rhs(__global float* a, __global float* b, __global float* a_prev,
+                       __global float* b_prev, int stride, int origin, int4 reg, int model,
+                       float p0, float p1, float p2, float p3, float p4, float dtf, int order,
+                       int react) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  const real dt = (real)dtf;
+  const real A = a[g], B = b[g];
+  real ra = 0, rb = 0;
+  if (react) rd_rates(model, p0, p1, p2, p3, p4, A, B, &ra, &rb);
+  real rhs_a, rhs_b;
+  if (order == 2) {
+    const real A1 = a_prev[g], B1 = b_prev[g];
+    real ra1 = 0, rb1 = 0;
+    if (react) rd_rates(model, p0, p1, p2, p3, p4, A1, B1, &ra1, &rb1);
+    rhs_a = ((real)4.0 * A - A1) / (real)3.0 + (real)2.0 / (real)3.0 * dt * ((real)2.0 * ra - ra1);
+    rhs_b = ((real)4.0 * B - B1) / (real)3.0 + (real)2.0 / (real)3.0 * dt * ((real)2.0 * rb - rb1);
+  } else {
+    rhs_a = A + dt * ra;
+    rhs_b = B + dt * rb;
+  }
+  a_prev[g] = a[g];
+  b_prev[g] = b[g];
+  a[g] = (float)rhs_a;
+  b[g] = (float)rhs_b;
 }

@@ -12,6 +12,7 @@
 #include "kernels/anisotropy.h"
 #include "kernels/cl/opencl_diffusion.h"
 #include "kernels/cl/opencl_kernels.h"
+#include "kernels/imex_rd.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
 #include "kernels/reaction_table.h"
@@ -96,6 +97,75 @@ TEST(ClParity, ParameterChangesAreArgumentsNotRebuilds) {
   d.ctx->finish();
   EXPECT_EQ(OpenClKernels::create(*d.ctx, nullptr) != nullptr, true);
   EXPECT_EQ(d.ctx->build_count(), builds);
+}
+
+// The second-order schemes' per-cell kernels: the trapezoidal reaction (every model, in place
+// as the frame runs it) and SBDF1/2's right-hand side with its history.
+TEST(ClParity, ReactionTrapezoidalEveryModel) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  for (Int2 size : {Int2{37, 23}, Int2{127, 93}}) {
+    for (const Box2& region : {box_of_size(size), Box2{{size.x / 3, size.y / 2}, size}}) {
+      for (const ReactionCase& rc : reaction_cases()) {
+        SCOPED_TRACE(std::string(reaction_model_name(rc.params.model)));
+        FieldF a(size, 1), b(size, 1);
+        fill_random(a, rc.a_lo, rc.a_hi, 5);
+        fill_random(b, rc.b_lo, rc.b_hi, 6);
+        FieldF a_ref = a, b_ref = b;
+        reaction_trapezoidal_tile(a.view(), b.view(), a_ref.view(), b_ref.view(), region, rc.params,
+                                  rc.dt);
+        DeviceField da = d.ctx->allocate_like(a), db = d.ctx->allocate_like(b);
+        d.ctx->upload(a, da);
+        d.ctx->upload(b, db);
+        d.cl->reaction_trapezoidal(da, db, da, db, region, rc.params, rc.dt);
+        FieldF a_cl(size, 1), b_cl(size, 1);
+        d.ctx->download(da, a_cl);
+        d.ctx->download(db, b_cl);
+        EXPECT_LE(relative_error(a_cl, a_ref, a, region), kTolerance) << size << region;
+        EXPECT_LE(relative_error(b_cl, b_ref, b, region), kTolerance) << size << region;
+      }
+    }
+  }
+}
+
+TEST(ClParity, SbdfRightHandSideBothOrdersEveryModel) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  const Int2 size{45, 31};
+  const Box2 region{{3, 2}, {40, 31}};
+  for (const ReactionCase& rc : reaction_cases()) {
+    for (int order : {1, 2}) {
+      for (bool react : {true, false}) {
+        SCOPED_TRACE(::testing::Message() << reaction_model_name(rc.params.model) << " order "
+                                          << order << (react ? "" : " no reaction"));
+        FieldF a(size, 1), b(size, 1), ap(size, 1), bp(size, 1);
+        fill_random(a, rc.a_lo, rc.a_hi, 7);
+        fill_random(b, rc.b_lo, rc.b_hi, 8);
+        fill_random(ap, rc.a_lo, rc.a_hi, 9);
+        fill_random(bp, rc.b_lo, rc.b_hi, 10);
+        const FieldF a0 = a, b0 = b;
+        const SbdfRhsParams p{rc.params, rc.dt, order, react};
+        FieldF ar = a, br = b, apr = ap, bpr = bp;
+        sbdf_rhs_tile(ar.view(), br.view(), apr.view(), bpr.view(), region, p);
+        DeviceField da = d.ctx->allocate_like(a), db = d.ctx->allocate_like(b);
+        DeviceField dap = d.ctx->allocate_like(a), dbp = d.ctx->allocate_like(b);
+        d.ctx->upload(a, da);
+        d.ctx->upload(b, db);
+        d.ctx->upload(ap, dap);
+        d.ctx->upload(bp, dbp);
+        d.cl->sbdf_rhs(da, db, dap, dbp, region, p);
+        FieldF a_cl(size, 1), b_cl(size, 1), ap_cl(size, 1), bp_cl(size, 1);
+        d.ctx->download(da, a_cl);
+        d.ctx->download(db, b_cl);
+        d.ctx->download(dap, ap_cl);
+        d.ctx->download(dbp, bp_cl);
+        EXPECT_LE(relative_error(a_cl, ar, a0, region), kTolerance);
+        EXPECT_LE(relative_error(b_cl, br, b0, region), kTolerance);
+        EXPECT_LE(relative_error(ap_cl, apr, ap, region), 0.0);  // the history is a copy
+        EXPECT_LE(relative_error(bp_cl, bpr, bp, region), 0.0);
+      }
+    }
+  }
 }
 
 // ---- Fluid kernels and boundary fills -------------------------------------------------------
