@@ -22,6 +22,12 @@ enum class RdScheme : uint8_t {
   kExplicit9,     // forward Euler, seed 001's 9-point Laplacian
   kExplicit,      // generalized operator: forward Euler, seed 003's Eqn 27
   kSemiImplicit,  // generalized operator: explicit reaction, implicit diffusion (seed 003, Eqn 28)
+  // The second-order schemes (docs/numerics.md, "Reaction-diffusion in time"), Laplacian only:
+  kCrankNicolsonAm2,  // Strang: trapezoidal reaction dt/2 (Newton per cell, like Eqn 6), Crank-
+                      // Nicolson diffusion dt, trapezoidal reaction dt/2 (sec. 3.2's suggestion)
+  kSbdf2,             // IMEX: BDF2 diffusion with the implicit solvers, reaction extrapolated
+                      // 2 f^n - f^(n-1); an SBDF1 step first and after every restart
+  kEtdrk4,            // exponential time differencing RK4 by FFT (periodic, isotropic)
 };
 
 // What diffuses the chemicals.

@@ -65,6 +65,12 @@ const char* device_op_name(DeviceOp op) {
       return "generalized reaction-diffusion";
     case DeviceOp::kPeriodicSolve:
       return "periodic solve (FFT)";
+    case DeviceOp::kReactionTrapezoidal:
+      return "trapezoidal reaction";
+    case DeviceOp::kSbdfRhs:
+      return "SBDF right-hand side";
+    case DeviceOp::kEtdrk4:
+      return "ETDRK4 step (FFT)";
     case DeviceOp::kCount:
       break;
   }

@@ -20,6 +20,7 @@
 #include "kernels/anisotropy.h"
 #include "kernels/explicit_rd.h"
 #include "kernels/generalized_rd.h"
+#include "kernels/imex_rd.h"
 #include "kernels/linear_solver.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
@@ -30,6 +31,7 @@
 
 namespace ardcell {
 
+class PeriodicEtdrk4;
 class GrayScott9Blocked;
 class PeriodicStencilSolve;
 class RowExecutor;
@@ -61,6 +63,9 @@ enum class DeviceOp : uint8_t {
   kGrayScott9Steps,
   kGeneralizedRd,
   kPeriodicSolve,
+  kReactionTrapezoidal,
+  kSbdfRhs,
+  kEtdrk4,
   kCount
 };
 const char* device_op_name(DeviceOp op);
@@ -175,6 +180,18 @@ class Device {
   // x <- (I - delta K)^-1 x on the periodic grid with the solve's delta, exactly (seed 003,
   // Eqn 28; kernels/periodic_stencil_solve.h).
   virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) = 0;
+
+  // --- the second-order schemes (docs/numerics.md, "Reaction-diffusion in time")
+  // The trapezoidal rule (Adams-Moulton 2) of the reaction over dt, per cell, in place
+  // (kernels/reaction.h reaction_trapezoidal_tile).
+  virtual void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) = 0;
+  // SBDF1/2's right-hand side over a, b; a_prev, b_prev take a, b (kernels/imex_rd.h).
+  virtual void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
+                        const SbdfRhsParams& p) = 0;
+  // One ETDRK4 step of a and b on the periodic grid (kernels/periodic_etdrk4.h); reaction null:
+  // diffusion alone.
+  virtual void etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
+                           const ReactionParams* reaction) = 0;
 };
 
 // The CPU device over a RowExecutor (the engine's serial or threads back end): every op in bands
@@ -241,6 +258,11 @@ class CpuDevice final : public Device {
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
+  void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
+  void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
+                const SbdfRhsParams& p) override;
+  void etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
+                   const ReactionParams* reaction) override;
 
  private:
   // The interior rows of an nx x ny grid in bands: f(Box2 rows) or f(Box2 rows, worker).

@@ -99,8 +99,11 @@ auto among(std::span<const std::string_view> fields) {
 }
 }  // namespace
 
+// The non-const forms hand the fields to a caller that may write them (painting, a loaded
+// state): a multistep RD scheme then starts again from A and B as they will be.
 SimState& Engine::state() {
   sync_fields(*device_, state_, kEveryField, true);
+  if (solvers_->rd) solvers_->rd->restart();
   return state_;
 }
 
@@ -111,6 +114,7 @@ const SimState& Engine::state() const {
 
 SimState& Engine::state(std::span<const std::string_view> fields) {
   sync_fields(*device_, state_, among(fields), true);
+  if (solvers_->rd && (among(fields)("A") || among(fields)("B"))) solvers_->rd->restart();
   return state_;
 }
 

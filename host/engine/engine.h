@@ -66,7 +66,9 @@ class Engine {
 
   // The state on the host. On a device that keeps its own copies (OpenCL) the fields are
   // downloaded first; the non-const one also takes whatever the caller writes into them to
-  // the device before the next frame (painting, a loaded state).
+  // the device before the next frame (painting, a loaded state), and restarts the RD's
+  // multistep history (rd.scheme sbdf2: its next step is SBDF1; RdStepper::restart): read
+  // through the const one.
   SimState& state();
   const SimState& state() const;
   // The same for the named fields only (SimState::for_each_field names: "u", "v", "p", "dye",

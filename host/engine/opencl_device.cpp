@@ -34,13 +34,13 @@ void OpenClDevice::reserve(Int2 grid) {
   }
 }
 
-// Every op but the periodic (FFT) solve has a twin; solves run here with Jacobi, RBGS or
-// multigrid and implicit diffusion with fixed Jacobi or RBGS sweeps; the other settings fall back
-// (implicit_diffusion, solve).
+// Every op but the FFT ones (the periodic solve, the ETDRK4 step) has a twin; solves run here
+// with Jacobi, RBGS or multigrid and implicit diffusion with fixed Jacobi or RBGS sweeps; the
+// other settings fall back (implicit_diffusion, solve).
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;
-  return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve;
+  return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve && op != DeviceOp::kEtdrk4;
 }
 
 // --- residency ---------------------------------------------------------------------------
@@ -605,6 +605,32 @@ void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
   host_in(x);
   cpu_.periodic_solve(solve, x);
   host_wrote(x);
+}
+
+void OpenClDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  cl_->reaction_trapezoidal(da, db, da, db, box_of_size(a.size()), p, dt);
+}
+
+void OpenClDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
+                            const SbdfRhsParams& p) {
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  DeviceField& dap = out(a_prev);
+  DeviceField& dbp = out(b_prev);
+  cl_->sbdf_rhs(da, db, dap, dbp, box_of_size(a.size()), p);
+}
+
+void OpenClDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
+                               const ReactionParams* reaction) {
+  say_fallback(DeviceOp::kEtdrk4, "rd.scheme etdrk4",
+               "the device has no FFT; rd.scheme sbdf2 runs on it");
+  host_in(a);
+  host_in(b);
+  cpu_.etdrk4_step(etdrk4, a, b, reaction);
+  host_wrote(a);
+  host_wrote(b);
 }
 
 }  // namespace ardcell

@@ -91,6 +91,12 @@ class OpenClDevice final : public Device {
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   // On the CPU (no FFT on the device yet), with one line.
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
+  void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
+  void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
+                const SbdfRhsParams& p) override;
+  // On the CPU (no FFT on the device), with one line.
+  void etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
+                   const ReactionParams* reaction) override;
 
   OpenClKernels& kernels() { return *cl_; }
   // Bytes moved between host and device so far (tests: a steady frame moves none).

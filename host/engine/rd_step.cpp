@@ -67,6 +67,10 @@ Stencil5x5 generalized_stencil(const SceneConfig& scene) {
   return assemble_generalized_stencil(d, options);
 }
 
+bool second_order_scheme(RdScheme s) {
+  return s == RdScheme::kCrankNicolsonAm2 || s == RdScheme::kSbdf2 || s == RdScheme::kEtdrk4;
+}
+
 const char* generalized_problem(const SceneConfig& scene) {
   const RdConfig& rd = scene.rd;
   if (rd.diffusion_operator != RdOperator::kGeneralized) {
@@ -77,9 +81,10 @@ const char* generalized_problem(const SceneConfig& scene) {
   }
   if (rd.boundary != BoundaryKind::kPeriodic)
     return "rd.operator generalized needs rd.boundary periodic (its textures tile)";
-  if (rd.scheme == RdScheme::kExplicit5 || rd.scheme == RdScheme::kExplicit9)
-    return "rd.scheme: explicit5 and explicit9 are the Laplacian's; use implicit, explicit or "
-           "semi-implicit with rd.operator generalized";
+  if (rd.scheme == RdScheme::kExplicit5 || rd.scheme == RdScheme::kExplicit9 ||
+      second_order_scheme(rd.scheme))
+    return "rd.scheme: explicit5, explicit9, crank-nicolson-am2, sbdf2 and etdrk4 are the "
+           "Laplacian's; use implicit, explicit or semi-implicit with rd.operator generalized";
   if (rd.anisotropy.kind != AnisotropyKind::kIsotropic)
     return "rd.anisotropy.kind: the generalized operator's anisotropy is its tensor sequence; "
            "use isotropic";
@@ -129,8 +134,12 @@ std::string rd_config_problem(const SceneConfig& scene) {
     return "rd.cell_size must be >= 0 (0: the scene's h)";
   if (rd.steps_per_frame < 1 || rd.steps_per_frame > 1000)
     return "rd.steps_per_frame must be 1 to 1000";
-  if (rd.scheme != RdScheme::kImplicit && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
-    return "rd.scheme: the explicit schemes are isotropic; use scheme implicit with anisotropy";
+  if (rd.scheme != RdScheme::kImplicit && rd.scheme != RdScheme::kCrankNicolsonAm2 &&
+      rd.scheme != RdScheme::kSbdf2 && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+    return "rd.scheme: the explicit schemes and etdrk4 are isotropic; use scheme implicit, "
+           "crank-nicolson-am2 or sbdf2 with anisotropy";
+  if (rd.scheme == RdScheme::kEtdrk4 && rd.boundary != BoundaryKind::kPeriodic)
+    return "rd.scheme etdrk4 needs rd.boundary periodic (its Fourier modes wrap around)";
   if (rd.use_table) {
     if (rd.table_resolution < 2 || rd.table_resolution > 4096)
       return "rd.table_resolution must be 2 to 4096";
@@ -164,7 +173,9 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
       periodic_b_->set_delta(diffusion_scale(scene, true));
     }
   }
-  if (rd_.scheme == RdScheme::kImplicit && rd_.diffuse && !generalized) {
+  const bool solves = rd_.scheme == RdScheme::kImplicit ||
+                      rd_.scheme == RdScheme::kCrankNicolsonAm2 || rd_.scheme == RdScheme::kSbdf2;
+  if (solves && rd_.diffuse && !generalized) {
     diff_a_ =
         std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, ex);
     diff_b_ =
@@ -183,7 +194,21 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   conductivity_ = FieldF(scene.size, 1);
   scratch_a_ = FieldF(scene.size, chemical_halo());
   scratch_b_ = FieldF(scene.size, chemical_halo());
+  if (rd_.scheme == RdScheme::kSbdf2) {
+    prev_a_ = FieldF(scene.size, 1);
+    prev_b_ = FieldF(scene.size, 1);
+  }
+  if (rd_.scheme == RdScheme::kEtdrk4) {
+    etdrk4_ = std::make_unique<PeriodicEtdrk4>(scene.size, ex);
+    set_etdrk4_step();
+  }
   device.reserve(scene.size);
+}
+
+void RdStepper::set_etdrk4_step() {
+  // L's rates per unit time in cells: D / h^2 (times the isotropic a); none without diffusion.
+  const double base = rd_.diffuse ? rd_.anisotropy.isotropic_value / (h_ * h_) : 0.0;
+  etdrk4_->set_step(dt_, rd_.diffusion_a * base, rd_.diffusion_b * base);
 }
 
 GrayScott9Params RdStepper::gray_scott9_params() const {
@@ -208,7 +233,8 @@ bool same_reaction(const ReactionParams& a, const ReactionParams& b) {
 
 void RdStepper::update_parameters(const SceneConfig& scene) {
   const ReactionParams old_reaction = rd_.reaction;
-  const double old_dt = dt_;
+  const double old_dt = dt_, old_h = h_;
+  const double old_rates[3] = {rd_.diffusion_a, rd_.diffusion_b, rd_.anisotropy.isotropic_value};
   rd_ = scene.rd;
   scene_.rd = scene.rd;
   scene_.dt = scene.dt;
@@ -223,6 +249,12 @@ void RdStepper::update_parameters(const SceneConfig& scene) {
     table_ = ReactionTable(rd_.reaction, dt_, r, rd_.table_resolution);
     dev_->host_wrote(table_);
   }
+  // SBDF2's coefficients hold for a constant step: a new dt starts it again.
+  if (dt_ != old_dt) restart();
+  if (etdrk4_ &&
+      (dt_ != old_dt || h_ != old_h || rd_.diffusion_a != old_rates[0] ||
+       rd_.diffusion_b != old_rates[1] || rd_.anisotropy.isotropic_value != old_rates[2]))
+    set_etdrk4_step();
   if (periodic_a_) periodic_a_->set_delta(diffusion_scale(scene_, false));
   if (periodic_b_) periodic_b_->set_delta(diffusion_scale(scene_, true));
 }
@@ -237,7 +269,8 @@ std::string RdStepper::parameter_problem(const SceneConfig& scene) const {
   return "";
 }
 
-void RdStepper::init_state(SimState& s) const {
+void RdStepper::init_state(SimState& s) {
+  restart();
   const Int2 n = scene_.size;
   const int halo = chemical_halo();
   if (s.A.empty() || s.A.size() != n || s.A.halo() != halo) s.A = FieldF(n, halo);
@@ -313,29 +346,44 @@ void RdStepper::react(SimState& s) {
     dev_->reaction_implicit(s.A, s.B, rd_.reaction, float(dt_));
 }
 
-void RdStepper::diffuse(SimState& s) {
-  const FieldF* k = nullptr;
-  double iso = 1.0;
-  if (rd_.anisotropy.kind == AnisotropyKind::kIsotropic) {
-    iso = rd_.anisotropy.isotropic_value;
-  } else {
-    fill_chemical_ghosts(s);
-    dev_->conductivity(s.A, s.theta0, conductivity_, rd_.anisotropy);
-    k = &conductivity_;
-  }
+const FieldF* RdStepper::conductivity(SimState& s) {
+  if (rd_.anisotropy.kind == AnisotropyKind::kIsotropic) return nullptr;
+  fill_chemical_ghosts(s);
+  dev_->conductivity(s.A, s.theta0, conductivity_, rd_.anisotropy);
+  return &conductivity_;
+}
+
+void RdStepper::diffuse(SimState& s, const FieldF* k, double fraction, bool crank_nicolson) {
+  const double iso = k ? 1.0 : rd_.anisotropy.isotropic_value;
   const Field<uint8_t>* solid = s.obstacle.empty() ? nullptr : &s.obstacle;
   diff_a_->set_solid(solid);
   diff_b_->set_solid(solid);
-  const double base = dt_ / (h_ * h_) * iso;
+  const double base = dt_ * fraction / (h_ * h_) * iso;
   const SolveReport ra = dev_->implicit_diffusion(
-      *diff_a_, s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, rd_.crank_nicolson});
+      *diff_a_, s.A, k, {rd_.diffusion_a * base, rd_.boundary_a, crank_nicolson});
   const SolveReport rb =
       dev_->implicit_diffusion(*diff_b_, s.B, rd_.anisotropy_on_b ? k : nullptr,
-                               {rd_.diffusion_b * base, rd_.boundary_b, rd_.crank_nicolson});
+                               {rd_.diffusion_b * base, rd_.boundary_b, crank_nicolson});
   stats_.diffusion_iterations_a = ra.iterations;
   stats_.diffusion_iterations_b = rb.iterations;
   stats_.diffusion_residual_a = ra.relative_residual;
   stats_.diffusion_residual_b = rb.relative_residual;
+}
+
+void RdStepper::crank_nicolson_am2_step(SimState& s) {
+  const float half = float(0.5 * dt_);
+  if (rd_.react) dev_->reaction_trapezoidal(s.A, s.B, rd_.reaction, half);
+  if (rd_.diffuse) diffuse(s, conductivity(s), 1.0, true);
+  if (rd_.react) dev_->reaction_trapezoidal(s.A, s.B, rd_.reaction, half);
+}
+
+void RdStepper::sbdf2_step(SimState& s) {
+  const int order = history_ ? 2 : 1;
+  // a(theta) of u^n, before the right-hand side takes A's place.
+  const FieldF* k = rd_.diffuse ? conductivity(s) : nullptr;
+  dev_->sbdf_rhs(s.A, s.B, prev_a_, prev_b_, {rd_.reaction, float(dt_), order, rd_.react});
+  if (rd_.diffuse) diffuse(s, k, sbdf_diffusion_fraction(order), false);
+  history_ = true;
 }
 
 void RdStepper::explicit_step(SimState& s) {
@@ -412,7 +460,13 @@ void RdStepper::step(SimState& s) {
         generalized_step(s);
       } else if (rd_.scheme == RdScheme::kImplicit) {
         if (rd_.react) react(s);
-        if (rd_.diffuse) diffuse(s);
+        if (rd_.diffuse) diffuse(s, conductivity(s), 1.0, rd_.crank_nicolson);
+      } else if (rd_.scheme == RdScheme::kCrankNicolsonAm2) {
+        crank_nicolson_am2_step(s);
+      } else if (rd_.scheme == RdScheme::kSbdf2) {
+        sbdf2_step(s);
+      } else if (rd_.scheme == RdScheme::kEtdrk4) {
+        dev_->etdrk4_step(*etdrk4_, s.A, s.B, rd_.react ? &rd_.reaction : nullptr);
       } else {
         explicit_step(s);
       }

@@ -9,6 +9,18 @@
 // 25-point stencil K of the tensor sequence (kernels/generalized_rd.h): `explicit` is Eqn 27 in
 // one pass; `semi-implicit` is Eqn 28 (explicit reaction, then (I - dt D K)^-1 by FFT,
 // kernels/periodic_stencil_solve.h); `implicit` is Eqn 6's reaction, then the same solve.
+// The second-order schemes (Laplacian operator; docs/numerics.md, "Reaction-diffusion in
+// time") replace the first two stages:
+//   crank-nicolson-am2  Strang splitting of sec. 3.2's suggestion: the trapezoidal reaction
+//                       (Adams-Moulton 2, Newton per cell like Eqn 6) over dt/2, Crank-Nicolson
+//                       diffusion over dt, the trapezoidal reaction over dt/2
+//   sbdf2               IMEX: BDF2 diffusion with the implicit solvers (any boundary, anisotropy,
+//                       obstacles), the reaction extrapolated, 2 f^n - f^(n-1)
+//                       (kernels/imex_rd.h). It keeps u^(n-1) here, not in the state: the first
+//                       step, and the first after restart() (a reset, a loaded or painted state,
+//                       a new dt), is SBDF1 (IMEX Euler)
+//   etdrk4              exponential time differencing, fourth order, by FFT on the periodic grid
+//                       (kernels/periodic_etdrk4.h; isotropic, no solid cells)
 // rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
 // Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps as one op where the
 // device has it (Device::gray_scott9_steps: the CPU's temporally blocked kernels/gray_scott9.h,
@@ -25,6 +37,7 @@
 #include "host/engine/device.h"
 #include "kernels/aniso_diffusion.h"
 #include "kernels/gray_scott9.h"
+#include "kernels/periodic_etdrk4.h"
 #include "kernels/periodic_stencil_solve.h"
 #include "kernels/reaction_table.h"
 
@@ -51,8 +64,15 @@ class RdStepper {
 
   // Allocates A, B when absent (and theta0 when absent: filled with rd.anisotropy.theta0; a
   // painted theta0 is kept) and writes the initial pattern. Deterministic for a
-  // given rd.seed.
-  void init_state(SimState& s) const;
+  // given rd.seed. Restarts the multistep history (restart()).
+  void init_state(SimState& s);
+
+  // The state's A and B were written by someone else (a reset, a loaded state, painting): the
+  // multistep scheme (sbdf2) forgets u^(n-1) and takes its next step as SBDF1. The other
+  // schemes keep no history. Allocates nothing.
+  void restart() { history_ = false; }
+  // Whether the next sbdf2 step is SBDF2 (true) or its SBDF1 start (false).
+  bool has_history() const { return history_; }
 
   // One frame. A, B must be allocated (init_state); u, v are used when allocated.
   void step(SimState& s);
@@ -77,8 +97,16 @@ class RdStepper {
   int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : 1; }
   void fill_chemical_ghosts(SimState& s);
   void react(SimState& s);
-  void diffuse(SimState& s);
+  // The conductivity k = a(theta) of A as it is now (null when isotropic).
+  const FieldF* conductivity(SimState& s);
+  // The implicit diffusion of A and B over `fraction` of dt (Eqns 13, 19; Crank-Nicolson with
+  // `crank_nicolson`), with conductivity k (null: isotropic).
+  void diffuse(SimState& s, const FieldF* k, double fraction, bool crank_nicolson);
   void explicit_step(SimState& s);
+  void crank_nicolson_am2_step(SimState& s);
+  void sbdf2_step(SimState& s);
+  // The ETDRK4 coefficients for the current dt, rates and cell size.
+  void set_etdrk4_step();
   // One step of seed 003's generalized RD (Eqns 27, 28).
   void generalized_step(SimState& s);
   GeneralizedRdParams generalized_params(bool react, bool diffuse) const;
@@ -95,6 +123,9 @@ class RdStepper {
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
   std::unique_ptr<GrayScott9Blocked> gray_scott9_;  // seed 001's scheme (gray_scott9_steps)
+  std::unique_ptr<PeriodicEtdrk4> etdrk4_;          // rd.scheme etdrk4
+  FieldF prev_a_, prev_b_;                          // sbdf2: u^(n-1)
+  bool history_ = false;                            // sbdf2: prev_a_, prev_b_ hold u^(n-1)
   RdStepStats stats_;
 };
 

@@ -240,6 +240,7 @@ void EngineSimulation::sync_coarse_from_fine(RdLevel& l, bool chemicals) {
   if (chemicals) {
     transfer(engine_->executor(), l.down_x, l.down_y, f.A, l.down_tmp, c.A);
     transfer(engine_->executor(), l.down_x, l.down_y, f.B, l.down_tmp, c.B);
+    l.rd->restart();  // A and B are new: no multistep history on this grid
   }
   transfer(engine_->executor(), l.near_x, l.near_y, f.theta0, l.down_tmp, c.theta0);
   if (!f.obstacle.empty()) {

@@ -29,8 +29,9 @@ constexpr std::string_view kModels[] = {"gray-scott",      "turing",  "meinhardt
                                         "fitzhugh-nagumo", "barkley", "barkley-turbulent"};
 constexpr std::string_view kAnisotropies[] = {"isotropic", "witkin-kass", "lobes", "polar"};
 constexpr std::string_view kBoundaries[] = {"periodic", "neumann", "dirichlet"};
-constexpr std::string_view kSchemes[] = {"implicit", "explicit5", "explicit9", "explicit",
-                                         "semi-implicit"};
+constexpr std::string_view kSchemes[] = {"implicit", "explicit5",     "explicit9",
+                                         "explicit", "semi-implicit", "crank-nicolson-am2",
+                                         "sbdf2",    "etdrk4"};
 constexpr std::string_view kOperators[] = {"laplacian", "generalized"};
 constexpr std::string_view kSecondDerivatives[] = {"central", "savitzky-golay"};
 constexpr std::string_view kPatterns[] = {"uniform", "centre-square", "seed-square", "random-spots",
@@ -184,7 +185,10 @@ const ParamSpec kParams[] = {
     ARD_BOOL("rd.advect", scene.rd.advect, false, "carry the chemicals with the fluid (Eqn 20)"),
     ARD_ENUM("rd.scheme", scene.rd.scheme, kSchemes, true,
              "implicit (Eqns 6, 19) | explicit5 | explicit9 (forward Euler; isotropic only) | "
-             "explicit | semi-implicit (generalized operator: seed 003 Eqns 27, 28)"),
+             "explicit | semi-implicit (generalized operator: seed 003 Eqns 27, 28) | "
+             "crank-nicolson-am2 (trapezoidal reaction, Crank-Nicolson diffusion, Strang) | "
+             "sbdf2 (BDF2 diffusion, extrapolated reaction) | etdrk4 (exponential RK4 by FFT; "
+             "periodic, isotropic)"),
     ARD_NUMBER("rd.dt", scene.rd.dt, 0, 1e6, false, "RD time step; 0: grid.dt"),
     ARD_NUMBER("rd.cell_size", scene.rd.cell_size, 0, 1e6, false,
                "RD cell size h; 0: the grid's h"),
@@ -197,7 +201,7 @@ const ParamSpec kParams[] = {
     ARD_NUMBER("rd.boundary_a", scene.rd.boundary_a, -1e6, 1e6, false, "Dirichlet value of A"),
     ARD_NUMBER("rd.boundary_b", scene.rd.boundary_b, -1e6, 1e6, false, "Dirichlet value of B"),
     ARD_BOOL("rd.crank_nicolson", scene.rd.crank_nicolson, false,
-             "Crank-Nicolson instead of backward Euler diffusion"),
+             "Crank-Nicolson instead of backward Euler diffusion (rd.scheme implicit)"),
     ARD_ENUM("rd.operator", scene.rd.diffusion_operator, kOperators, true,
              "laplacian (Kim & Lin) | generalized (seed 003's 25-point operator; periodic)"),
 #define ARD_TENSOR(name, help_) \
@@ -619,24 +623,35 @@ std::vector<KeyProblem> scene_key_problems(const SceneConfig& scene) {
                    "expected an integer in [2, " + std::to_string(kMaxPolarSamples) +
                        "] with rd.anisotropy.kind polar, got " +
                        std::to_string(rd.anisotropy.samples)});
-  if (rd.scheme != RdScheme::kImplicit && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+  const bool anisotropic_scheme = rd.scheme == RdScheme::kImplicit ||
+                                  rd.scheme == RdScheme::kCrankNicolsonAm2 ||
+                                  rd.scheme == RdScheme::kSbdf2;
+  if (!anisotropic_scheme && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
     out.push_back({"rd.scheme", "rd.anisotropy.kind",
-                   "expected implicit with rd.anisotropy.kind " + std::string(kind_name()) +
-                       " (the explicit schemes are isotropic), got " +
+                   "expected implicit, crank-nicolson-am2 or sbdf2 with rd.anisotropy.kind " +
+                       std::string(kind_name()) +
+                       " (the explicit schemes and etdrk4 are isotropic), got " +
                        std::string(kSchemes[size_t(rd.scheme)])});
+  if (rd.scheme == RdScheme::kEtdrk4 && rd.boundary != BoundaryKind::kPeriodic)
+    out.push_back({"rd.scheme", "rd.boundary",
+                   "expected periodic with rd.scheme etdrk4 (its Fourier modes wrap around), got " +
+                       std::string(kBoundaries[size_t(rd.boundary)])});
   const bool generalized = rd.diffusion_operator == RdOperator::kGeneralized;
   if (generalized && rd.boundary != BoundaryKind::kPeriodic)
     out.push_back({"rd.boundary", "rd.operator",
                    "expected periodic with rd.operator generalized (its textures tile), got " +
                        std::string(kBoundaries[size_t(rd.boundary)])});
-  if (generalized && (rd.scheme == RdScheme::kExplicit5 || rd.scheme == RdScheme::kExplicit9))
+  if (generalized && (rd.scheme == RdScheme::kExplicit5 || rd.scheme == RdScheme::kExplicit9 ||
+                      rd.scheme == RdScheme::kCrankNicolsonAm2 || rd.scheme == RdScheme::kSbdf2 ||
+                      rd.scheme == RdScheme::kEtdrk4))
     out.push_back({"rd.scheme", "rd.operator",
                    "expected implicit, explicit or semi-implicit with rd.operator generalized, "
                    "got " +
                        std::string(kSchemes[size_t(rd.scheme)])});
   if (!generalized && (rd.scheme == RdScheme::kExplicit || rd.scheme == RdScheme::kSemiImplicit))
     out.push_back({"rd.scheme", "rd.operator",
-                   "expected implicit, explicit5 or explicit9 with rd.operator laplacian, got " +
+                   "expected implicit, explicit5, explicit9, crank-nicolson-am2, sbdf2 or etdrk4 "
+                   "with rd.operator laplacian, got " +
                        std::string(kSchemes[size_t(rd.scheme)])});
   if (generalized && rd.anisotropy.kind != AnisotropyKind::kIsotropic)
     out.push_back({"rd.anisotropy.kind", "rd.operator",

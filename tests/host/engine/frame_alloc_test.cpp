@@ -63,6 +63,29 @@ TEST(FrameAlloc, EveryPresetOnEveryBackendSteps0Allocations) {
   }
 }
 
+// The second-order RD schemes (pearson alone runs one of them among the presets), on the CPU
+// back ends, with anisotropy where the scheme takes it.
+TEST(FrameAlloc, EveryRdSchemeSteps0Allocations) {
+  Preset preset;
+  ASSERT_TRUE(load_preset("pearson", preset));
+  for (RdScheme scheme :
+       {RdScheme::kImplicit, RdScheme::kCrankNicolsonAm2, RdScheme::kSbdf2, RdScheme::kEtdrk4}) {
+    SceneConfig scene = preset.scene;
+    scene.size = {127, 93};
+    scene.rd.scheme = scheme;
+    scene.rd.steps_per_frame = 2;
+    if (scheme != RdScheme::kEtdrk4) scene.rd.anisotropy.kind = AnisotropyKind::kWitkinKass;
+    for (const EngineOptions& options : {EngineOptions{EngineOptions::Backend::kSerial, 1},
+                                         EngineOptions{EngineOptions::Backend::kThreads, 2}}) {
+      Engine engine(scene, options);
+      engine.step();
+      const long before = g_allocations.load();
+      for (int i = 0; i < 3; ++i) engine.step();
+      EXPECT_EQ(g_allocations.load() - before, 0) << int(scheme) << " on " << engine.backend_name();
+    }
+  }
+}
+
 TEST(FrameAlloc, TheCounterSeesAllocations) {
   const long before = g_allocations.load();
   auto* p = new int(3);

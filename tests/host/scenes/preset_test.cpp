@@ -126,8 +126,8 @@ TEST(Preset, BrokenPresetsGiveFileLineKeyAndExpectation) {
        "bad.toml:4: rd.anisotropy.samples: expected an integer in [2, 64] with "
        "rd.anisotropy.kind polar, got 0"},
       {"[rd]\nenabled = true\nscheme = \"explicit5\"\n[rd.anisotropy]\nkind = \"lobes\"\n",
-       "bad.toml:3: rd.scheme: expected implicit with rd.anisotropy.kind lobes (the explicit "
-       "schemes are isotropic), got explicit5"},
+       "bad.toml:3: rd.scheme: expected implicit, crank-nicolson-am2 or sbdf2 with "
+       "rd.anisotropy.kind lobes (the explicit schemes and etdrk4 are isotropic), got explicit5"},
       {"[rd]\nenabled = true\n[rd.table]\nenabled = true\nrange_auto = false\na_min = 2.0\n"
        "a_max = 1.0\n",
        "bad.toml:7: rd.table.a_max: expected more than rd.table.a_min (2), got 1"},
@@ -149,8 +149,9 @@ TEST(Preset, SceneKeysAreCheckedAgainstEachOtherAfterOverrides) {
   ASSERT_FALSE(s.is_ok());
   EXPECT_EQ(s.message(),
             "rd.anisotropy.samples: expected an integer in [2, 64] with rd.anisotropy.kind polar, "
-            "got 0\nrd.scheme: expected implicit with rd.anisotropy.kind polar (the explicit "
-            "schemes are isotropic), got explicit9");
+            "got 0\nrd.scheme: expected implicit, crank-nicolson-am2 or sbdf2 with "
+            "rd.anisotropy.kind polar (the explicit schemes and etdrk4 are isotropic), got "
+            "explicit9");
   scene.rd.enabled = false;  // the engine checks RD parameters only when RD runs
   EXPECT_TRUE(check_scene_keys(scene).is_ok());
 }

@@ -1,0 +1,31 @@
+// CpuDevice's ops of the second-order reaction-diffusion schemes (host/engine/device.h): the
+// per-cell kernels in bands of rows, each band writing its own rows only (same bits on any
+// number of workers); the ETDRK4 step runs its own row and column passes on the executor.
+#include "host/engine/device.h"
+#include "kernels/periodic_etdrk4.h"
+#include "runtime/row_executor.h"
+
+namespace ardcell {
+
+void CpuDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
+  const Int2 n = a.size();
+  ex_->for_rows(n.y, n.x, [&](int y0, int y1) {
+    reaction_trapezoidal_tile(a.view(), b.view(), a.view(), b.view(), Box2{{0, y0}, {n.x, y1}}, p,
+                              dt);
+  });
+}
+
+void CpuDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
+                         const SbdfRhsParams& p) {
+  const Int2 n = a.size();
+  ex_->for_rows(n.y, n.x, [&](int y0, int y1) {
+    sbdf_rhs_tile(a.view(), b.view(), a_prev.view(), b_prev.view(), Box2{{0, y0}, {n.x, y1}}, p);
+  });
+}
+
+void CpuDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
+                            const ReactionParams* reaction) {
+  etdrk4.step(a, b, reaction);
+}
+
+}  // namespace ardcell
