@@ -178,7 +178,7 @@ SceneConfig pearson() {
   s.name = "pearson";
   s.description =
       "Pearson's Gray-Scott: periodic 2.5 x 2.5, 256x256, Du 2e-5, Dv 1e-5, central square "
-      "u 1/2 v 1/4 with 1% noise, F 0.04 k 0.06 (settable)";
+      "u 1/2 v 1/4 with 1% noise, F 0.04 k 0.06 (settable), ETDRK4 at dt 2";
   s.size = {256, 256};
   s.domain_width = 2.5;
   s.dt = 1.0;
@@ -191,7 +191,11 @@ SceneConfig pearson() {
   rd.reaction.k = 0.06f;
   rd.diffusion_a = 2e-5;
   rd.diffusion_b = 1e-5;
-  rd.dt = 1.0;
+  // Fourth-order exponential time differencing: the most unstable mode's growth within 0.5% of
+  // linear theory at dt 2 (backward Euler at dt 1: -79%), and cheaper per frame than backward
+  // Euler with ICCG (docs/numerics.md, "Reaction-diffusion in time").
+  rd.scheme = RdScheme::kEtdrk4;
+  rd.dt = 2.0;
   rd.cell_size = 0.0;  // the scene's h = 2.5 / 256
   rd.boundary = BoundaryKind::kPeriodic;
   rd.initial = RdInitialPattern::kCentreSquare;
@@ -201,8 +205,8 @@ SceneConfig pearson() {
   rd.seed_a = 0.5f;
   rd.seed_b = 0.25f;
   rd.noise = 0.01;
-  rd.steps_per_frame = 10;
-  rd.diffusion_solver = {SolverKind::kIccg, 40, 1e-6};
+  rd.steps_per_frame = 5;                               // 10 time units a frame
+  rd.diffusion_solver = {SolverKind::kIccg, 40, 1e-6};  // for the schemes that solve
   show_field(s, "B");
   s.output.colormap = "magma";
   return s;

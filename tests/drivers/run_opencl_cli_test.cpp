@@ -59,9 +59,11 @@ class RunOpenClCliTest : public BinaryRunTest {
   }
 };
 
-// Pearson's Gray-Scott at an awkward size with fixed Jacobi sweeps (its default is ICCG).
+// Pearson's Gray-Scott at an awkward size with SBDF2 (its default, ETDRK4, runs its FFTs on the
+// CPU) and fixed Jacobi sweeps (its default is ICCG): every op on the device.
 constexpr const char* kPearson =
-    "run pearson --size 41x29 --quiet --set rd.diffusion_solver.kind=jacobi "
+    "run pearson --size 41x29 --quiet --set rd.scheme=sbdf2 --set rd.dt=1 "
+    "--set rd.steps_per_frame=10 --set rd.diffusion_solver.kind=jacobi "
     "--set rd.diffusion_solver.tolerance=0 --set rd.diffusion_solver.iterations=12 ";
 
 TEST_F(RunOpenClCliTest, RdSceneRunsOnTheDeviceAndAgreesWithTheCpu) {
@@ -120,6 +122,8 @@ TEST_F(RunOpenClCliTest, WhatTheDeviceCannotRunFallsBackWithOneLine) {
   const bool device = have_opencl_device();
   const Case cases[] = {
       {"run pearson --size 24 --steps 2 --every 0 --backend opencl",
+       device ? "ETDRK4 step (FFT) runs on the CPU (rd.scheme etdrk4: " : "OpenCL"},
+      {"run pearson --size 24 --steps 2 --every 0 --backend opencl --set rd.scheme=implicit",
        device ? "implicit diffusion runs on the CPU (iccg: " : "OpenCL"},
       {"run cavity --size 16 --steps 2 --every 0 --backend opencl --solver iccg",
        device ? "linear solve runs on the CPU (iccg: " : "OpenCL"},

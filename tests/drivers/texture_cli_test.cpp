@@ -98,7 +98,7 @@ TEST_F(TextureCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
   const std::pair<const char*, const char*> cases[] = {
       {"texture cavity-gray-scott --out t.png",
        "texture needs a periodic preset: rd.boundary = periodic, got dirichlet"},
-      {"texture pearson --set rd.boundary=neumann --out t.png",
+      {"texture pearson --set rd.scheme=implicit --set rd.boundary=neumann --out t.png",
        "texture needs a periodic preset: rd.boundary = periodic, got neumann"},
       {"texture pearson --levels 32,16 --out t.png", "expected increasing sides"},
       {"texture pearson --levels 16,abc --out t.png", "not a whole number"},
