@@ -35,12 +35,12 @@ Decay diffuse(const LimitSurface& s, int n, double (*f)(const Cell&), double dt,
   const SurfaceLaplacian op(s.topology(), sample_limit_metric(s, n));
   PatchField x = sample(s, op.grid(), f), b;
   DiffusionSolve solve;
-  solve.tolerance = 1e-12;
+  solve.tolerance = 1e-10;
   double half = 0;
   for (int k = 0; k < steps; ++k) {
     b = x;
     const DiffusionReport r = op.implicit_diffusion(x, b, dt, solve);
-    EXPECT_LE(r.residual, 1e-12);
+    EXPECT_LE(r.residual, 1e-10);
     if (k + 1 == steps / 2) half = norm(op, x);
   }
   const double t_half = dt * (steps - steps / 2);
@@ -62,7 +62,7 @@ TEST(SurfaceDiffusion, CubeSphereModesDecayAtTheirEigenvalues) {
     double eig[3], rate[3];
     int k = 0;
     for (int n : {8, 16, 32}) {
-      const Decay d = diffuse(s, n, c.f, c.dt, 200);
+      const Decay d = diffuse(s, n, c.f, c.dt, 120);
       // Backward Euler damps a mode of eigenvalue L by 1 / (1 + L dt) a step.
       const double euler_rate = std::log(1 + d.eigenvalue * c.dt) / c.dt;
       std::printf(

@@ -70,6 +70,7 @@ RdRun run_gray_scott(const LimitSurface& s, int n, SurfaceReaction scheme, int s
   const double side = std::sqrt(op.area() / op.patches());
   SurfaceRdParams params = gray_scott_for_length(side / 12);
   params.scheme = scheme;
+  params.solve.tolerance = 1e-5;
   SurfaceGrayScott rd(op, params);
   rd.seed_spots(cell_positions(s, op.grid()), 42, 3 * op.patches(), 0.2 * side);
   for (int k = 0; k < steps; ++k) rd.step();
