@@ -34,6 +34,7 @@ SurfaceRdParams gray_scott_for_length(double length);
 
 class SurfaceGrayScott {
  public:
+  // Keeps a reference to `op`, which must outlive it.
   SurfaceGrayScott(const SurfaceLaplacian& op, const SurfaceRdParams& params);
 
   // The seed's start (Sec. 8): a = 1, b = 0, except in random discs where a = 0.5, b = 0.25,
