@@ -204,14 +204,15 @@ TEST_F(BadInputCli, PresetProblemsGiveOneLineEach) {
     const BinaryRunResult r = run(cmd);
     EXPECT_EQ(r.code, 2) << cmd;
     const std::string who = std::string("ardcell ") + (cmd[0] == 'r' ? "run" : "live") + ": ";
-    EXPECT_EQ(r.err, who + "./three.toml:2: fluid.viscosity: expected a number in [0, 1000], " +
-                         "got the string \"x\"\n" + who +
-                         "./three.toml:3: fluid.lid: unknown key; expected one of: scene, " +
-                         "viscosity, lid_speed, dye_diffusion, conserve_dye, inflow_speed, " +
-                         "obstacle_x, obstacle_y, obstacle_radius, inflow_dye_stripes, walls, " +
-                         "emitters, viscosity_solver, pressure_solver\n" + who +
-                         "./three.toml:5: rd.steps_per_frame: expected an integer in [1, 1000], " +
-                         "got 0\n")
+    EXPECT_EQ(r.err,
+              who + "./three.toml:2: fluid.viscosity: expected a number in [0, 1000], " +
+                  "got the string \"x\"\n" + who +
+                  "./three.toml:3: fluid.lid: unknown key; expected one of: scene, " +
+                  "viscosity, lid_speed, dye_diffusion, conserve_dye, advection, inflow_speed, " +
+                  "obstacle_x, obstacle_y, obstacle_radius, inflow_dye_stripes, walls, " +
+                  "emitters, viscosity_solver, pressure_solver\n" + who +
+                  "./three.toml:5: rd.steps_per_frame: expected an integer in [1, 1000], " +
+                  "got 0\n")
         << cmd;
   }
 }
