@@ -194,6 +194,11 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   conductivity_ = FieldF(scene.size, 1);
   scratch_a_ = FieldF(scene.size, chemical_halo());
   scratch_b_ = FieldF(scene.size, chemical_halo());
+  if (scene.fluid.kind != FluidSceneKind::kNone && rd_.advect &&
+      scene.fluid.advection == AdvectionScheme::kMacCormack) {
+    back_a_ = FieldF(scene.size, chemical_halo());
+    back_b_ = FieldF(scene.size, chemical_halo());
+  }
   if (rd_.scheme == RdScheme::kSbdf2) {
     prev_a_ = FieldF(scene.size, 1);
     prev_b_ = FieldF(scene.size, 1);
@@ -445,6 +450,19 @@ void RdStepper::advect(SimState& s) {
   const FieldF* const from[] = {&s.A, &s.B};
   FieldF* const to[] = {&scratch_a_, &scratch_b_};
   dev_->advect_scalars(from, s.u, s.v, to, p);
+  if (!back_a_.empty()) {
+    // MacCormack, as the fluid carries its dye (kernels/advect.h maccormack_correct): the
+    // forward result carried back by the same velocity, then corrected and limited in place.
+    dev_->fill_boundary(scratch_a_, chemical_fill(rd_.boundary, rd_.boundary_a));
+    dev_->fill_boundary(scratch_b_, chemical_fill(rd_.boundary, rd_.boundary_b));
+    AdvectParams backward = p;
+    backward.dt_over_h = -p.dt_over_h;
+    const FieldF* const hat[] = {&scratch_a_, &scratch_b_};
+    FieldF* const back[] = {&back_a_, &back_b_};
+    dev_->advect_scalars(hat, s.u, s.v, back, backward);
+    const FieldF* const back_in[] = {&back_a_, &back_b_};
+    dev_->maccormack_correct(from, hat, back_in, s.u, s.v, to, p, false);
+  }
   dev_->swap(s.A, scratch_a_);
   dev_->swap(s.B, scratch_b_);
 }

@@ -3,7 +3,8 @@
 //   implicit reaction (Eqn 6, Newton per cell or the precomputed table)
 //   -> implicit anisotropic diffusion of A and B (Eqn 19; Eqn 13 when isotropic)
 //   -> semi-Lagrangian advection of A and B by the fluid velocity (Eqn 20), when the scene has
-//      a fluid (u, v allocated) and rd.advect is on.
+//      a fluid (u, v allocated) and rd.advect is on; with fluid.advection = maccormack, corrected
+//      as the fluid's own advection is (kernels/advect.h maccormack_correct).
 // The explicit schemes (RdScheme::kExplicit5/9) replace the first two stages by forward Euler.
 // With seed 003's generalized operator (rd.operator generalized, periodic) the diffusion is the
 // 25-point stencil K of the tensor sequence (kernels/generalized_rd.h): `explicit` is Eqn 27 in
@@ -122,6 +123,7 @@ class RdStepper {
   std::unique_ptr<PeriodicStencilSolve> periodic_a_, periodic_b_;  // its implicit solves
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
+  FieldF back_a_, back_b_;  // MacCormack's backward step (fluid.advection); else empty
   std::unique_ptr<GrayScott9Blocked> gray_scott9_;  // seed 001's scheme (gray_scott9_steps)
   std::unique_ptr<PeriodicEtdrk4> etdrk4_;          // rd.scheme etdrk4
   FieldF prev_a_, prev_b_;                          // sbdf2: u^(n-1)
