@@ -183,7 +183,8 @@ TEST_F(BadInputCli, EveryUsageErrorIsExitTwoWithOneLine) {
        "ardcell run: rd.anisotropy.samples: expected an integer in [2, 64] with"},
       {"run cavity-gray-scott --set rd.scheme=explicit9 --set rd.anisotropy.kind=lobes --steps 1 "
        "--every 0",
-       "ardcell run: rd.scheme: expected implicit with rd.anisotropy.kind lobes"},
+       "ardcell run: rd.scheme: expected implicit, crank-nicolson-am2 or sbdf2 with "
+       "rd.anisotropy.kind lobes"},
       {"run --scene ./big.toml --steps 1 --every 0", "needs about"},
       {"live ./spf.toml --frames 1", "./spf.toml:3: rd.steps_per_frame"},
       {"live ./big.toml --frames 1", "needs about"},
