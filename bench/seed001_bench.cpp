@@ -109,12 +109,17 @@ ardcell::SceneConfig seed001_scene() {
   return preset.scene;
 }
 
-// The product path: the engine `ardcell run seed001` builds (default options: the threads back
-// end on every core), reset to seed 001's start, 200 frames.
+// The product path: the engine `ardcell run seed001` builds (its options: the threads back end on
+// every core, pinned), reset to seed 001's start, 200 frames.
 class EngineRun {
  public:
-  EngineRun() : engine_(seed001_scene()) {}
+  EngineRun() : engine_(seed001_scene(), run_options()) {}
   ardcell::Engine& engine() { return engine_; }
+  static ardcell::EngineOptions run_options() {
+    ardcell::EngineOptions o;
+    o.pin_workers = true;
+    return o;
+  }
   // Wall seconds for 200 frames from seed 001's start.
   double run() {
     engine_.reset();
@@ -156,8 +161,8 @@ void BM_Seed001_Engine_2000Steps(benchmark::State& state) {
 }
 BENCHMARK(BM_Seed001_Engine_2000Steps)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 
-// The kernel alone on a threads back end like the engine's (unpinned, the host thread is
-// worker 0), in frames of 10 steps.
+// The kernel alone on a threads back end like the one `ardcell run` gives the engine (pinned, the
+// host thread is worker 0), in frames of 10 steps.
 class KernelRun {
  public:
   KernelRun(int workers, int bands_per_worker, int block_steps)
@@ -191,7 +196,7 @@ class KernelRun {
   static ardcell::ThreadBackendOptions options(int workers) {
     ardcell::ThreadBackendOptions o;
     o.workers = workers;
-    o.pin = false;
+    o.pin = true;
     return o;
   }
   ardcell::ThreadBackend backend_;

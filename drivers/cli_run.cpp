@@ -589,6 +589,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
   // with one line saying why), and the saved state it resumes from.
   EngineOptions options;
   if (a.workers_opt->count()) options.workers = a.workers;
+  options.pin_workers = true;  // nothing else of ours runs beside the engine
   const BackendChoice choice = choose_engine_backend(backend, a.cl_device, options, ctx);
   std::unique_ptr<Engine> engine;
   if (Status s = make_engine(scene, options, engine); !s) return usage(s.message());

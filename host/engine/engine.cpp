@@ -38,9 +38,7 @@ std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
   if (options.backend == EngineOptions::Backend::kSerial) return std::make_unique<SerialBackend>();
   ThreadBackendOptions t;
   t.workers = options.workers;
-  // Unpinned: an engine shares the machine with threads it does not own (the live display,
-  // other processes of a kiosk), and a pinned thread cannot leave a core another one holds.
-  t.pin = false;
+  t.pin = options.pin_workers;
   return std::make_unique<ThreadBackend>(t);
 }
 
