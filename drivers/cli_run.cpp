@@ -21,6 +21,7 @@
 #include "host/io/atomic_file.h"
 #include "host/io/state_io.h"
 #include "host/run/offline_run.h"
+#include "host/run/probe_recorder.h"
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
 #if defined(ARDCELL_WITH_OPENCL)
@@ -35,7 +36,7 @@ namespace fs = std::filesystem;
 
 struct RunArgs {
   std::string scene, scene_positional, size, solver, out, save_state, load_state;
-  std::string colormap, show, video, schedule, backend, store_kib;
+  std::string colormap, show, video, schedule, backend, store_kib, probe_csv;
   std::vector<std::string> sets;
   bool list = false, no_png = false, quiet = false, stats = false, realtime_solvers = false;
   int64_t steps = 0, every = 0;
@@ -137,6 +138,7 @@ struct RunOutputs {
   std::vector<std::unique_ptr<FrameSink>> sinks;
   std::string out;
   bool png = false;
+  std::unique_ptr<ProbeRecorder> probes;  // --probe-csv
 };
 
 // Checks and creates the outputs; on a usage error removes what it made and returns the exit
@@ -197,6 +199,7 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   }
   std::vector<FrameSink*> sink_ptrs;
   for (auto& s : outputs.sinks) sink_ptrs.push_back(s.get());
+  options.observer = outputs.probes.get();
   OfflineRunSummary summary;
   // Start-up: from exec to the first frame, i.e. the CPU time before main() (the process does
   // not wait then) and the wall time since.
@@ -210,6 +213,11 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   }
   for (auto& s : outputs.sinks)
     if (Status f = s->finish(); !f) {
+      std::fprintf(ctx.err, "ardcell run: %s\n", f.message().c_str());
+      return kExitFailure;
+    }
+  if (outputs.probes)
+    if (Status f = outputs.probes->commit(); !f) {
       std::fprintf(ctx.err, "ardcell run: %s\n", f.message().c_str());
       return kExitFailure;
     }
@@ -230,6 +238,8 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   const std::string where = outputs.png ? outputs.out : (!a.video.empty() ? a.video : "-");
   std::fprintf(ctx.out, "%s\n", format_summary(summary, where).c_str());
   if (!a.save_state.empty()) std::fprintf(ctx.out, "state=%s\n", a.save_state.c_str());
+  if (outputs.probes)
+    std::fprintf(ctx.out, "%s csv=%s\n", outputs.probes->summary().c_str(), a.probe_csv.c_str());
   if (a.stats) {
     const std::size_t timed = std::min(frame_seconds.size(), std::size_t(summary.steps));
     const FrameTimeStats st = frame_time_stats(std::span<double>(frame_seconds).first(timed));
@@ -353,6 +363,9 @@ int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
   if (a.realtime_solvers) return usage("--realtime-solvers" + fixed + "--realtime-solvers");
   if (a.sweeps_opt->count()) return usage("--sweeps" + fixed + "--sweeps");
   if (!a.sets.empty()) return usage("--set" + fixed + "--set");
+  if (!a.probe_csv.empty())
+    return usage("--probe-csv: scene '" + scene_name +
+                 "' has no obstacle (expected a scene with fluid.scene obstacle)");
 
   Table1Options options;
   options.rd = scene_name == "table1-ard";
@@ -612,6 +625,11 @@ int do_run(RunArgs& a, CliContext& ctx) {
   RunOutputs outputs;
   if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs); rc != kExitOk)
     return rc;
+  if (!a.probe_csv.empty())
+    if (Status s = ProbeRecorder::open(*engine, a.probe_csv, steps, outputs.probes); !s) {
+      remove_created(outputs.created);
+      return usage(s.message());
+    }
   if (a.stats) {
     std::fprintf(ctx.out, "scene=%s size=%dx%d backend=%s workers=%d", scene.name.c_str(),
                  scene.size.x, scene.size.y, engine->backend_name(), engine->workers());
@@ -661,6 +679,9 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--save-state", a.save_state, "save the final state to this folder");
   run->add_option("--load-state", a.load_state, "resume from a state saved by --save-state");
   run->add_flag("--quiet", a.quiet, "no progress bar");
+  run->add_option("--probe-csv", a.probe_csv,
+                  "obstacle scenes: write drag, lift and the probes (fluid.probes) each frame "
+                  "to this CSV file");
   run->add_option("--set", a.sets,
                   "set a scene parameter, key=value (repeatable; e.g. fluid.viscosity=0.02)");
   add_run_paint_options(*run, a.paint);

@@ -15,6 +15,25 @@ void pressure_rhs(View<const float> u, View<const float> v, View<float> rhs, Box
   }
 }
 
+void pressure_rhs_cut(View<const float> u, View<const float> v, View<const float> open_x,
+                      View<const float> open_y, View<float> rhs, Box2 region,
+                      const ProjectParams& params) {
+  const float k = -0.5f * params.h;
+  for (int y = region.min.y; y < region.max.y; ++y) {
+    const float* __restrict um = u.row(y);
+    const float* __restrict vb = v.row(y - 1);
+    const float* __restrict vm = v.row(y);
+    const float* __restrict va = v.row(y + 1);
+    const float* __restrict ox = open_x.row(y);
+    const float* __restrict oyb = open_y.row(y);
+    const float* __restrict oya = open_y.row(y + 1);
+    float* __restrict out = rhs.row(y);
+    for (int x = region.min.x; x < region.max.x; ++x)
+      out[x] = k * (ox[x + 1] * (um[x] + um[x + 1]) - ox[x] * (um[x - 1] + um[x]) +
+                    oya[x] * (vm[x] + va[x]) - oyb[x] * (vb[x] + vm[x]));
+  }
+}
+
 void subtract_gradient(View<const float> p, View<float> u, View<float> v, Box2 region,
                        const ProjectParams& params) {
   const float k = 0.5f / params.h;

@@ -21,6 +21,17 @@ struct ProjectParams {
 void pressure_rhs(View<const float> u, View<const float> v, View<float> rhs, Box2 region,
                   const ProjectParams& params);
 
+// The cut-cell right-hand side (weights of kernels/stencil_operator.h weigh_faces): each face's
+// mean velocity weighed by its open fraction, so the face fluxes open * ((u_a + u_b) / 2 -
+// (p_b - p_a) / h) sum to zero on every cell when p solves the weighted equation; a solid face
+// moves nothing. Open fractions: open_x (nx + 1) x ny (face between x - 1 and x), open_y nx x
+// (ny + 1). Reads u, v over the region grown by 1 and the open fractions of its cells' faces.
+//   rhs = -h/2 (ox(x+1) (u(x) + u(x+1)) - ox(x) (u(x-1) + u(x))
+//               + oy(y+1) (v(y) + v(y+1)) - oy(y) (v(y-1) + v(y)))
+void pressure_rhs_cut(View<const float> u, View<const float> v, View<const float> open_x,
+                      View<const float> open_y, View<float> rhs, Box2 region,
+                      const ProjectParams& params);
+
 // (u, v) -= grad p over region (central differences).
 void subtract_gradient(View<const float> p, View<float> u, View<float> v, Box2 region,
                        const ProjectParams& params);

@@ -30,12 +30,21 @@ void add_splat(View<float> f, Box2 region, const SplatParams& splat) {
   }
 }
 
-void set_inflow_stripes(View<float> dye, Int2 size, int stripes) {
-  // Dye enters with the inflow in vertical stripes (the top row is refreshed each frame).
-  const int top = size.y - 1;
+void set_inflow_stripes(View<float> dye, Int2 size, int stripes, BoundarySide side) {
   const int bands = 2 * stripes;
-  float* row = dye.row(top);
-  for (int i = 0; i < size.x; ++i) row[i] = (i * bands / size.x) % 2 ? 1.0f : 0.0f;
+  const bool column = side == BoundarySide::kLeft || side == BoundarySide::kRight;
+  const int n = column ? size.y : size.x;
+  const int at = side == BoundarySide::kLeft     ? 0
+                 : side == BoundarySide::kRight  ? size.x - 1
+                 : side == BoundarySide::kBottom ? 0
+                                                 : size.y - 1;
+  for (int k = 0; k < n; ++k) {
+    const float value = (k * bands / n) % 2 ? 1.0f : 0.0f;
+    if (column)
+      dye(at, k) = value;
+    else
+      dye(k, at) = value;
+  }
 }
 
 }  // namespace ardcell

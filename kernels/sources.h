@@ -3,6 +3,7 @@
 //   x += scale * s                                   (add_scaled; Stam uses scale = dt)
 //   f += amount * exp(-((x - cx)^2 + (y - cy)^2) / radius^2)   (add_splat, cell units)
 // Neither reads a halo: each cell depends only on itself.
+#include "runtime/boundary.h"
 #include "runtime/field.h"
 
 namespace ardcell {
@@ -18,10 +19,11 @@ struct SplatParams {
 // Adds a Gaussian splat to f over region (cells beyond 3 radii get nothing).
 void add_splat(View<float> f, Box2 region, const SplatParams& splat);
 
-// The obstacle scene's inflow dye: `stripes` dyed vertical stripes entering through the top
-// row, y = size.y - 1: dye(i, top) = 1 in the odd ones of 2 * stripes equal bands, else 0
-// (integer arithmetic: (i * 2 stripes / size.x) % 2). Writes that row only, refreshed each
-// frame (host/engine/fluid_step.cpp's add_forces_and_sources).
-void set_inflow_stripes(View<float> dye, Int2 size, int stripes);
+// The obstacle scene's inflow dye: `stripes` dyed stripes entering through the boundary cells
+// of `side` (the top row y = size.y - 1, the left column x = 0, ...): the k-th of those n cells
+// is 1 in the odd ones of 2 * stripes equal bands, else 0 (integer arithmetic:
+// (k * 2 stripes / n) % 2). Writes those cells only, refreshed each frame
+// (host/engine/fluid_step.cpp's add_forces_and_sources).
+void set_inflow_stripes(View<float> dye, Int2 size, int stripes, BoundarySide side);
 
 }  // namespace ardcell

@@ -145,6 +145,7 @@ double boundary_rule_factor(const EdgeFill& e) {
     case EdgeRule::kFixed:
       return 1.0;
     case EdgeRule::kMirror:
+    case EdgeRule::kParabolic:
       return 2.0;
     default:
       return 0.0;
@@ -156,6 +157,11 @@ void add_boundary_values(View<float> b, Int2 size, const BoundaryFill& fill, dou
   auto add = [&](const EdgeFill& e, int x0, int y0, int dx, int dy, int count) {
     const float amount = float(boundary_rule_factor(e) * scale * e.value);
     if (amount == 0.0f) return;
+    if (e.rule == EdgeRule::kParabolic) {
+      for (int k = 0; k < count; ++k)
+        b(x0 + k * dx, y0 + k * dy) += amount * parabolic_profile(k, count);
+      return;
+    }
     for (int k = 0; k < count; ++k) b(x0 + k * dx, y0 + k * dy) += amount;
   };
   add(fill.left, 0, 0, 0, 1, ny);
@@ -184,6 +190,23 @@ void isolate_solid_cells(StencilOperator& op, const Field<uint8_t>& solid, doubl
       cut(op.wy(i, j + 1), i, j + 1);
       op.diag(i, j) = 1.0f;
     }
+}
+
+void weigh_faces(StencilOperator& op, const FieldF& open_x, const FieldF& open_y) {
+  const int nx = op.size.x, ny = op.size.y;
+  ARDCELL_CHECK(open_x.size() == op.wx.size() && open_y.size() == op.wy.size(),
+                "weigh_faces: open fractions must have the face fields' sizes");
+  ARDCELL_CHECK(
+      op.boundary_x != BoundaryKind::kDirichlet && op.boundary_y != BoundaryKind::kDirichlet,
+      "weigh_faces: Dirichlet axes keep boundary weights the faces do not hold");
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i <= nx; ++i) op.wx(i, j) *= open_x(i, j);
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i < nx; ++i) op.wy(i, j) *= open_y(i, j);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      op.diag(i, j) = float(op.identity + double(op.wx(i, j)) + double(op.wx(i + 1, j)) +
+                            double(op.wy(i, j)) + double(op.wy(i, j + 1)));
 }
 
 }  // namespace ardcell

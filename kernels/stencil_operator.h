@@ -57,9 +57,6 @@ void reassemble_stencil_operator(StencilOperator& op, double identity, double sc
 // y = A x over the interior (x's halo is not read; boundaries are in A).
 void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y);
 
-// The four sides of the domain (y grows upward: bottom is j = 0, top is j = ny - 1).
-enum class BoundarySide : uint8_t { kLeft, kRight, kBottom, kTop };
-
 // Adds `weight` to the diagonal of the cells along one side. Folds a per-side ghost rule into an
 // operator assembled with Neumann on that axis: weight = scale * k gives a fixed ghost value
 // (Dirichlet at the ghost centre), weight = 2 * scale * k a value fixed on the wall face (the
@@ -69,10 +66,11 @@ void add_boundary_diagonal(StencilOperator& op, BoundarySide side, double weight
 
 // The right-hand side's share of those folded ghost rules: b += the boundary values' share
 // (factor * scale * value) on the boundary cells of a domain of `size` cells, for each side
-// whose rule is kFixed (factor 1: the ghost sits one cell away) or kMirror (factor 2: the value
-// sits on the face half a cell away); other rules add nothing. Sides in the order left, right,
-// bottom, top, so a corner cell gets both of its sides' shares, in that order. The amount is
-// rounded to float once per side. (host/engine/fluid_step.cpp's add_boundary_rhs.)
+// whose rule is kFixed (factor 1: the ghost sits one cell away), kMirror (factor 2: the value
+// sits on the face half a cell away) or kParabolic (as kMirror, times parabolic_profile of the
+// cell's place along the side, in float); other rules add nothing. Sides in the order left,
+// right, bottom, top, so a corner cell gets both of its sides' shares, in that order. The amount
+// is rounded to float once per side. (host/engine/fluid_step.cpp's diffuse_velocity.)
 void add_boundary_values(View<float> b, Int2 size, const BoundaryFill& fill, double scale);
 // Weight of a ghost rule on the boundary cell's diagonal, per unit face weight: the fixed ghost
 // sits one cell away (1), the mirrored one puts the value on the face half a cell away (2);
@@ -84,5 +82,11 @@ double boundary_rule_factor(const EdgeFill& e);
 // obstacle, for pressure; 2: the mirrored no-slip wall, for viscosity), and a solid cell's row
 // becomes the identity (so with b = 0 there, x = 0 in solids).
 void isolate_solid_cells(StencilOperator& op, const Field<uint8_t>& solid, double wall_factor);
+
+// Multiplies every face weight by that face's open fraction (open_x: (nx + 1) x ny, open_y:
+// nx x (ny + 1), values in [0, 1]) and re-sums the diagonals as identity + the four faces: the
+// cut-cell (variational) weights of a pressure equation whose cells are partly solid (Batty et
+// al. 2007). For an operator with Neumann or periodic axes, before boundary folds.
+void weigh_faces(StencilOperator& op, const FieldF& open_x, const FieldF& open_y);
 
 }  // namespace ardcell

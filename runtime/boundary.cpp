@@ -17,9 +17,16 @@ BoundaryFill BoundaryFill::no_slip(float lid) {
 
 namespace {
 
-// Ghost value from the rule, the nearest interior value and the value one domain away.
-inline float ghost_value(const EdgeFill& e, float inner, float wrapped) {
+bool reads_inner(EdgeRule r) {
+  return r == EdgeRule::kCopy || r == EdgeRule::kMirror || r == EdgeRule::kParabolic;
+}
+
+// Ghost value from the rule, the nearest interior value and the value one domain away; `k` of
+// `n` is the cell's position along the side (the parabolic profile).
+inline float ghost_value(const EdgeFill& e, float inner, float wrapped, int k, int n) {
   switch (e.rule) {
+    case EdgeRule::kParabolic:
+      return 2.0f * (e.value * parabolic_profile(k, n)) - inner;
     case EdgeRule::kCopy:
       return inner;
     case EdgeRule::kFixed:
@@ -35,10 +42,10 @@ inline float ghost_value(const EdgeFill& e, float inner, float wrapped) {
 // Fills the vertical ghost column x = ghost_x from interior column inner_x (and wrap_x for
 // periodic), rows [y0, y1) clipped to the view.
 void fill_column(View<float> f, const EdgeFill& e, int ghost_x, int inner_x, int wrap_x, int y0,
-                 int y1) {
+                 int y1, int n_along) {
   const Box2& b = f.box();
   if (ghost_x < b.min.x || ghost_x >= b.max.x) return;
-  const bool need_inner = e.rule == EdgeRule::kCopy || e.rule == EdgeRule::kMirror;
+  const bool need_inner = reads_inner(e.rule);
   const bool need_wrap = e.rule == EdgeRule::kPeriodic;
   if (need_inner && (inner_x < b.min.x || inner_x >= b.max.x)) return;
   if (need_wrap && (wrap_x < b.min.x || wrap_x >= b.max.x)) return;
@@ -46,16 +53,17 @@ void fill_column(View<float> f, const EdgeFill& e, int ghost_x, int inner_x, int
   y1 = std::min(y1, b.max.y);
   for (int y = y0; y < y1; ++y) {
     float* r = f.row(y);
-    r[ghost_x] = ghost_value(e, need_inner ? r[inner_x] : 0.0f, need_wrap ? r[wrap_x] : 0.0f);
+    r[ghost_x] =
+        ghost_value(e, need_inner ? r[inner_x] : 0.0f, need_wrap ? r[wrap_x] : 0.0f, y, n_along);
   }
 }
 
 // Fills the horizontal ghost row y = ghost_y from rows inner_y / wrap_y, columns [x0, x1).
 void fill_row(View<float> f, const EdgeFill& e, int ghost_y, int inner_y, int wrap_y, int x0,
-              int x1) {
+              int x1, int n_along) {
   const Box2& b = f.box();
   if (ghost_y < b.min.y || ghost_y >= b.max.y) return;
-  const bool need_inner = e.rule == EdgeRule::kCopy || e.rule == EdgeRule::kMirror;
+  const bool need_inner = reads_inner(e.rule);
   const bool need_wrap = e.rule == EdgeRule::kPeriodic;
   if (need_inner && (inner_y < b.min.y || inner_y >= b.max.y)) return;
   if (need_wrap && (wrap_y < b.min.y || wrap_y >= b.max.y)) return;
@@ -79,6 +87,9 @@ void fill_row(View<float> f, const EdgeFill& e, int ghost_y, int inner_y, int wr
     case EdgeRule::kPeriodic:
       for (int x = x0; x < x1; ++x) g[x] = wr[x];
       break;
+    case EdgeRule::kParabolic:
+      for (int x = x0; x < x1; ++x) g[x] = 2.0f * (e.value * parabolic_profile(x, n_along)) - in[x];
+      break;
   }
 }
 
@@ -96,16 +107,16 @@ void fill_boundary(View<float> f, Int2 n, const BoundaryFill& fill) {
   const bool periodic_y =
       fill.bottom.rule == EdgeRule::kPeriodic && fill.top.rule == EdgeRule::kPeriodic;
   // Edges first (interior rows/columns only), then corners: corners read the edge ghosts.
-  fill_column(f, fill.left, -1, 0, n.x - 1, 0, n.y);
-  fill_column(f, fill.right, n.x, n.x - 1, 0, 0, n.y);
-  fill_row(f, fill.bottom, -1, 0, n.y - 1, 0, n.x);
-  fill_row(f, fill.top, n.y, n.y - 1, 0, 0, n.x);
+  fill_column(f, fill.left, -1, 0, n.x - 1, 0, n.y, n.y);
+  fill_column(f, fill.right, n.x, n.x - 1, 0, 0, n.y, n.y);
+  fill_row(f, fill.bottom, -1, 0, n.y - 1, 0, n.x, n.x);
+  fill_row(f, fill.top, n.y, n.y - 1, 0, 0, n.x, n.x);
   if (periodic_x && periodic_y) {
     // Wrap the ghost rows too: the corners become the diagonally opposite interior cells.
-    fill_column(f, fill.left, -1, 0, n.x - 1, -1, 0);
-    fill_column(f, fill.left, -1, 0, n.x - 1, n.y, n.y + 1);
-    fill_column(f, fill.right, n.x, n.x - 1, 0, -1, 0);
-    fill_column(f, fill.right, n.x, n.x - 1, 0, n.y, n.y + 1);
+    fill_column(f, fill.left, -1, 0, n.x - 1, -1, 0, n.y);
+    fill_column(f, fill.left, -1, 0, n.x - 1, n.y, n.y + 1, n.y);
+    fill_column(f, fill.right, n.x, n.x - 1, 0, -1, 0, n.y);
+    fill_column(f, fill.right, n.x, n.x - 1, 0, n.y, n.y + 1, n.y);
     return;
   }
   fill_corner(f, {-1, -1}, {0, -1}, {-1, 0});

@@ -16,14 +16,27 @@
 
 namespace ardcell {
 
+// The four sides of the domain (y grows upward: bottom is j = 0, top is j = ny - 1), in the
+// order of BoundaryFill's members.
+enum class BoundarySide : uint8_t { kLeft, kRight, kBottom, kTop };
+
 enum class EdgeRule : uint8_t {
-  kCopy,      // ghost = nearest interior cell: zero normal derivative (Neumann); Stam's b = 0
-  kFixed,     // ghost = value: Dirichlet on the ghost cell centre (outflow pressure p = 0)
-  kMirror,    // ghost = 2 value - nearest interior: Dirichlet `value` on the wall face itself.
-              // value 0 is Stam's negation (normal velocity at a wall, no-slip); value U is a
-              // moving lid or an inflow speed
-  kPeriodic,  // ghost = the cell one domain width away (wrap)
+  kCopy,       // ghost = nearest interior cell: zero normal derivative (Neumann); Stam's b = 0
+  kFixed,      // ghost = value: Dirichlet on the ghost cell centre (outflow pressure p = 0)
+  kMirror,     // ghost = 2 value - nearest interior: Dirichlet `value` on the wall face itself.
+               // value 0 is Stam's negation (normal velocity at a wall, no-slip); value U is a
+               // moving lid or an inflow speed
+  kPeriodic,   // ghost = the cell one domain width away (wrap)
+  kParabolic,  // ghost = 2 U - nearest interior: a Poiseuille profile of mean `value` on the wall
+               // face, U = value * parabolic_profile(k, n) at the k-th of the side's n cells
 };
+
+// 6 s (1 - s) at s = (k + 1/2) / n: the profile of a channel's laminar inflow, mean 1 over the
+// side (max 1.5 at its middle). In float, in this order, as the OpenCL twin (kernels/cl/fluid.cl).
+inline float parabolic_profile(int k, int n) {
+  const float s = (float(k) + 0.5f) / float(n);
+  return 6.0f * s * (1.0f - s);
+}
 
 struct EdgeFill {
   EdgeRule rule = EdgeRule::kCopy;

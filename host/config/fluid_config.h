@@ -4,11 +4,13 @@
 // (host/engine/fluid_step.h). Positions and lengths are in domain units (the domain is domain_width
 // wide, y grows upward).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "kernels/linear_solver.h"
+#include "runtime/boundary.h"
 
 namespace ardcell {
 
@@ -41,6 +43,20 @@ enum class AdvectionScheme : uint8_t {
   kMacCormack,      // Selle et al. 2008: a forward and a backward step, limited: second order
 };
 
+// The obstacle channel's inflow across its inflow side.
+enum class InflowProfile : uint8_t {
+  kPlug,       // inflow_speed everywhere on the side
+  kParabolic,  // Poiseuille: 6 s (1 - s) times inflow_speed, so inflow_speed is the mean
+};
+
+// How the projection sees the obstacle's disc (host/engine/fluid_step.cpp).
+enum class ObstacleBoundary : uint8_t {
+  kStaircase,  // cells whose centre is inside are solid; their faces are walls
+  kCutCell,    // as staircase, and the pressure equation weighs each face by the fraction of
+               // its length outside the disc (Batty et al. 2007's variational weights), so the
+               // projection sees the circle, not its cells
+};
+
 struct FluidConfig {
   FluidSceneKind kind = FluidSceneKind::kCavity;
   double viscosity = 0.01;  // kinematic; Re = lid_speed * L / viscosity for the cavity
@@ -59,11 +75,27 @@ struct FluidConfig {
   bool conserve_dye = true;
   AdvectionScheme advection = AdvectionScheme::kSemiLagrangian;
 
-  // obstacle: inflow through the top wall (downward, at inflow_speed), outflow at the bottom
-  // (pressure 0), free-slip side walls, a solid disc.
+  // obstacle: a channel with inflow through one side (into the domain at inflow_speed, its
+  // mean with a parabolic profile), outflow through the opposite side (velocity copied,
+  // pressure 0: do-nothing), two walls (low and high across the flow: bottom and top for a
+  // channel along x, left and right along y), and a solid disc.
   double inflow_speed = 1.0;
+  BoundarySide inflow_side = BoundarySide::kTop;
+  InflowProfile inflow_profile = InflowProfile::kPlug;
+  FluidWalls wall_low = FluidWalls::kFreeSlip, wall_high = FluidWalls::kFreeSlip;
   double obstacle_x = 0.5, obstacle_y = 1.5, obstacle_radius = 0.08;
-  int inflow_dye_stripes = 8;  // dye enters through the inflow in this many vertical stripes
+  ObstacleBoundary obstacle_boundary = ObstacleBoundary::kStaircase;
+  int inflow_dye_stripes = 8;  // dye enters through the inflow in this many stripes
+  // Points (x, y pairs, domain units) whose velocity and physical pressure `ardcell run
+  // --probe-csv` writes each frame; the first two also give the pressure difference. Unused
+  // entries are -1.
+  static constexpr int kMaxProbes = 4;
+  std::array<float, 2 * kMaxProbes> probes{-1, -1, -1, -1, -1, -1, -1, -1};
+  int probe_count() const {
+    int n = 0;
+    while (n < kMaxProbes && probes[2 * n] >= 0.0f && probes[2 * n + 1] >= 0.0f) ++n;
+    return n;
+  }
 
   // ink: walls and emitters.
   FluidWalls walls = FluidWalls::kFreeSlip;

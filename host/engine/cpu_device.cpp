@@ -140,12 +140,19 @@ void CpuDevice::add_splat(FieldF& f, const SplatParams& splat) {
   for_bands(f.size(), [&](Box2 rows) { ardcell::add_splat(f.view(), rows, splat); });
 }
 
-void CpuDevice::set_inflow_stripes(FieldF& dye, int stripes) {
-  ardcell::set_inflow_stripes(dye.view(), dye.size(), stripes);
+void CpuDevice::set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) {
+  ardcell::set_inflow_stripes(dye.view(), dye.size(), stripes, side);
 }
 
-void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs,
-                             const ProjectParams& p) {
+void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
+                             const FieldF* open_x, const FieldF* open_y) {
+  if (open_x && open_y) {
+    for_bands(rhs.size(), [&](Box2 rows) {
+      ardcell::pressure_rhs_cut(u.view(), v.view(), open_x->view(), open_y->view(), rhs.view(),
+                                rows, p);
+    });
+    return;
+  }
   for_bands(rhs.size(),
             [&](Box2 rows) { ardcell::pressure_rhs(u.view(), v.view(), rhs.view(), rows, p); });
 }

@@ -115,9 +115,11 @@ class Device {
 
   // --- fluid (kernels/sources.h, project.h, advect.h), over the interior
   virtual void add_splat(FieldF& f, const SplatParams& splat) = 0;
-  virtual void set_inflow_stripes(FieldF& dye, int stripes) = 0;
-  virtual void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs,
-                            const ProjectParams& p) = 0;
+  virtual void set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) = 0;
+  // With open fractions (both or neither), the cut-cell form (kernels/project.h
+  // pressure_rhs_cut).
+  virtual void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
+                            const FieldF* open_x = nullptr, const FieldF* open_y = nullptr) = 0;
   // Every face of the grid; with `periodic`, the ghost rows of uf and columns of vf wrapped.
   virtual void face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
                                FieldF& vf, const ProjectParams& params, bool periodic) = 0;
@@ -224,8 +226,9 @@ class CpuDevice final : public Device {
   void add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) override;
 
   void add_splat(FieldF& f, const SplatParams& splat) override;
-  void set_inflow_stripes(FieldF& dye, int stripes) override;
-  void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p) override;
+  void set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) override;
+  void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
+                    const FieldF* open_x, const FieldF* open_y) override;
   void face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf, FieldF& vf,
                        const ProjectParams& params, bool periodic) override;
   void subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,

@@ -10,6 +10,7 @@
 #endif
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 namespace ardcell {
@@ -57,6 +58,8 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
   if (config_.fluid.kind != FluidSceneKind::kNone) {
+    if (std::string why = fluid_config_problem(config_); !why.empty())
+      throw std::invalid_argument(why);
     solvers_->fluid = make_fluid_step(config_, *device_);
     solvers_->fluid->allocate(state_);
   }
@@ -144,6 +147,13 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
   if (fa.obstacle_x != fb.obstacle_x) return "fluid.obstacle_x";
   if (fa.obstacle_y != fb.obstacle_y) return "fluid.obstacle_y";
   if (fa.obstacle_radius != fb.obstacle_radius) return "fluid.obstacle_radius";
+  if (fa.kind == FluidSceneKind::kObstacle) {
+    if (fa.inflow_side != fb.inflow_side) return "fluid.inflow_side";
+    if (fa.inflow_profile != fb.inflow_profile) return "fluid.inflow_profile";
+    if (fa.wall_low != fb.wall_low) return "fluid.wall_low";
+    if (fa.wall_high != fb.wall_high) return "fluid.wall_high";
+    if (fa.obstacle_boundary != fb.obstacle_boundary) return "fluid.obstacle_boundary";
+  }
   if (fa.emitters.size() != fb.emitters.size()) return "fluid.emitters (their number)";
   if (fa.viscosity_solver.kind != fb.viscosity_solver.kind) return "fluid.viscosity_solver.kind";
   if (fa.pressure_solver.kind != fb.pressure_solver.kind) return "fluid.pressure_solver.kind";
@@ -184,6 +194,7 @@ Status Engine::update_parameters(const SceneConfig& next) {
                          ": changes the simulation's structure; rebuild the engine (switch "
                          "presets) to change it");
   if (!(next.dt > 0.0)) return Status::error("grid.dt: expected a positive time step");
+  if (std::string why = fluid_config_problem(next); !why.empty()) return Status::error(why);
   if (next.rd.enabled) {
     if (std::string why = rd_config_problem(next); !why.empty()) return Status::error(why);
     if (solvers_->rd)
@@ -202,6 +213,7 @@ Status Engine::update_parameters(const SceneConfig& next) {
   f.conserve_dye = next.fluid.conserve_dye;
   f.inflow_speed = next.fluid.inflow_speed;
   f.inflow_dye_stripes = next.fluid.inflow_dye_stripes;
+  f.probes = next.fluid.probes;
   std::copy(next.fluid.emitters.begin(), next.fluid.emitters.end(), f.emitters.begin());
   f.viscosity_solver = next.fluid.viscosity_solver;
   f.pressure_solver = next.fluid.pressure_solver;
@@ -228,6 +240,8 @@ void Engine::step_without_rd() {
   state_.time += state_.dt;
   ++state_.step;
 }
+
+FluidStep* Engine::fluid_step() { return solvers_->fluid.get(); }
 
 const RdStepStats* Engine::rd_stats() const {
   return solvers_->rd ? &solvers_->rd->stats() : nullptr;

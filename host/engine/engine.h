@@ -19,6 +19,7 @@
 namespace ardcell {
 
 struct RdStepStats;
+class FluidStep;
 class Backend;
 class Device;
 class RowExecutor;
@@ -94,6 +95,8 @@ class Engine {
   RowExecutor& executor() { return *executor_; }
   // What the last RD step's solves did (iterations, residuals); nullptr when the scene has no RD.
   const RdStepStats* rd_stats() const;
+  // The fluid solver (its masks, the physical pressure for probes); nullptr without a fluid.
+  FluidStep* fluid_step();
 
  private:
   struct Solvers;  // the fluid and RD solvers and their scratch (host/engine/engine.cpp)

@@ -1,7 +1,10 @@
 #include "host/engine/fluid_step.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <utility>
 
 #include "host/config/scene_config.h"
 #include "kernels/advect.h"
@@ -31,7 +34,97 @@ void fold_boundary(StencilOperator& op, const BoundaryFill& fill, double scale) 
       add_boundary_diagonal(op, s.side, boundary_rule_factor(s.e) * scale);
 }
 
+EdgeFill& side_of(BoundaryFill& fill, BoundarySide side) {
+  switch (side) {
+    case BoundarySide::kLeft:
+      return fill.left;
+    case BoundarySide::kRight:
+      return fill.right;
+    case BoundarySide::kBottom:
+      return fill.bottom;
+    case BoundarySide::kTop:
+      break;
+  }
+  return fill.top;
+}
+
+BoundarySide opposite(BoundarySide side) {
+  switch (side) {
+    case BoundarySide::kLeft:
+      return BoundarySide::kRight;
+    case BoundarySide::kRight:
+      return BoundarySide::kLeft;
+    case BoundarySide::kBottom:
+      return BoundarySide::kTop;
+    case BoundarySide::kTop:
+      break;
+  }
+  return BoundarySide::kBottom;
+}
+
+bool along_x(BoundarySide inflow) {
+  return inflow == BoundarySide::kLeft || inflow == BoundarySide::kRight;
+}
+
+// The obstacle channel's ghost rules: inflow into the domain through config.inflow_side (the
+// normal component at inflow_speed, plug or parabolic; no tangential inflow), do-nothing outflow
+// through the opposite side (velocity copied, pressure 0), and the two walls (free-slip: normal
+// component zero, tangential copied; no-slip: both zero).
+void channel_fills(const FluidConfig& c, BoundaryFill& fu, BoundaryFill& fv, BoundaryFill& fp) {
+  const EdgeFill copy{EdgeRule::kCopy, 0.0f};
+  const EdgeFill zero{EdgeRule::kMirror, 0.0f};
+  const bool x_flow = along_x(c.inflow_side);
+  const float into = c.inflow_side == BoundarySide::kLeft || c.inflow_side == BoundarySide::kBottom
+                         ? float(c.inflow_speed)
+                         : float(-c.inflow_speed);
+  BoundaryFill& normal_to_inflow = x_flow ? fu : fv;
+  BoundaryFill& along_inflow = x_flow ? fv : fu;
+  fp = BoundaryFill::copy();
+  side_of(normal_to_inflow, c.inflow_side) = {
+      c.inflow_profile == InflowProfile::kParabolic ? EdgeRule::kParabolic : EdgeRule::kMirror,
+      into};
+  side_of(along_inflow, c.inflow_side) = zero;
+  const BoundarySide out = opposite(c.inflow_side);
+  side_of(fu, out) = copy;
+  side_of(fv, out) = copy;
+  side_of(fp, out) = {EdgeRule::kFixed, 0.0f};
+  const BoundarySide low = x_flow ? BoundarySide::kBottom : BoundarySide::kLeft;
+  for (const auto& [side, kind] :
+       {std::pair{low, c.wall_low}, std::pair{opposite(low), c.wall_high}}) {
+    side_of(x_flow ? fv : fu, side) = zero;  // the normal component at a wall
+    side_of(x_flow ? fu : fv, side) = kind == FluidWalls::kNoSlip ? zero : copy;
+  }
+}
+
+// The open fraction of the cell face from (x, y0) to (x, y0 + 1) outside the disc of centre
+// (cx, cy) and radius r, all in cells: 1 - the covered length. Fractions under 1% count as
+// closed: a face so nearly shut couples its cells too weakly to matter and slows the solvers.
+float open_fraction(double x, double y0, double cx, double cy, double r) {
+  const double dx = x - cx;
+  if (dx * dx >= r * r) return 1.0f;
+  const double d = std::sqrt(r * r - dx * dx);
+  const double covered = std::max(0.0, std::min(y0 + 1.0, cy + d) - std::max(y0, cy - d));
+  const double open = 1.0 - covered;
+  return open < 0.01 ? 0.0f : float(open);
+}
+
 }  // namespace
+
+std::string fluid_config_problem(const SceneConfig& scene) {
+  const FluidConfig& f = scene.fluid;
+  if (f.kind != FluidSceneKind::kObstacle) return {};
+  if (f.wall_low == FluidWalls::kPeriodic || f.wall_high == FluidWalls::kPeriodic)
+    return "fluid.wall_low / fluid.wall_high: expected free-slip or no-slip (a channel's walls)";
+  for (int i = 0; i < FluidConfig::kMaxProbes; ++i) {
+    const bool x_set = f.probes[2 * i] >= 0.0f, y_set = f.probes[2 * i + 1] >= 0.0f;
+    if (x_set != y_set)
+      return "fluid.probes: expected x, y pairs (point " + std::to_string(i + 1) +
+             " has one coordinate)";
+  }
+  if (!(f.obstacle_radius > 0.0))
+    return "fluid.obstacle_radius: expected a positive radius for the obstacle scene";
+  return {};
+}
 
 struct FluidStep::Operators {
   StencilOperator visc_u, visc_v, pressure, dye;
@@ -51,8 +144,6 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
       face_v_(Int2{size.x, size.y + 1}, 1) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0 && h > 0.0, "FluidStep: size and h must be positive");
   if (config_.advection == AdvectionScheme::kMacCormack) back_ = FieldF(size, 1);
-  const EdgeFill copy{EdgeRule::kCopy, 0.0f};
-  const EdgeFill wall{EdgeRule::kMirror, 0.0f};
   fill_p_ = BoundaryFill::copy();
   fill_dye_ = BoundaryFill::copy();
   switch (config_.kind) {
@@ -61,17 +152,14 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
       fill_v_ = BoundaryFill::no_slip(0.0f);
       break;
     case FluidSceneKind::kObstacle: {
-      // Inflow through the top wall (v = -inflow_speed), outflow through the bottom (velocity
-      // copied, pressure 0), free-slip side walls.
-      fill_u_ = {wall, wall, copy, wall};
-      fill_v_ = {copy, copy, copy, {EdgeRule::kMirror, float(-config_.inflow_speed)}};
-      fill_p_ = {copy, copy, {EdgeRule::kFixed, 0.0f}, copy};
+      channel_fills(config_, fill_u_, fill_v_, fill_p_);
       solid_ = Field<uint8_t>(size, 1);
       const double cx = config_.obstacle_x / h - 0.5, cy = config_.obstacle_y / h - 0.5;
       const double r = config_.obstacle_radius / h;
       for (int j = 0; j < size.y; ++j)
         for (int i = 0; i < size.x; ++i)
           solid_(i, j) = (i - cx) * (i - cx) + (j - cy) * (j - cy) <= r * r ? 1 : 0;
+      if (config_.obstacle_boundary == ObstacleBoundary::kCutCell) cut_cells(cx + 0.5, cy + 0.5, r);
       break;
     }
     case FluidSceneKind::kInk:
@@ -103,14 +191,37 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
   ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size, ex);
   device.reserve(size);
 
-  // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces.
+  // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces (cut cells:
+  // each face weighed by its open fraction, and only the covered cells isolated).
   reassemble_stencil_operator(ops_->pressure, 0.0, 1.0, nullptr);
+  if (!open_x_.empty()) weigh_faces(ops_->pressure, open_x_, open_y_);
   fold_boundary(ops_->pressure, fill_p_, 1.0);
-  if (!solid_.empty()) isolate_solid_cells(ops_->pressure, solid_, 0.0);
+  if (!solid_.empty()) isolate_solid_cells(ops_->pressure, pressure_solid(), 0.0);
   ops_->solver_p->prepare(ops_->pressure);
   dev_->host_wrote(ops_->pressure);
   dev_->host_wrote(solid_);
+  if (!open_x_.empty()) {
+    dev_->host_wrote(open_x_);
+    dev_->host_wrote(open_y_);
+    dev_->host_wrote(covered_);
+  }
   prepare(dt);
+}
+
+// Cut cells: the open fraction of every face (the disc of centre (cx, cy) and radius r, in
+// cells, faces at integer coordinates), and the cells whose four faces are all closed.
+void FluidStep::cut_cells(double cx, double cy, double r) {
+  open_x_ = FieldF(Int2{size_.x + 1, size_.y}, 1);
+  open_y_ = FieldF(Int2{size_.x, size_.y + 1}, 1);
+  covered_ = Field<uint8_t>(size_, 1);
+  for (int j = 0; j < size_.y; ++j)
+    for (int i = 0; i <= size_.x; ++i) open_x_(i, j) = open_fraction(i, j, cx, cy, r);
+  for (int j = 0; j <= size_.y; ++j)  // a horizontal face: the same with x and y exchanged
+    for (int i = 0; i < size_.x; ++i) open_y_(i, j) = open_fraction(j, i, cy, cx, r);
+  for (int j = 0; j < size_.y; ++j)
+    for (int i = 0; i < size_.x; ++i)
+      covered_(i, j) = open_x_(i, j) == 0.0f && open_x_(i + 1, j) == 0.0f &&
+                       open_y_(i, j) == 0.0f && open_y_(i, j + 1) == 0.0f;
 }
 
 FluidStep::~FluidStep() = default;
@@ -133,8 +244,7 @@ void FluidStep::update_parameters(const FluidConfig& c) {
   ops_->solver_p->set_limits(c.pressure_solver.max_iterations, c.pressure_solver.tolerance);
   if (config_.kind == FluidSceneKind::kCavity)
     fill_u_ = BoundaryFill::no_slip(float(config_.lid_speed));
-  if (config_.kind == FluidSceneKind::kObstacle)
-    fill_v_.top = {EdgeRule::kMirror, float(-config_.inflow_speed)};
+  if (config_.kind == FluidSceneKind::kObstacle) channel_fills(config_, fill_u_, fill_v_, fill_p_);
   prepared_dt_ = -1.0;  // the viscous operators depend on the viscosity
 }
 
@@ -173,8 +283,19 @@ void FluidStep::reset(SimState& state) const {
       for (int i = 0; i < n.x; ++i) state.dye(i, j) = value;
     }
   } else if (config_.kind == FluidSceneKind::kObstacle) {
-    // Start from the uniform inflow; the first projection turns it around the disc.
-    state.v.fill(float(-config_.inflow_speed));
+    // Start from the inflow carried through the channel; the first projection turns it around
+    // the disc.
+    const BoundarySide in = config_.inflow_side;
+    const bool x_flow = along_x(in);
+    FieldF& normal = x_flow ? state.u : state.v;
+    const float into = in == BoundarySide::kLeft || in == BoundarySide::kBottom
+                           ? float(config_.inflow_speed)
+                           : float(-config_.inflow_speed);
+    const bool parabolic = config_.inflow_profile == InflowProfile::kParabolic;
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i)
+        normal(i, j) =
+            parabolic ? into * parabolic_profile(x_flow ? j : i, x_flow ? n.y : n.x) : into;
   }
   for (const FieldF* f : {&state.u, &state.v, &state.p, &state.dye}) dev_->host_wrote(*f);
   if (!solid_.empty()) dev_->fill_obstacle(state.v, solid_, ObstacleRule::kZero);
@@ -208,7 +329,7 @@ void FluidStep::add_forces_and_sources(SimState& state) {
     }
   } else if (config_.kind == FluidSceneKind::kObstacle && config_.inflow_dye_stripes > 0) {
     // Dye enters with the inflow in vertical stripes (the top row is refreshed each frame).
-    dev_->set_inflow_stripes(state.dye, config_.inflow_dye_stripes);
+    dev_->set_inflow_stripes(state.dye, config_.inflow_dye_stripes, config_.inflow_side);
   }
 }
 
@@ -229,12 +350,15 @@ void FluidStep::diffuse_velocity(SimState& state) {
 SolveReport FluidStep::project(SimState& state) {
   fill_velocity(state);
   const ProjectParams params{float(h_)};
-  dev_->pressure_rhs(state.u, state.v, rhs_, params);
+  if (open_x_.empty())
+    dev_->pressure_rhs(state.u, state.v, rhs_, params);
+  else
+    dev_->pressure_rhs(state.u, state.v, rhs_, params, &open_x_, &open_y_);
   dev_->add_boundary_values(rhs_, fill_p_, 1.0);
-  if (!solid_.empty()) dev_->fill_obstacle(rhs_, solid_, ObstacleRule::kZero);
+  if (!solid_.empty()) dev_->fill_obstacle(rhs_, pressure_solid(), ObstacleRule::kZero);
   const SolveReport report = dev_->solve(*ops_->solver_p, ops_->pressure, rhs_, state.p);
   dev_->fill_boundary(state.p, fill_p_);
-  if (!solid_.empty()) dev_->fill_obstacle(state.p, solid_, ObstacleRule::kCopy);
+  if (!solid_.empty()) dev_->fill_obstacle(state.p, pressure_solid(), ObstacleRule::kCopy);
   dev_->face_velocities(state.u, state.v, state.p, face_u_, face_v_, params,
                         fill_u_.bottom.rule == EdgeRule::kPeriodic);
   dev_->subtract_gradient(state.p, state.u, state.v, params);
@@ -294,6 +418,7 @@ void FluidStep::step(SimState& state) {
   add_forces_and_sources(state);
   diffuse_velocity(state);
   report_.pressure_first = project(state);
+  if (!p_first_.empty()) dev_->copy(state.p, p_first_);
   advect(state);
   report_.pressure_second = project(state);
 
@@ -314,6 +439,24 @@ void FluidStep::step(SimState& state) {
     dev_->restore_mass(state.dye, before.sum - after, before.lo, before.hi);
   }
   dev_->fill_boundary(state.dye, fill_dye_);
+}
+
+void FluidStep::record_pressure(bool on) {
+  if (!on) {
+    p_first_ = FieldF();
+    return;
+  }
+  if (p_first_.empty()) p_first_ = FieldF(size_, 1);
+}
+
+void FluidStep::physical_pressure(const SimState& state, FieldF& out) const {
+  ARDCELL_CHECK(!p_first_.empty(), "physical_pressure: record_pressure(true) first");
+  ARDCELL_CHECK(out.size() == size_, "physical_pressure: out must have the grid's size");
+  dev_->sync_to_host(p_first_);
+  dev_->sync_to_host(state.p);
+  const float inv_dt = float(1.0 / state.dt);
+  for (int j = -1; j <= size_.y; ++j)
+    for (int i = -1; i <= size_.x; ++i) out(i, j) = (p_first_(i, j) + state.p(i, j)) * inv_dt;
 }
 
 std::unique_ptr<FluidStep> make_fluid_step(const SceneConfig& scene, Device& device) {

@@ -9,6 +9,7 @@
 // (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers, or
 // OpenCL). Everything is allocated in the constructor: step() does no heap allocation.
 #include <memory>
+#include <string>
 
 #include "host/config/fluid_config.h"
 #include "host/config/sim_state.h"
@@ -19,6 +20,10 @@
 namespace ardcell {
 
 struct SceneConfig;
+
+// One line naming a fluid setting the solver cannot run (empty when it can): the obstacle
+// channel's walls and probes.
+std::string fluid_config_problem(const SceneConfig& scene);
 
 // What the last frame's solves reported.
 struct FluidStepReport {
@@ -49,6 +54,15 @@ class FluidStep {
   // tests and tools.
   SolveReport project(SimState& state);
 
+  // With `on`, each step keeps the first projection's pressure too (one copy a frame), so that
+  // physical_pressure() can give the step's whole pressure. Allocates when turned on.
+  void record_pressure(bool on);
+  // The physical (kinematic) pressure of the last step, ghosts included: the two projections'
+  // potentials (each u -= grad p) over dt, P = (p_first + p) / dt, on the host.
+  void physical_pressure(const SimState& state, FieldF& out) const;
+  // The obstacle's solid cells (centre inside the disc; empty when none).
+  const Field<uint8_t>& solid() const { return solid_; }
+
   const FluidStepReport& last_report() const { return report_; }
   // Boundary rules of each field in this scene.
   const BoundaryFill& u_fill() const { return fill_u_; }
@@ -71,6 +85,10 @@ class FluidStep {
   void diffuse_dye(SimState& state);
   void advect(SimState& state);
   void advect_dye(SimState& state, const AdvectParams& params);
+  void cut_cells(double cx, double cy, double r);
+  // The cells the pressure equation leaves out: every solid cell, or with cut cells only the
+  // covered ones.
+  const Field<uint8_t>& pressure_solid() const { return covered_.empty() ? solid_ : covered_; }
 
   FluidConfig config_;
   Device* dev_;
@@ -79,6 +97,11 @@ class FluidStep {
   double prepared_dt_ = -1.0;
   BoundaryFill fill_u_, fill_v_, fill_p_, fill_dye_;
   Field<uint8_t> solid_;  // the obstacle mask (empty when none)
+  // Cut cells (FluidConfig::obstacle_boundary): the faces' open fractions, (nx + 1) x ny and
+  // nx x (ny + 1), and the cells with no open face; empty otherwise.
+  FieldF open_x_, open_y_;
+  Field<uint8_t> covered_;
+  FieldF p_first_;  // the first projection's pressure (record_pressure)
   std::unique_ptr<Operators> ops_;
   FieldF scratch_u_, scratch_v_, scratch_b_, rhs_;
   FieldF back_;  // MacCormack's backward step (with rhs_); empty for semi-Lagrangian advection

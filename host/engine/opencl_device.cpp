@@ -174,12 +174,18 @@ void OpenClDevice::add_splat(FieldF& f, const SplatParams& splat) {
   cl_->add_splat(out(f), box_of_size(f.size()), splat);
 }
 
-void OpenClDevice::set_inflow_stripes(FieldF& dye, int stripes) {
-  cl_->set_inflow_stripes(out(dye), stripes);
+void OpenClDevice::set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) {
+  cl_->set_inflow_stripes(out(dye), stripes, side);
 }
 
 void OpenClDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs,
-                                const ProjectParams& p) {
+                                const ProjectParams& p, const FieldF* open_x,
+                                const FieldF* open_y) {
+  if (open_x && open_y) {
+    cl_->pressure_rhs_cut(in(u), in(v), in(*open_x), in(*open_y), out(rhs), box_of_size(rhs.size()),
+                          p);
+    return;
+  }
   cl_->pressure_rhs(in(u), in(v), out(rhs), box_of_size(rhs.size()), p);
 }
 

@@ -55,8 +55,9 @@ class OpenClDevice final : public Device {
   void add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) override;
 
   void add_splat(FieldF& f, const SplatParams& splat) override;
-  void set_inflow_stripes(FieldF& dye, int stripes) override;
-  void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p) override;
+  void set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) override;
+  void pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
+                    const FieldF* open_x, const FieldF* open_y) override;
   void face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf, FieldF& vf,
                        const ProjectParams& params, bool periodic) override;
   void subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,

@@ -211,6 +211,8 @@ Status run_offline(OfflineStepper& stepper, const OfflineRunOptions& options,
     if (i <= int64_t(options.frame_seconds.size()))
       options.frame_seconds[std::size_t(i - 1)] = seconds;
     summary.steps = i;
+    if (options.observer)
+      if (Status s = options.observer->after_step(i); !s) return s;
 
     if (!image.empty() && i % options.every == 0) {
       const SimState& state = stepper.frame_state();

@@ -78,6 +78,14 @@ class EngineStepper final : public OfflineStepper {
   StrokePlayback* playback_;
 };
 
+// Called after every step, outside the timed part (probes written as a time series); an error
+// ends the run.
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  virtual Status after_step(int64_t frame) = 0;
+};
+
 struct OfflineRunOptions {
   int64_t steps = 0;                        // frames to simulate
   int64_t every = 0;                        // write a frame after every `every` steps; 0: none
@@ -87,6 +95,7 @@ struct OfflineRunOptions {
   // When non-empty, frame i's step time in seconds goes to frame_seconds[i - 1] (for as many
   // frames as it holds): the caller allocates it before the run (`--stats`).
   std::span<double> frame_seconds;
+  StepObserver* observer = nullptr;
 };
 
 struct OfflineRunSummary {

@@ -24,6 +24,9 @@ constexpr std::string_view kSolvers[] = {"jacobi", "rbgs", "iccg", "mg"};
 constexpr std::string_view kShows[] = {"dye", "speed", "vorticity", "pressure", "A", "B"};
 constexpr std::string_view kWalls[] = {"free-slip", "no-slip", "periodic"};
 constexpr std::string_view kAdvection[] = {"semi-lagrangian", "maccormack"};
+constexpr std::string_view kSides[] = {"left", "right", "bottom", "top"};
+constexpr std::string_view kInflowProfiles[] = {"plug", "parabolic"};
+constexpr std::string_view kObstacleBoundaries[] = {"staircase", "cut-cell"};
 // In the order of the enums (kernels/reaction.h, anisotropy.h, stencil_operator.h, rd_config.h).
 constexpr std::string_view kModels[] = {"gray-scott",      "turing",  "meinhardt",
                                         "fitzhugh-nagumo", "barkley", "barkley-turbulent"};
@@ -157,13 +160,28 @@ const ParamSpec kParams[] = {
     ARD_ENUM("fluid.advection", scene.fluid.advection, kAdvection, true,
              "semi-lagrangian (first order) | maccormack (second order, limited)"),
     ARD_NUMBER("fluid.inflow_speed", scene.fluid.inflow_speed, -1e3, 1e3, false,
-               "obstacle: inflow speed through the top wall"),
+               "obstacle: inflow speed into the channel (the mean of a parabolic profile)"),
+    ARD_ENUM("fluid.inflow_side", scene.fluid.inflow_side, kSides, true,
+             "obstacle: left | right | bottom | top; the outflow is the opposite side"),
+    ARD_ENUM("fluid.inflow_profile", scene.fluid.inflow_profile, kInflowProfiles, true,
+             "obstacle: plug | parabolic (Poiseuille, 1.5x the mean at the middle)"),
+    ARD_ENUM("fluid.wall_low", scene.fluid.wall_low, kWalls, true,
+             "obstacle: the wall at the low side across the flow (bottom for a flow along x, "
+             "left along y): free-slip | no-slip"),
+    ARD_ENUM("fluid.wall_high", scene.fluid.wall_high, kWalls, true,
+             "obstacle: the wall at the high side across the flow: free-slip | no-slip"),
     ARD_NUMBER("fluid.obstacle_x", scene.fluid.obstacle_x, -1e6, 1e6, true,
                "obstacle: disc centre x (domain units)"),
     ARD_NUMBER("fluid.obstacle_y", scene.fluid.obstacle_y, -1e6, 1e6, true,
                "obstacle: disc centre y (domain units)"),
     ARD_NUMBER("fluid.obstacle_radius", scene.fluid.obstacle_radius, 0, 1e6, true,
                "obstacle: disc radius (domain units)"),
+    ARD_ENUM("fluid.obstacle_boundary", scene.fluid.obstacle_boundary, kObstacleBoundaries, true,
+             "obstacle: staircase (solid cells) | cut-cell (faces weighed by their open length "
+             "in the projection)"),
+    ARD_FLOATS("fluid.probes", scene.fluid.probes, 0, 1e6, -1.0,
+               "obstacle: up to 4 points [x1, y1, x2, y2, ...] whose velocity and pressure "
+               "--probe-csv writes; the first two give the pressure difference"),
     ARD_INTEGER("fluid.inflow_dye_stripes", scene.fluid.inflow_dye_stripes, 0, 4096, false,
                 "obstacle: dye stripes entering with the inflow"),
     ARD_ENUM("fluid.walls", scene.fluid.walls, kWalls, true, "ink: free-slip | no-slip | periodic"),

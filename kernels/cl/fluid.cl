@@ -7,8 +7,13 @@
 // fill_obstacle (halo 1), and the boundary right-hand side of the fluid solves
 // (kernels/stencil_operator.h add_boundary_values). Arithmetic in the C++ order.
 
-// ---- Boundary fills (runtime/boundary.h). rules: 0 copy, 1 fixed, 2 mirror, 3 periodic;
-// .s0 left (x = -1), .s1 right (x = nx), .s2 bottom (y = -1), .s3 top (y = ny).
+// ---- Boundary fills (runtime/boundary.h). rules: 0 copy, 1 fixed, 2 mirror, 3 periodic,
+// 4 parabolic; .s0 left (x = -1), .s1 right (x = nx), .s2 bottom (y = -1), .s3 top (y = ny).
+inline float parabolic_profile(int k, int n) {
+  const float s = ((float)k + 0.5f) / (float)n;
+  return 6.0f * s * (1.0f - s);
+}
+
 inline float ghost_value(int rule, float value, float inner, float wrapped) {
   switch (rule) {
     case 0: return inner;
@@ -16,6 +21,12 @@ inline float ghost_value(int rule, float value, float inner, float wrapped) {
     case 2: return 2.0f * value - inner;
     default: return wrapped;
   }
+}
+
+// The same with the cell's place k of n along the side (rule 4).
+inline float ghost_value_along(int rule, float value, float inner, float wrapped, int k, int n) {
+  if (rule == 4) return 2.0f * (value * parabolic_profile(k, n)) - inner;
+  return ghost_value(rule, value, inner, wrapped);
 }
 
 // The whole fill in one launch of ONE work-group: edges, a barrier, then corners (one launch per
@@ -27,12 +38,13 @@ __kernel void fill_boundary(__global float* f, int stride, int origin, int nx, i
   for (int i = lid; i < max(nx, ny); i += ls) {
     if (i < ny) {
       __global float* r = c + i * stride;
-      r[-1] = ghost_value(rules.s0, values.s0, r[0], r[nx - 1]);
-      r[nx] = ghost_value(rules.s1, values.s1, r[nx - 1], r[0]);
+      r[-1] = ghost_value_along(rules.s0, values.s0, r[0], r[nx - 1], i, ny);
+      r[nx] = ghost_value_along(rules.s1, values.s1, r[nx - 1], r[0], i, ny);
     }
     if (i < nx) {
-      c[-stride + i] = ghost_value(rules.s2, values.s2, c[i], c[(ny - 1) * stride + i]);
-      c[ny * stride + i] = ghost_value(rules.s3, values.s3, c[(ny - 1) * stride + i], c[i]);
+      c[-stride + i] = ghost_value_along(rules.s2, values.s2, c[i], c[(ny - 1) * stride + i], i, nx);
+      c[ny * stride + i] =
+          ghost_value_along(rules.s3, values.s3, c[(ny - 1) * stride + i], c[i], i, nx);
     }
   }
   barrier(CLK_GLOBAL_MEM_FENCE);
@@ -54,23 +66,28 @@ __kernel void fill_boundary(__global float* f, int stride, int origin, int nx, i
 
 // Twin of kernels/stencil_operator.h add_boundary_values (fluid_step's boundary right-hand
 // side): b += amounts.sN on the boundary cells of side N (left, right, bottom, top), amounts
-// computed on the host as float(factor * scale * value), 0 for a side that adds nothing. Each
+// computed on the host as float(factor * scale * value), 0 for a side that adds nothing, times
+// parabolic_profile along a side whose `parabolic` flag is set. Each
 // cell adds its sides in the C++ order (left, right, bottom, top), so corners, and the cells
 // of a one-cell-wide domain, round as the C++. Halo 0. One work-group walks the boundary cells:
 // column x = 0, column x = nx - 1 (when nx > 1), then rows y = 0 and y = ny - 1 without their
 // end cells.
-inline void add_side_values(__global float* c, int stride, int nx, int ny, float4 amounts, int i,
-                            int j) {
+inline float side_amount(float amount, int parabolic, int k, int n) {
+  return parabolic ? amount * parabolic_profile(k, n) : amount;
+}
+
+inline void add_side_values(__global float* c, int stride, int nx, int ny, float4 amounts,
+                            int4 parabolic, int i, int j) {
   float r = c[j * stride + i];
-  if (i == 0 && amounts.s0 != 0.0f) r += amounts.s0;
-  if (i == nx - 1 && amounts.s1 != 0.0f) r += amounts.s1;
-  if (j == 0 && amounts.s2 != 0.0f) r += amounts.s2;
-  if (j == ny - 1 && amounts.s3 != 0.0f) r += amounts.s3;
+  if (i == 0 && amounts.s0 != 0.0f) r += side_amount(amounts.s0, parabolic.s0, j, ny);
+  if (i == nx - 1 && amounts.s1 != 0.0f) r += side_amount(amounts.s1, parabolic.s1, j, ny);
+  if (j == 0 && amounts.s2 != 0.0f) r += side_amount(amounts.s2, parabolic.s2, i, nx);
+  if (j == ny - 1 && amounts.s3 != 0.0f) r += side_amount(amounts.s3, parabolic.s3, i, nx);
   c[j * stride + i] = r;
 }
 
 __kernel void add_boundary_values(__global float* b, int stride, int origin, int nx, int ny,
-                                  float4 amounts) {
+                                  float4 amounts, int4 parabolic) {
   const int lid = get_local_id(0), ls = get_local_size(0);
   __global float* c = b + origin;
   const int columns = nx > 1 ? 2 : 1;
@@ -79,10 +96,11 @@ __kernel void add_boundary_values(__global float* b, int stride, int origin, int
   const int n = columns * ny + rows * inner;
   for (int k = lid; k < n; k += ls) {
     if (k < columns * ny) {
-      add_side_values(c, stride, nx, ny, amounts, k < ny ? 0 : nx - 1, k % ny);
+      add_side_values(c, stride, nx, ny, amounts, parabolic, k < ny ? 0 : nx - 1, k % ny);
     } else {
       const int m = k - columns * ny;
-      add_side_values(c, stride, nx, ny, amounts, 1 + m % inner, m < inner ? 0 : ny - 1);
+      add_side_values(c, stride, nx, ny, amounts, parabolic, 1 + m % inner,
+                      m < inner ? 0 : ny - 1);
     }
   }
 }
@@ -251,6 +269,22 @@ __kernel void subtract_gradient(__global const float* pr, __global float* u, __g
 // u, v, p share one layout (read over reg grown by 1, ghosts filled); uf and vf have their own
 // (fields of nx + 1 by ny and nx by ny + 1). One work-item per point (i, j) of
 // [x0, x1] x [y0, y1], writing the faces that exist there. inv_h = 1 / h in float, as the C++.
+// Twin of kernels/project.h pressure_rhs_cut: u, v, rhs share one layout; the open fractions
+// ox ((nx + 1) x ny) and oy (nx x (ny + 1)) have their own. One work-item per cell of reg; the
+// C++ order of the sum, k = -h/2 in float.
+__kernel void pressure_rhs_cut(__global const float* u, __global const float* v,
+                               __global float* rhs, int stride, int origin,
+                               __global const float* ox, int xs, int xo,
+                               __global const float* oy, int ys, int yo, int4 reg, float k) {
+  const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
+  if (x >= reg.s2 || y >= reg.s3) return;
+  const int g = global_index(stride, origin, x, y);
+  const int fx = xo + y * xs + x, fb = yo + y * ys + x, fa = yo + (y + 1) * ys + x;
+  const float sum = ox[fx + 1] * (u[g] + u[g + 1]) - ox[fx] * (u[g - 1] + u[g]) +
+                    oy[fa] * (v[g] + v[g + stride]) - oy[fb] * (v[g - stride] + v[g]);
+  rhs[g] = k * sum;
+}
+
 __kernel void face_velocities(__global const float* u, __global const float* v,
                               __global const float* pr, int stride, int origin,
                               __global float* uf, int us, int uo, __global float* vf, int vs,
@@ -505,15 +539,19 @@ __kernel void add_splat(__global float* f, int stride, int origin, int4 reg, flo
   f[global_index(stride, origin, x, y)] += amount * exp(-(dx * dx + dy2) * inv_r2);
 }
 
-// Twin of kernels/sources.h set_inflow_stripes: row y = ny - 1 of dye set to 1 in the odd ones
-// of 2 * stripes equal bands, else 0 (integer arithmetic, as the C++). Halo 0; one work-item
-// per cell of the row.
+// Twin of kernels/sources.h set_inflow_stripes: the k-th boundary cell of `side` (0 left,
+// 1 right, 2 bottom, 3 top) set to 1 in the odd ones of 2 * stripes equal bands, else 0
+// (integer arithmetic, as the C++). Halo 0; one work-item per cell of the side.
 __kernel void set_inflow_stripes(__global float* dye, int stride, int origin, int nx, int ny,
-                                 int stripes) {
-  const int i = get_global_id(0);
-  if (i >= nx) return;
+                                 int stripes, int side) {
+  const int k = get_global_id(0);
+  const int column = side < 2;
+  const int n = column ? ny : nx;
+  if (k >= n) return;
   const int bands = 2 * stripes;
-  dye[global_index(stride, origin, i, ny - 1)] = (i * bands / nx) % 2 ? 1.0f : 0.0f;
+  const float value = (k * bands / n) % 2 ? 1.0f : 0.0f;
+  const int at = side == 0 ? 0 : side == 1 ? nx - 1 : side == 2 ? 0 : ny - 1;
+  dye[column ? global_index(stride, origin, at, k) : global_index(stride, origin, k, at)] = value;
 }
 
 // ---- Ghost-zone temporal blocking (the blocked schedule): k Jacobi sweeps per residency.
@@ -531,21 +569,21 @@ inline void local_fill(__local float* Y, box_t L, int nx, int ny, int4 rules, fl
   for (int y = y0 + lid; y < y1; y += ls) {
     if (L.x0 == -1 && L.x1 > 0) {
       const int l = local_index(L, -1, y);
-      Y[l] = ghost_value(rules.s0, values.s0, Y[l + 1], 0.0f);
+      Y[l] = ghost_value_along(rules.s0, values.s0, Y[l + 1], 0.0f, y, ny);
     }
     if (L.x1 == nx + 1 && L.x0 < nx) {
       const int l = local_index(L, nx, y);
-      Y[l] = ghost_value(rules.s1, values.s1, Y[l - 1], 0.0f);
+      Y[l] = ghost_value_along(rules.s1, values.s1, Y[l - 1], 0.0f, y, ny);
     }
   }
   for (int x = x0 + lid; x < x1; x += ls) {
     if (L.y0 == -1 && L.y1 > 0) {
       const int l = local_index(L, x, -1);
-      Y[l] = ghost_value(rules.s2, values.s2, Y[l + p], 0.0f);
+      Y[l] = ghost_value_along(rules.s2, values.s2, Y[l + p], 0.0f, x, nx);
     }
     if (L.y1 == ny + 1 && L.y0 < ny) {
       const int l = local_index(L, x, ny);
-      Y[l] = ghost_value(rules.s3, values.s3, Y[l - p], 0.0f);
+      Y[l] = ghost_value_along(rules.s3, values.s3, Y[l - p], 0.0f, x, nx);
     }
   }
   barrier(CLK_LOCAL_MEM_FENCE);

@@ -422,6 +422,23 @@ void OpenClKernels::pressure_rhs(const DeviceField& u, const DeviceField& v, Dev
   enqueue_tiled(kk, region);
 }
 
+void OpenClKernels::pressure_rhs_cut(const DeviceField& u, const DeviceField& v,
+                                     const DeviceField& open_x, const DeviceField& open_y,
+                                     DeviceField& rhs, Box2 region, const ProjectParams& p) {
+  check_same_layout(u, v);
+  check_same_layout(u, rhs);
+  if (region.empty()) return;
+  ARDCELL_CHECK(u.with_halo().contains(region.grown(1)), "pressure_rhs_cut reads halo 1");
+  ARDCELL_CHECK(open_x.with_halo().contains(Box2{region.min, {region.max.x + 1, region.max.y}}) &&
+                    open_y.with_halo().contains(Box2{region.min, {region.max.x, region.max.y + 1}}),
+                "pressure_rhs_cut: open fractions too small for the region's faces");
+  const float k = -0.5f * p.h;
+  cl_kernel kk = kernel("pressure_rhs_cut");
+  set_kernel_args(kk, u.buffer, v.buffer, rhs.buffer, u.stride, u.origin, open_x, open_y,
+                  box4(region), k);
+  enqueue_cells(kk, region);
+}
+
 void OpenClKernels::subtract_gradient(const DeviceField& p, DeviceField& u, DeviceField& v,
                                       Box2 region, const ProjectParams& params) {
   check_same_layout(p, u);
@@ -512,12 +529,13 @@ void OpenClKernels::add_splat(DeviceField& f, Box2 region, const SplatParams& sp
   enqueue_cells(k, r);
 }
 
-void OpenClKernels::set_inflow_stripes(DeviceField& dye, int stripes) {
+void OpenClKernels::set_inflow_stripes(DeviceField& dye, int stripes, BoundarySide side) {
   const int nx = dye.size.x, ny = dye.size.y;
   if (nx <= 0 || ny <= 0) return;
+  const bool column = side == BoundarySide::kLeft || side == BoundarySide::kRight;
   cl_kernel k = kernel("set_inflow_stripes");
-  set_kernel_args(k, dye.buffer, dye.stride, dye.origin, nx, ny, stripes);
-  enqueue_cells(k, Box2{{0, 0}, {nx, 1}});
+  set_kernel_args(k, dye.buffer, dye.stride, dye.origin, nx, ny, stripes, int(side));
+  enqueue_cells(k, Box2{{0, 0}, {column ? ny : nx, 1}});
 }
 
 // ---- The frame's remaining fluid twins ---------------------------------------------------------
@@ -584,8 +602,8 @@ void OpenClKernels::maccormack_correct(const DeviceField& q0, const DeviceField&
                       v.with_halo().contains(Box2{region.min, {region.max.x, region.max.y + 1}}),
                   "maccormack_correct: uf or vf do not hold the region's faces");
     cl_kernel k = kernel("maccormack_correct_mac");
-    set_kernel_args(k, q0.buffer, q_hat.buffer, q_back.buffer, q.buffer, q0.stride, q0.origin, u,
-                    v, box4(region), box4(view), box4(u.with_halo()), box4(v.with_halo()), domain,
+    set_kernel_args(k, q0.buffer, q_hat.buffer, q_back.buffer, q.buffer, q0.stride, q0.origin, u, v,
+                    box4(region), box4(view), box4(u.with_halo()), box4(v.with_halo()), domain,
                     int(p.periodic), p.dt_over_h);
     enqueue_cells(k, region);
     return;
@@ -637,8 +655,11 @@ void OpenClKernels::add_boundary_values(DeviceField& b, const BoundaryFill& fill
       {amount(fill.left), amount(fill.right), amount(fill.bottom), amount(fill.top)}};
   if (amounts.s[0] == 0.0f && amounts.s[1] == 0.0f && amounts.s[2] == 0.0f && amounts.s[3] == 0.0f)
     return;
+  const auto parabolic = [](const EdgeFill& e) { return int(e.rule == EdgeRule::kParabolic); };
+  const cl_int4 profiles = {
+      {parabolic(fill.left), parabolic(fill.right), parabolic(fill.bottom), parabolic(fill.top)}};
   cl_kernel k = kernel("add_boundary_values");
-  set_kernel_args(k, b.buffer, b.stride, b.origin, nx, ny, amounts);
+  set_kernel_args(k, b.buffer, b.stride, b.origin, nx, ny, amounts, profiles);
   const std::size_t wg = std::min<std::size_t>(256, ctx_.device().max_work_group_size);
   ctx_.enqueue(k, wg, wg);
 }

@@ -185,6 +185,10 @@ class OpenClKernels {
   // Twins of kernels/project.h.
   void pressure_rhs(const DeviceField& u, const DeviceField& v, DeviceField& rhs, Box2 region,
                     const ProjectParams& p);
+  // Twin of pressure_rhs_cut: open_x, open_y have their own layouts (face fields).
+  void pressure_rhs_cut(const DeviceField& u, const DeviceField& v, const DeviceField& open_x,
+                        const DeviceField& open_y, DeviceField& rhs, Box2 region,
+                        const ProjectParams& p);
   void subtract_gradient(const DeviceField& p, DeviceField& u, DeviceField& v, Box2 region,
                          const ProjectParams& params);
   // Twins of kernels/advect.h (q0 read over its whole allocation, as a whole-field View).
@@ -200,8 +204,8 @@ class OpenClKernels {
   // Twins of kernels/sources.h.
   void add_scaled(const DeviceField& s, DeviceField& x, Box2 region, float scale);
   void add_splat(DeviceField& f, Box2 region, const SplatParams& splat);
-  // Twin of set_inflow_stripes (kernels/sources.h): row f.size.y - 1 of dye.
-  void set_inflow_stripes(DeviceField& dye, int stripes);
+  // Twin of set_inflow_stripes (kernels/sources.h): the boundary cells of `side`.
+  void set_inflow_stripes(DeviceField& dye, int stripes, BoundarySide side);
 
   // Twin of face_velocities (kernels/project.h) with top_faces = true. u, v, p share one
   // layout (read over region grown by 1); uf is a field of (nx + 1) x ny, vf of nx x (ny + 1).

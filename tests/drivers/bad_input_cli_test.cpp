@@ -210,7 +210,8 @@ TEST_F(BadInputCli, PresetProblemsGiveOneLineEach) {
                   "got the string \"x\"\n" + who +
                   "./three.toml:3: fluid.lid: unknown key; expected one of: scene, " +
                   "viscosity, lid_speed, dye_diffusion, conserve_dye, advection, inflow_speed, " +
-                  "obstacle_x, obstacle_y, obstacle_radius, inflow_dye_stripes, walls, " +
+                  "inflow_side, inflow_profile, wall_low, wall_high, obstacle_x, obstacle_y, " +
+                  "obstacle_radius, obstacle_boundary, probes, inflow_dye_stripes, walls, " +
                   "emitters, viscosity_solver, pressure_solver\n" + who +
                   "./three.toml:5: rd.steps_per_frame: expected an integer in [1, 1000], " +
                   "got 0\n")

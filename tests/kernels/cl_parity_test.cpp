@@ -189,13 +189,13 @@ std::vector<std::pair<const char*, BoundaryFill>> every_boundary() {
   BoundaryFill mixed = BoundaryFill::copy();
   mixed.left = mixed.right = {EdgeRule::kPeriodic, 0.0f};
   mixed.top = {EdgeRule::kFixed, 0.7f};
-  return {{"copy", BoundaryFill::copy()},
-          {"fixed", BoundaryFill::fixed(0.25f)},
-          {"stam-u", BoundaryFill::stam(1)},
-          {"stam-v", BoundaryFill::stam(2)},
-          {"lid", BoundaryFill::no_slip(1.0f)},
-          {"periodic", BoundaryFill::periodic()},
-          {"periodic-x", mixed}};
+  BoundaryFill channel = BoundaryFill::no_slip(0.0f);  // a parabolic inflow on two sides
+  channel.left = {EdgeRule::kParabolic, 1.5f};
+  channel.bottom = {EdgeRule::kParabolic, -0.4f};
+  return {{"copy", BoundaryFill::copy()},         {"channel", channel},
+          {"fixed", BoundaryFill::fixed(0.25f)},  {"stam-u", BoundaryFill::stam(1)},
+          {"stam-v", BoundaryFill::stam(2)},      {"lid", BoundaryFill::no_slip(1.0f)},
+          {"periodic", BoundaryFill::periodic()}, {"periodic-x", mixed}};
 }
 
 TEST(ClParity, BoundaryFillEveryKind) {
@@ -295,6 +295,18 @@ TEST(ClParity, DivergenceAndGradient) {
         DeviceField du = dev.up(u), dv = dev.up(v), drhs = dev.up(rhs), dp = dev.up(pr);
         d.cl->pressure_rhs(du, dv, drhs, region, p);
         EXPECT_LE(relative_error(dev.down(drhs), rhs_ref, rhs, region), kTolerance);
+
+        // The cut-cell form, open fractions in [0, 1] with some faces shut.
+        FieldF ox(Int2{size.x + 1, size.y}, 1), oy(Int2{size.x, size.y + 1}, 1);
+        fill_random(ox, -0.5f, 1, 13);
+        fill_random(oy, -0.5f, 1, 14);
+        for (FieldF* o : {&ox, &oy})
+          for (std::size_t i = 0; i < o->raw_size(); ++i) o->raw()[i] = std::max(0.0f, o->raw()[i]);
+        FieldF cut_ref = rhs;
+        pressure_rhs_cut(u.view(), v.view(), ox.view(), oy.view(), cut_ref.view(), region, p);
+        DeviceField dcut = dev.up(rhs), dox = dev.up(ox), doy = dev.up(oy);
+        d.cl->pressure_rhs_cut(du, dv, dox, doy, dcut, region, p);
+        EXPECT_LE(relative_error(dev.down(dcut), cut_ref, rhs, region), kTolerance);
 
         FieldF u_ref = u, v_ref = v;
         subtract_gradient(pr.view(), u_ref.view(), v_ref.view(), region, p);

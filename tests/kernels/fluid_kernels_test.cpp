@@ -439,12 +439,19 @@ TEST(Sources, SplatAndAddScaled) {
 TEST(Sources, InflowStripesByHand) {
   FieldF dye({10, 4}, 1);
   dye.fill(0.5f);
-  set_inflow_stripes(dye.view(), {10, 4}, 2);  // 4 bands over 10 cells: i * 4 / 10
+  set_inflow_stripes(dye.view(), {10, 4}, 2, BoundarySide::kTop);  // 4 bands: i * 4 / 10
   const float want[10] = {0, 0, 0, 1, 1, 0, 0, 0, 1, 1};
   for (int i = 0; i < 10; ++i) EXPECT_EQ(dye(i, 3), want[i]) << i;
   EXPECT_EQ(dye(-1, 3), 0.5f);  // the ghosts and the rows below are left alone
   EXPECT_EQ(dye(10, 3), 0.5f);
   EXPECT_EQ(dye(4, 2), 0.5f);
+  // Through the left column: 2 bands over 4 cells, j * 2 / 4.
+  FieldF left({10, 4}, 1);
+  left.fill(0.5f);
+  set_inflow_stripes(left.view(), {10, 4}, 1, BoundarySide::kLeft);
+  const float want_left[4] = {0, 0, 1, 1};
+  for (int j = 0; j < 4; ++j) EXPECT_EQ(left(0, j), want_left[j]) << j;
+  EXPECT_EQ(left(1, 0), 0.5f);
 }
 
 // fluid_step's boundary right-hand side: factor * scale * value on each kFixed (1) or kMirror

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <utility>
 
@@ -39,6 +40,29 @@ TEST(Boundary, EachRuleOnEachSide) {
   EXPECT_FLOAT_EQ(f(kSize.x, kSize.y), 0.5f * (f(kSize.x - 1, kSize.y) + f(kSize.x, kSize.y - 1)));
   EXPECT_FLOAT_EQ(f(kSize.x, -1), 0.5f * (f(kSize.x - 1, -1) + f(kSize.x, 0)));
   EXPECT_FLOAT_EQ(f(-1, kSize.y), 0.5f * (f(0, kSize.y) + f(-1, kSize.y - 1)));
+}
+
+// A Poiseuille inflow: the wall-face value (ghost and interior averaged) follows 6 s (1 - s)
+// times the side's value, whose mean over the side is that value (midpoint rule on a parabola:
+// exact up to 1 / (2 n^2)).
+TEST(Boundary, ParabolicInflowHasTheProfileAndTheMean) {
+  for (int n : {8, 41, 82}) {
+    const Int2 size{2 * n, n};
+    FieldF f = random_field(size, 3);
+    BoundaryFill fill = BoundaryFill::copy();
+    fill.left = {EdgeRule::kParabolic, 1.0f};
+    fill_boundary(f.view(), size, fill);
+    double mean = 0.0, peak = 0.0;
+    for (int j = 0; j < n; ++j) {
+      const double s = (j + 0.5) / n;
+      const double face = 0.5 * (double(f(-1, j)) + double(f(0, j)));
+      EXPECT_NEAR(face, 6.0 * s * (1.0 - s), 2e-6) << n << " " << j;
+      mean += face / n;
+      peak = std::max(peak, face);
+    }
+    EXPECT_NEAR(mean, 1.0 + 0.5 / (double(n) * n), 1e-5) << n;
+    EXPECT_LE(peak, 1.5 + 1e-6);
+  }
 }
 
 TEST(Boundary, StamSetBndSemantics) {
@@ -88,6 +112,10 @@ TEST(Boundary, TileLocalFillEqualsWholeFieldFill) {
                    {EdgeRule::kCopy, 0.0f},
                    {EdgeRule::kFixed, 0.0f},
                    {EdgeRule::kMirror, -0.7f}},
+      BoundaryFill{{EdgeRule::kParabolic, 1.0f},
+                   {EdgeRule::kCopy, 0.0f},
+                   {EdgeRule::kMirror, 0.0f},
+                   {EdgeRule::kParabolic, -0.5f}},
   };
   const Box2 tiles[] = {
       {{-1, -1}, {6, 5}},  {{5, -1}, {12, 4}}, {{14, -1}, {21, 6}}, {{-1, 4}, {5, 10}},

@@ -24,11 +24,13 @@ auto members(const SceneConfig& s) {
 }
 auto members(const FluidConfig& f) {
   const auto& [kind, viscosity, lid_speed, viscosity_solver, pressure_solver, dye_diffusion,
-               conserve_dye, advection, inflow_speed, obstacle_x, obstacle_y, obstacle_radius,
-               inflow_dye_stripes, walls, emitters] = f;
+               conserve_dye, advection, inflow_speed, inflow_side, inflow_profile, wall_low,
+               wall_high, obstacle_x, obstacle_y, obstacle_radius, obstacle_boundary,
+               inflow_dye_stripes, probes, walls, emitters] = f;
   return std::tie(kind, viscosity, lid_speed, viscosity_solver, pressure_solver, dye_diffusion,
-                  conserve_dye, advection, inflow_speed, obstacle_x, obstacle_y, obstacle_radius,
-                  inflow_dye_stripes, walls, emitters);
+                  conserve_dye, advection, inflow_speed, inflow_side, inflow_profile, wall_low,
+                  wall_high, obstacle_x, obstacle_y, obstacle_radius, obstacle_boundary,
+                  inflow_dye_stripes, probes, walls, emitters);
 }
 auto members(const FluidEmitter& e) {
   const auto& [x, y, radius, dye_rate, force_x, force_y, swirl] = e;
@@ -132,10 +134,16 @@ SceneConfig everything_changed() {
   f.dye_diffusion = 0.001;
   f.conserve_dye = false;
   f.inflow_speed = 0.7;
+  f.inflow_side = BoundarySide::kRight;
+  f.inflow_profile = InflowProfile::kParabolic;
+  f.wall_low = FluidWalls::kNoSlip;
+  f.wall_high = FluidWalls::kPeriodic;
   f.obstacle_x = 0.1;
   f.obstacle_y = 0.2;
   f.obstacle_radius = 0.3;
+  f.obstacle_boundary = ObstacleBoundary::kCutCell;
   f.inflow_dye_stripes = 3;
+  f.probes = {0.5f, 0.25f, 1.5f, 0.125f, 2.0f, 0.0f, -1, -1};
   f.walls = FluidWalls::kPeriodic;
   f.emitters = {{0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7}, {-1, -2, 3, -4, -5, -6, -7}};
   RdConfig& r = s.rd;

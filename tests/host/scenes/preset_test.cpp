@@ -87,8 +87,8 @@ TEST(Preset, BrokenPresetsGiveFileLineKeyAndExpectation) {
   const Broken cases[] = {
       {"[fluid]\nviscosty = 0.1\n",
        "bad.toml:2: fluid.viscosty: unknown key; expected one of: scene, viscosity, lid_speed, "
-       "dye_diffusion, conserve_dye, advection, inflow_speed, obstacle_x, obstacle_y, "
-       "obstacle_radius, "
+       "dye_diffusion, conserve_dye, advection, inflow_speed, inflow_side, inflow_profile, "
+       "wall_low, wall_high, obstacle_x, obstacle_y, obstacle_radius, obstacle_boundary, probes, "
        "inflow_dye_stripes, walls, emitters, viscosity_solver, pressure_solver"},
       {"\n[grid]\nsize = [64, 64]\ndt = \"fast\"\n",
        "bad.toml:4: grid.dt: expected a number in [1e-09, 100], got the string \"fast\""},
