@@ -51,6 +51,7 @@ enum class RdInitialPattern : uint8_t {
   kSeedSquare,    // seed 001: a square of seed_cells x seed_cells cells at the centre
   kRandomSpots,   // `spots` discs of (seed_a, seed_b), radius seed_radius cells
   kStripe,        // a vertical band of (seed_a, seed_b) at the left (waves, Barkley)
+  kCentreDisc,    // a disc of (seed_a, seed_b), radius seed_radius cells, at the grid's centre
 };
 
 struct RdConfig {
@@ -97,7 +98,7 @@ struct RdConfig {
   double seed_size = 0.1;  // kCentreSquare: side as a fraction of the width
   int seed_cells = 10;     // kSeedSquare: side in cells
   int spots = 12;          // kRandomSpots
-  double seed_radius = 4;  // kRandomSpots: radius in cells
+  double seed_radius = 4;  // kRandomSpots, kCentreDisc: radius in cells
   double noise = 0.01;     // relative noise (Pearson: +-1%)
   uint64_t seed = 1;       // random seed of the noise and spots
 };

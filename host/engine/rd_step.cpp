@@ -316,6 +316,17 @@ void RdStepper::init_state(SimState& s) {
             if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) put(x, y);
       }
       break;
+    case RdInitialPattern::kCentreDisc: {
+      // Centred on the middle of the grid (between cells when a side is even), so the disc keeps
+      // the grid's mirror and quarter-turn symmetries and favours no direction over another.
+      const double cx = 0.5 * (n.x - 1), cy = 0.5 * (n.y - 1), r = rd_.seed_radius;
+      const int x0 = std::max(0, int(std::floor(cx - r))), x1 = std::min(n.x - 1, int(cx + r));
+      const int y0 = std::max(0, int(std::floor(cy - r))), y1 = std::min(n.y - 1, int(cy + r));
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x)
+          if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) put(x, y);
+      break;
+    }
     case RdInitialPattern::kStripe: {
       // An excited band over the lower half and a refractory band behind it: a broken wave
       // whose free end curls into a spiral (Barkley, FitzHugh-Nagumo).

@@ -37,8 +37,8 @@ constexpr std::string_view kSchemes[] = {"implicit", "explicit5",     "explicit9
                                          "sbdf2",    "etdrk4"};
 constexpr std::string_view kOperators[] = {"laplacian", "generalized"};
 constexpr std::string_view kSecondDerivatives[] = {"central", "savitzky-golay"};
-constexpr std::string_view kPatterns[] = {"uniform", "centre-square", "seed-square", "random-spots",
-                                          "stripe"};
+constexpr std::string_view kPatterns[] = {"uniform",      "centre-square", "seed-square",
+                                          "random-spots", "stripe",        "centre-disc"};
 constexpr std::string_view kColormaps[] = {"gray", "viridis", "magma", "rdbu"};
 constexpr std::string_view kModes[] = {"deposit", "orient", "push", "obstacle", "erase"};
 
@@ -304,7 +304,7 @@ const ParamSpec kParams[] = {
     ARD_NUMBER("rd.anisotropy.gradient_epsilon", scene.rd.anisotropy.gradient_epsilon, 0, 1, false,
                "gradient below which theta is 0"),
     ARD_ENUM("rd.initial.pattern", scene.rd.initial, kPatterns, false,
-             "uniform | centre-square | seed-square | random-spots | stripe"),
+             "uniform | centre-square | centre-disc | seed-square | random-spots | stripe"),
     ARD_NUMBER("rd.initial.background_a", scene.rd.background_a, -1e6, 1e6, false,
                "A outside the seed"),
     ARD_NUMBER("rd.initial.background_b", scene.rd.background_b, -1e6, 1e6, false,
@@ -317,7 +317,7 @@ const ParamSpec kParams[] = {
                 "seed-square: side in cells"),
     ARD_INTEGER("rd.initial.spots", scene.rd.spots, 0, 1e6, false, "random-spots: count"),
     ARD_NUMBER("rd.initial.seed_radius", scene.rd.seed_radius, 0, 8192, false,
-               "random-spots: radius in cells"),
+               "random-spots / centre-disc: radius in cells"),
     ARD_NUMBER("rd.initial.noise", scene.rd.noise, 0, 1, false, "relative noise (Pearson: 0.01)"),
     ARD_INTEGER("rd.initial.seed", scene.rd.seed, 0, 9007199254740992.0, false,
                 "random seed of the noise and spots"),
