@@ -83,7 +83,15 @@ RdConfig barkley_rd(bool turbulent) {
   return rd;
 }
 
-// Fig. 4: Gray-Scott "space cookies" grown from a central seed with j-lobed anisotropy.
+// Fig. 4: Gray-Scott "space cookies" grown from a central disc with j-lobed anisotropy (Eqn 16).
+// F 0.05, k 0.057: the B-rich region spreads as one solid front (no labyrinth inside it), so
+// the cookie is the shape the lobes give that front. The disc favours no direction; a square
+// seed's corners would start four arms of their own. The grid's 5-point stencil does not treat
+// every direction alike (an axis-facing lobe spreads slower than a diagonal one), so the speeds
+// are set per lobe to even the cookie out: the 3-lobed one slows its axis lobe, the 5- and
+// 8-lobed ones speed theirs up, and the 4 lobes lie on the diagonals. At the last frame each
+// cookie is a bounded j-gon whose outline's strongest angular Fourier mode is j
+// (tests/host/scenes/space_cookie_test.cpp); left to run on it grows until it meets the walls.
 SceneConfig space_cookie(int lobes) {
   SceneConfig s;
   char name[32];
@@ -91,24 +99,32 @@ SceneConfig space_cookie(int lobes) {
   s.name = name;
   char desc[160];
   std::snprintf(desc, sizeof desc,
-                "Fig. 4 space cookie: Gray-Scott from a central seed, %d-lobed anisotropy "
+                "Fig. 4 space cookie: Gray-Scott from a central disc, %d-lobed anisotropy "
                 "(Eqn 16, one speed per lobe), no fluid",
                 lobes);
   s.description = desc;
-  s.size = {200, 200};
-  s.domain_width = 200.0;
+  s.size = {128, 128};
+  s.domain_width = 128.0;
   s.dt = 1.0;
-  s.default_steps = 1500;
+  s.default_steps = 200;  // the cookie then covers 15-30% of the canvas
   s.fluid.kind = FluidSceneKind::kNone;
   s.rd = gray_scott_rd();
-  s.rd.initial = RdInitialPattern::kCentreSquare;
-  s.rd.seed_size = 0.06;
+  s.rd.reaction.F = 0.05f;
+  s.rd.reaction.k = 0.057f;
+  s.rd.initial = RdInitialPattern::kCentreDisc;
+  s.rd.seed_radius = 8;
   s.rd.steps_per_frame = 2;
   s.rd.diffusion_solver = {SolverKind::kIccg, 40, 1e-5};
   AnisotropyParams& an = s.rd.anisotropy;
   an.kind = AnisotropyKind::kCosineLobes;
   an.lobes = lobes;
-  for (int n = 0; n < lobes; ++n) an.lobe_speed[n] = n % 2 ? 1.2f : 2.0f;
+  // Lobe n points at 2 pi n / lobes - theta0; lobe 0 along +x unless rotated.
+  for (int n = 0; n < lobes; ++n) an.lobe_speed[n] = 2.0f;
+  if (lobes == 3) an.lobe_speed[0] = 1.2f;
+  if (lobes == 4) an.theta0 = 0.785398163f;  // pi / 4: the lobes on the diagonals
+  if (lobes == 5) an.lobe_speed[0] = 3.6f;
+  if (lobes == 8)
+    for (int n = 0; n < lobes; n += 2) an.lobe_speed[n] = 3.6f;  // the four on the axes
   show_field(s, "B");
   s.output.colormap = "magma";
   return s;
