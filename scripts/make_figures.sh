@@ -82,10 +82,9 @@ if [[ fig3_orient == $only ]]; then
     "$out/fig3_orient_3200.png"
   made+=(fig3_orient_3200.png)
 fi
-# Fig. 4: space cookies with 3, 4, 5 and 8 lobes (their own size: the seed is 6% of the width),
-# at frame 500, before the 3-lobed one fills the canvas.
+# Fig. 4: space cookies with 3, 4, 5 and 8 lobes at the presets' own size and last frame.
 for j in 3 4 5 8; do
-  fig "fig4_space_cookie_$j" 500 -- run "space-cookie-$j" --size 200 --steps 500 --every 500
+  fig "fig4_space_cookie_$j" 200 -- run "space-cookie-$j" --size 128 --steps 200 --every 200
 done
 # Fig. 5: the lid-driven cavity, advection only and with three reaction models.
 for m in advect gray-scott fhn barkley; do
