@@ -27,17 +27,28 @@ void load_wrapped_row(View<const float> f, Int2 size, int y, float* dst) {
 
 // The reaction of a model in float, vectorisable (Gray-Scott, Turing), or through
 // reaction_rates in double (the others).
+// Each is called with the cell's (x, y), which only the parameter map uses.
 struct GrayScottRates {
   float F, fk;
-  void operator()(float A, float B, float& ra, float& rb) const {
+  void operator()(int, int, float A, float B, float& ra, float& rb) const {
     const float abb = A * B * B;
     ra = F * (1.0f - A) - abb;
     rb = abb - fk * B;
   }
 };
+struct GrayScottMapRates {
+  float F, k, f_step, k_step;
+  void operator()(int x, int y, float A, float B, float& ra, float& rb) const {
+    const float f = F + f_step * (float(x) + 0.5f);
+    const float kk = k + k_step * (float(y) + 0.5f);
+    const float abb = A * B * B;
+    ra = f * (1.0f - A) - abb;
+    rb = abb - (f + kk) * B;
+  }
+};
 struct TuringRates {
   float s, beta, supply;
-  void operator()(float A, float B, float& ra, float& rb) const {
+  void operator()(int, int, float A, float B, float& ra, float& rb) const {
     const float ab = A * B;
     ra = s * (ab - A - beta);
     rb = s * (supply - ab);
@@ -45,7 +56,7 @@ struct TuringRates {
 };
 struct AnyRates {
   const ReactionParams* p;
-  void operator()(float A, float B, float& ra, float& rb) const {
+  void operator()(int, int, float A, float B, float& ra, float& rb) const {
     double da, db;
     reaction_rates(*p, A, B, da, db);
     ra = float(da);
@@ -110,7 +121,7 @@ void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> 
       for (int i = 0; i < n; ++i) {
         const float A = ac[x0 + i], B = bc[x0 + i];
         float ra, rb;
-        rates(A, B, ra, rb);
+        rates(x0 + i, y, A, B, ra, rb);
         const float da = diffuse_a ? sa * acc_a[i] : 0.0f;
         const float db = diffuse_b ? sb * acc_b[i] : 0.0f;
         ao[x0 + i] = std::min(std::max(A + da + dt * ra, a_lo), a_hi);
@@ -144,6 +155,11 @@ void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<con
   const ReactionParams& r = p.reaction;
   switch (r.model) {
     case ReactionModel::kGrayScott:
+      if (p.f_step != 0.0f || p.k_step != 0.0f) {
+        rows_with(k, a, b, a_out, b_out, size, y0, y1, p,
+                  GrayScottMapRates{r.F, r.k, p.f_step, p.k_step}, scratch);
+        return;
+      }
       rows_with(k, a, b, a_out, b_out, size, y0, y1, p, GrayScottRates{r.F, r.F + r.k}, scratch);
       return;
     case ReactionModel::kTuring:

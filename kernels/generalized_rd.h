@@ -45,6 +45,9 @@ struct GeneralizedRdParams {
   float scale_b = 0.0f;
   float a_lo = -3.4e38f, a_hi = 3.4e38f;  // the clamp of A's and B's results
   float b_lo = -3.4e38f, b_hi = 3.4e38f;
+  // Gray-Scott's parameter map (seed 003, Fig. 6): at cell (x, y) the reaction uses
+  // F + f_step (x + 1/2) and k + k_step (y + 1/2), in float in that order (0, 0: uniform).
+  float f_step = 0.0f, k_step = 0.0f;
 };
 
 // Floats of scratch per worker that generalized_rd_rows needs for an nx-wide grid.

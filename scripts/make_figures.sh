@@ -99,6 +99,20 @@ done
 for q in turing-a turing-d turing-e gray-scott-d gray-scott-e; do
   fig "seed003_$q" 400 -- run "mcgraw-$q" --size 128 --steps 400 --every 400
 done
+# Seed 003, Fig. 6: Gray-Scott's F/k parameter map with sequence (e).
+fig seed003_gray-scott-map 1000 -- run mcgraw-gray-scott-map --size 256 --steps 1000 --every 1000
+# Seed 003, Fig. 1: the propagators of sequences (c), (d) and (e) (no simulation).
+for q in c d e; do
+  name="seed003_propagator_$q"
+  # shellcheck disable=SC2053
+  [[ $name == $only ]] || continue
+  size=256
+  [ $small -eq 1 ] && size=64
+  (cd "$repo" && "$bin" propagator "$q" --size "$size" --out "$out/$name.png" >/dev/null)
+  made+=("$name.png")
+done
+# The DFG cylinder benchmark 2D-2 (Re 100): the vortex street behind the cylinder, by its dye.
+fig dfg_2d2 1600 -- run dfg-2d2 --size 440x82 --steps 1600 --every 1600
 # The plain cavity's dye.
 fig cavity 1000 -- run cavity --size 128 --steps 1000 --every 1000
 

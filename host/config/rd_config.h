@@ -59,6 +59,12 @@ struct RdConfig {
 
   // Reaction (Eqn 6, Appendix A).
   ReactionParams reaction;
+  // Gray-Scott's parameter map (seed 003, Fig. 6): F runs linearly from reaction.F at the left
+  // edge to map_f at the right, k from reaction.k at the bottom to map_k at the top, so one
+  // image shows every pattern of the range (the generalized operator's explicit and
+  // semi-implicit schemes).
+  bool map = false;
+  float map_f = 0.0f, map_k = 0.0f;
   bool react = true;       // false: passive chemicals (the "advection only" columns)
   bool use_table = false;  // precomputed implicit update (kernels/reaction_table.h)
   int table_resolution = 256;

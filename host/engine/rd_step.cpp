@@ -148,6 +148,17 @@ std::string rd_config_problem(const SceneConfig& scene) {
         !std::isfinite(r.b_hi - r.b_lo))
       return "rd.table_range must be a finite, non-empty box";
   }
+  if (rd.map) {
+    if (rd.reaction.model != ReactionModel::kGrayScott)
+      return "rd.map: a parameter map varies Gray-Scott's F and k (expected rd.reaction.model "
+             "gray-scott)";
+    if (rd.diffusion_operator != RdOperator::kGeneralized ||
+        (rd.scheme != RdScheme::kExplicit && rd.scheme != RdScheme::kSemiImplicit))
+      return "rd.map: a parameter map runs with rd.operator generalized and rd.scheme explicit "
+             "or semi-implicit";
+    if (!(rd.map_f >= 0.0f && rd.map_k >= 0.0f))
+      return "rd.map.f_right and rd.map.k_top must be >= 0 (Gray-Scott's F and k)";
+  }
   if (!(rd.noise >= 0 && rd.noise <= 1)) return "rd.noise must be in [0, 1]";
   if (scene.size.x < 3 || scene.size.y < 3) return "rd needs a grid of at least 3x3 cells";
   if (const char* why = generalized_problem(scene)) return why;
@@ -427,6 +438,10 @@ GeneralizedRdParams RdStepper::generalized_params(bool react, bool diffuse) cons
   const ConcentrationBox box = typical_range(rd_.reaction);
   p.a_lo = float(box.a_lo), p.a_hi = float(box.a_hi);
   p.b_lo = float(box.b_lo), p.b_hi = float(box.b_hi);
+  if (rd_.map) {  // F and k across the grid, per cell (rd_config.h)
+    p.f_step = float((double(rd_.map_f) - rd_.reaction.F) / scene_.size.x);
+    p.k_step = float((double(rd_.map_k) - rd_.reaction.k) / scene_.size.y);
+  }
   return p;
 }
 

@@ -94,6 +94,31 @@ SceneConfig gray_scott_texture(const TextureSpec& t) {
   return s;
 }
 
+// Fig. 6: Gray-Scott's parameter map with sequence (e): F from 0.01 at the left to 0.06 at the
+// right, k from 0.05 at the bottom to 0.07 at the top (spots, diagonal worms and labyrinths
+// between the two uniform states), started from spots everywhere so that every part of the map
+// grows its own pattern.
+SceneConfig gray_scott_map() {
+  SceneConfig s = gray_scott_texture(kSpecs[4]);
+  s.name = "mcgraw-gray-scott-map";
+  s.description =
+      "seed 003 Fig. 6: Gray-Scott parameter map with Table 2's sequence (e), F 0.01-0.06 "
+      "along x, k 0.05-0.07 along y";
+  s.size = {256, 256};
+  s.domain_width = 256.0 * kSpecs[4].h;
+  s.default_steps = 1000;
+  RdConfig& rd = s.rd;
+  rd.reaction.F = 0.01f;
+  rd.reaction.k = 0.05f;
+  rd.map = true;
+  rd.map_f = 0.06f;
+  rd.map_k = 0.07f;
+  rd.initial = RdInitialPattern::kRandomSpots;
+  rd.spots = 400;
+  rd.seed_radius = 3;
+  return s;
+}
+
 }  // namespace
 
 void register_texture_scenes(SceneRegistry& registry) {
@@ -105,6 +130,8 @@ void register_texture_scenes(SceneRegistry& registry) {
     const SceneConfig gs = gray_scott_texture(t);
     registry.add({gs.name, gs.description, [t] { return gray_scott_texture(t); }});
   }
+  const SceneConfig map = gray_scott_map();
+  registry.add({map.name, map.description, gray_scott_map});
 }
 
 }  // namespace ardcell

@@ -902,7 +902,7 @@ void OpenClKernels::generalized_rd(const DeviceField& a, const DeviceField& b, D
   const cl_int2 size{{a.size.x, a.size.y}};
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin, size,
                   weights, int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt, p.scale_a,
-                  p.scale_b, cl_float4{{p.a_lo, p.a_hi, p.b_lo, p.b_hi}});
+                  p.scale_b, cl_float4{{p.a_lo, p.a_hi, p.b_lo, p.b_hi}}, p.f_step, p.k_step);
   enqueue_cells(k, a.interior());
 }
 

@@ -5,7 +5,8 @@
 // and Turing (1) react in float as the C++ kernel does, each result clamped to box = (a_lo, a_hi,
 // b_lo, b_hi); the other models through
 // rd_rates (reaction.cl, embedded before this file: sources go in name order). Model ids and
-// p0..p4 as reaction.cl's. One work-item per cell.
+// p0..p4 as reaction.cl's. Gray-Scott's parameter map: F + f_step (x + 1/2), k + k_step (y + 1/2)
+// (both 0: uniform). One work-item per cell.
 inline int wrap_index(int i, int n) { return i < 0 ? i + n : (i >= n ? i - n : i); }
 
 inline float stencil25(__global const float* f, __constant const float* w, int stride,
@@ -25,13 +26,19 @@ __kernel void generalized_rd(__global const float* a, __global const float* b,
                              __global float* a_out, __global float* b_out, int stride, int origin,
                              int2 size, __constant const float* w, int model, float p0, float p1,
                              float p2, float p3, float p4, float dt, float sa, float sb,
-                             float4 box) {
+                             float4 box, float f_step, float k_step) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= size.x || y >= size.y) return;
   const int g = global_index(stride, origin, x, y);
   const float A = a[g], B = b[g];
   float ra, rb;
-  if (model == 0) {
+  if (model == 0 && (f_step != 0.0f || k_step != 0.0f)) {
+    const float f = p0 + f_step * ((float)x + 0.5f);
+    const float k = p1 + k_step * ((float)y + 0.5f);
+    const float abb = A * B * B;
+    ra = f * (1.0f - A) - abb;
+    rb = abb - (f + k) * B;
+  } else if (model == 0) {
     const float abb = A * B * B;
     ra = p0 * (1.0f - A) - abb;
     rb = abb - (p0 + p1) * B;

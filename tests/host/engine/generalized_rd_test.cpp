@@ -83,6 +83,42 @@ TEST(GeneralizedRdKernel, BandsOfRowsGiveTheSameBits) {
     }
 }
 
+// Fig. 6's parameter map: every cell reacts as the uniform kernel does with that cell's F and k
+// (bit for bit: the same float sums), F growing along x and k along y.
+TEST(GeneralizedRdKernel, ParameterMapIsTheUniformReactionCellByCell) {
+  const Int2 size{37, 21};
+  const GeneralizedTaps k(assemble_generalized_stencil(kTable2E));
+  const FieldF a = random_field(size, 1, 5, 0.0f, 1.0f), b = random_field(size, 1, 6, 0.0f, 0.5f);
+  GeneralizedRdParams p;
+  p.reaction.model = ReactionModel::kGrayScott;
+  p.reaction.F = 0.01f;
+  p.reaction.k = 0.05f;
+  p.dt = 1.0f;
+  p.scale_a = 0.1f;
+  p.scale_b = 0.05f;
+  p.f_step = 0.05f / size.x;
+  p.k_step = 0.02f / size.y;
+  std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
+  FieldF am(size, 1), bm(size, 1), au(size, 1), bu(size, 1);
+  generalized_rd_rows(k, a.view(), b.view(), am.view(), bm.view(), size, 0, size.y, p,
+                      scratch.data());
+  for (int x : {0, 17, 36})
+    for (int y : {0, 9, 20}) {
+      GeneralizedRdParams uniform = p;
+      uniform.f_step = uniform.k_step = 0.0f;
+      uniform.reaction.F = p.reaction.F + p.f_step * (float(x) + 0.5f);
+      uniform.reaction.k = p.reaction.k + p.k_step * (float(y) + 0.5f);
+      generalized_rd_rows(k, a.view(), b.view(), au.view(), bu.view(), size, 0, size.y, uniform,
+                          scratch.data());
+      EXPECT_EQ(am(x, y), au(x, y)) << x << "," << y;
+      EXPECT_EQ(bm(x, y), bu(x, y)) << x << "," << y;
+      // ...and not the uniform reaction of another cell's parameters.
+      if (x > 0) EXPECT_NE(bm(x, y), bu(0, y)) << x << "," << y;
+    }
+  // The map's corners are the range asked for.
+  EXPECT_NEAR(p.reaction.F + p.f_step * size.x, 0.06, 1e-6);
+}
+
 // Taps that sum to zero on a periodic grid move mass around and create none.
 TEST(GeneralizedRdKernel, PureDiffusionConservesTheTotal) {
   const Int2 size{64, 48};
@@ -251,6 +287,17 @@ TEST(GeneralizedRdEngine, RefusesWhatTheOperatorCannotRun) {
   scene = preset_scene("pearson");
   scene.rd.scheme = RdScheme::kSemiImplicit;
   EXPECT_NE(rd_config_problem(scene).find("rd.operator generalized"), std::string::npos);
+  // The parameter map: Gray-Scott, generalized operator, explicit or semi-implicit.
+  EXPECT_EQ(rd_config_problem(preset_scene("mcgraw-gray-scott-map")), "");
+  scene = preset_scene("mcgraw-gray-scott-map");
+  scene.rd.reaction.model = ReactionModel::kTuring;
+  EXPECT_NE(rd_config_problem(scene).find("rd.map"), std::string::npos);
+  scene = preset_scene("mcgraw-gray-scott-map");
+  scene.rd.scheme = RdScheme::kImplicit;
+  EXPECT_NE(rd_config_problem(scene).find("rd.map"), std::string::npos);
+  scene = preset_scene("pearson");
+  scene.rd.map = true;
+  EXPECT_NE(rd_config_problem(scene).find("rd.map"), std::string::npos);
 
   // A new tensor sequence rebuilds the engine; a new rate does not.
   scene = preset_scene("mcgraw-turing-e");

@@ -71,17 +71,18 @@ auto members(const GeneralizedRdConfig& g) {
   return std::tie(tensors, savitzky_golay_degree, second_derivatives);
 }
 auto members(const RdConfig& r) {
-  const auto& [enabled, reaction, react, use_table, table_resolution, table_range_auto, table_range,
-               diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b, anisotropy,
-               anisotropy_on_b, diffusion_solver, boundary, boundary_a, boundary_b, crank_nicolson,
-               advect, scheme, dt, cell_size, steps_per_frame, initial, background_a, background_b,
-               seed_a, seed_b, seed_size, seed_cells, spots, seed_radius, noise, seed] = r;
-  return std::tie(enabled, reaction, react, use_table, table_resolution, table_range_auto,
-                  table_range, diffuse, diffusion_operator, generalized, diffusion_a, diffusion_b,
-                  anisotropy, anisotropy_on_b, diffusion_solver, boundary, boundary_a, boundary_b,
-                  crank_nicolson, advect, scheme, dt, cell_size, steps_per_frame, initial,
-                  background_a, background_b, seed_a, seed_b, seed_size, seed_cells, spots,
-                  seed_radius, noise, seed);
+  const auto& [enabled, reaction, map, map_f, map_k, react, use_table, table_resolution,
+               table_range_auto, table_range, diffuse, diffusion_operator, generalized, diffusion_a,
+               diffusion_b, anisotropy, anisotropy_on_b, diffusion_solver, boundary, boundary_a,
+               boundary_b, crank_nicolson, advect, scheme, dt, cell_size, steps_per_frame, initial,
+               background_a, background_b, seed_a, seed_b, seed_size, seed_cells, spots,
+               seed_radius, noise, seed] = r;
+  return std::tie(enabled, reaction, map, map_f, map_k, react, use_table, table_resolution,
+                  table_range_auto, table_range, diffuse, diffusion_operator, generalized,
+                  diffusion_a, diffusion_b, anisotropy, anisotropy_on_b, diffusion_solver, boundary,
+                  boundary_a, boundary_b, crank_nicolson, advect, scheme, dt, cell_size,
+                  steps_per_frame, initial, background_a, background_b, seed_a, seed_b, seed_size,
+                  seed_cells, spots, seed_radius, noise, seed);
 }
 
 // Empty when a and b are equal member by member (exactly), else the path of the first difference.
@@ -165,6 +166,9 @@ SceneConfig everything_changed() {
                 0.03f,
                 0.8f,
                 0.01f};
+  r.map = true;
+  r.map_f = 0.07f;
+  r.map_k = 0.0625f;
   r.react = false;
   r.use_table = true;
   r.table_resolution = 129;
