@@ -1,6 +1,7 @@
 #include "kernels/generalized_rd.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace ardcell {
@@ -147,29 +148,129 @@ GeneralizedTaps::GeneralizedTaps(const Stencil5x5& k) {
 
 std::size_t generalized_rd_scratch_floats(int nx) { return 10 * ring_row_floats(nx); }
 
+namespace {
+
+// Calls run(rates) with the reaction of p (the uniform or mapped Gray-Scott, Turing, or any).
+template <class Run>
+void with_rates(const GeneralizedRdParams& p, const Run& run) {
+  const ReactionParams& r = p.reaction;
+  switch (r.model) {
+    case ReactionModel::kGrayScott:
+      if (p.f_step != 0.0f || p.k_step != 0.0f) {
+        run(GrayScottMapRates{r.F, r.k, p.f_step, p.k_step});
+        return;
+      }
+      run(GrayScottRates{r.F, r.F + r.k});
+      return;
+    case ReactionModel::kTuring:
+      run(TuringRates{r.turing_s, r.turing_beta, r.turing_supply});
+      return;
+    default:
+      run(AnyRates{&r});
+      return;
+  }
+}
+
+// L u at (x, y) of the face field (kernels/generalized_rd.h): xm, xp, ym, yp the wrapped
+// neighbours. Each face flux is written once (face_x, face_y) so both its cells get its bits.
+struct FaceFluxes {
+  const Rank2FaceField& d;
+  View<const float> u;
+  Int2 n;
+
+  // F between (x, y) and (xp, y); rows ym, yp around y.
+  float face_x(int x, int xp, int y, int ym, int yp) const {
+    const float gx = u(xp, y) - u(x, y);
+    const float gy = 0.25f * ((u(x, yp) + u(xp, yp)) - (u(x, ym) + u(xp, ym)));
+    return d.x_xx(x, y) * gx + d.x_xy(x, y) * gy;
+  }
+  // G between (x, y) and (x, yp); columns xm, xp around x.
+  float face_y(int x, int xm, int xp, int y, int yp) const {
+    const float gy = u(x, yp) - u(x, y);
+    const float gx = 0.25f * ((u(xp, y) + u(xp, yp)) - (u(xm, y) + u(xm, yp)));
+    return d.y_yy(x, y) * gy + d.y_xy(x, y) * gx;
+  }
+  float operator()(int x, int y) const {
+    const int xm = wrap(x - 1, n.x), xp = wrap(x + 1, n.x);
+    const int ym = wrap(y - 1, n.y), yp = wrap(y + 1, n.y);
+    const float fe = face_x(x, xp, y, ym, yp), fw = face_x(xm, x, y, ym, yp);
+    const float gn = face_y(x, xm, xp, y, yp), gs = face_y(x, xm, xp, ym, y);
+    return (fe - fw) + (gn - gs);
+  }
+};
+
+}  // namespace
+
 void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
                          View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
                          const GeneralizedRdParams& p, float* scratch) {
   ARDCELL_DCHECK(size.x >= 2 && size.y >= 2, "generalized RD needs at least 2 x 2 cells");
   if (y0 >= y1) return;
-  const ReactionParams& r = p.reaction;
-  switch (r.model) {
-    case ReactionModel::kGrayScott:
-      if (p.f_step != 0.0f || p.k_step != 0.0f) {
-        rows_with(k, a, b, a_out, b_out, size, y0, y1, p,
-                  GrayScottMapRates{r.F, r.k, p.f_step, p.k_step}, scratch);
-        return;
+  with_rates(p, [&](const auto& rates) {
+    rows_with(k, a, b, a_out, b_out, size, y0, y1, p, rates, scratch);
+  });
+}
+
+Rank2FaceField rank2_faces(const FieldF& xx, const FieldF& xy, const FieldF& yy) {
+  const Int2 n = xx.size();
+  Rank2FaceField f{FieldF(n, 0), FieldF(n, 0), FieldF(n, 0), FieldF(n, 0)};
+  for (int y = 0; y < n.y; ++y)
+    for (int x = 0; x < n.x; ++x) {
+      const int xp = wrap(x + 1, n.x), yp = wrap(y + 1, n.y);
+      f.x_xx(x, y) = 0.5f * (xx(x, y) + xx(xp, y));
+      f.x_xy(x, y) = 0.5f * (xy(x, y) + xy(xp, y));
+      f.y_xy(x, y) = 0.5f * (xy(x, y) + xy(x, yp));
+      f.y_yy(x, y) = 0.5f * (yy(x, y) + yy(x, yp));
+    }
+  return f;
+}
+
+Rank2FaceField rank2_tensor_field(Int2 size, TensorFieldKind kind, double d_along,
+                                  double d_across) {
+  FieldF xx(size, 0), xy(size, 0), yy(size, 0);
+  constexpr double kHalfPi = 1.57079632679489661923;
+  for (int y = 0; y < size.y; ++y)
+    for (int x = 0; x < size.x; ++x) {
+      const double rx = x + 0.5 - 0.5 * size.x, ry = y + 0.5 - 0.5 * size.y;
+      double phi = 0.0;
+      if (kind != TensorFieldKind::kUniform) phi = std::atan2(ry, rx);
+      if (kind == TensorFieldKind::kVortex) phi += kHalfPi;
+      const double c = std::cos(phi), s = std::sin(phi);
+      double dxx = d_along * c * c + d_across * s * s;
+      double dxy = (d_along - d_across) * c * s;
+      double dyy = d_along * s * s + d_across * c * c;
+      if (kind != TensorFieldKind::kUniform && rx == 0.0 && ry == 0.0)
+        dxx = dyy = 0.5 * (d_along + d_across), dxy = 0.0;
+      xx(x, y) = float(dxx), xy(x, y) = float(dxy), yy(x, y) = float(dyy);
+    }
+  return rank2_faces(xx, xy, yy);
+}
+
+void tensor_field_rd_rows(const Rank2FaceField& d, View<const float> a, View<const float> b,
+                          View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+                          const GeneralizedRdParams& p) {
+  ARDCELL_DCHECK(size.x >= 2 && size.y >= 2, "tensor-field RD needs at least 2 x 2 cells");
+  ARDCELL_CHECK(d.size() == size, "tensor-field RD: the face field is not the grid's size");
+  if (y0 >= y1) return;
+  const FaceFluxes la{d, a, size}, lb{d, b, size};
+  const float sa = p.scale_a, sb = p.scale_b, dt = p.dt;
+  with_rates(p, [&](const auto& rates) {
+    for (int y = y0; y < y1; ++y) {
+      const float* ac = a.row(y);
+      const float* bc = b.row(y);
+      float* ao = a_out.row(y);
+      float* bo = b_out.row(y);
+      for (int x = 0; x < size.x; ++x) {
+        const float A = ac[x], B = bc[x];
+        float ra, rb;
+        rates(x, y, A, B, ra, rb);
+        const float da = sa != 0.0f ? sa * la(x, y) : 0.0f;
+        const float db = sb != 0.0f ? sb * lb(x, y) : 0.0f;
+        ao[x] = std::min(std::max(A + da + dt * ra, p.a_lo), p.a_hi);
+        bo[x] = std::min(std::max(B + db + dt * rb, p.b_lo), p.b_hi);
       }
-      rows_with(k, a, b, a_out, b_out, size, y0, y1, p, GrayScottRates{r.F, r.F + r.k}, scratch);
-      return;
-    case ReactionModel::kTuring:
-      rows_with(k, a, b, a_out, b_out, size, y0, y1, p,
-                TuringRates{r.turing_s, r.turing_beta, r.turing_supply}, scratch);
-      return;
-    default:
-      rows_with(k, a, b, a_out, b_out, size, y0, y1, p, AnyRates{&r}, scratch);
-      return;
-  }
+    }
+  });
 }
 
 }  // namespace ardcell

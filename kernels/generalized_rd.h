@@ -18,6 +18,7 @@
 // bounds the pattern (where the oriented, sharp-cornered shapes of seed 003's figures come from).
 // The engine passes the reaction's typical range (kernels/reaction.h typical_range).
 #include <cstddef>
+#include <cstdint>
 
 #include "kernels/generalized_diffusion.h"
 #include "kernels/reaction.h"
@@ -58,5 +59,51 @@ std::size_t generalized_rd_scratch_floats(int nx);
 void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
                          View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
                          const GeneralizedRdParams& p, float* scratch);
+
+// --- Seed 003, Table 1, last row at rank 2: an inhomogeneous (per-cell) diffusion tensor --------
+//   seed 003, Table 1 (inhomogeneous, anisotropic Gaussian): tr(D H(u)) + grad u . div D, i.e.
+//     du/dt = div(D(x) grad u) + f(u) = D_ij d_i d_j u + (d_i D_ij) d_j u ("the evaluation of
+//     additional terms ... due to the spatially varying diffusion coefficients", sec. 7),
+//     with D(x) a symmetric positive (semi)definite 2x2 tensor per cell (Eqn 5 with D varying).
+// Discretised in flux form, so that the total is conserved on a periodic grid (to rounding):
+//   L u (x, y) = F(x + 1/2, y) - F(x - 1/2, y) + G(x, y + 1/2) - G(x, y - 1/2)
+//   F(x + 1/2, y) = Dxx_f (u(x+1, y) - u(x, y))
+//                 + Dxy_f (u(x, y+1) + u(x+1, y+1) - u(x, y-1) - u(x+1, y-1)) / 4
+//   G(x, y + 1/2) = Dyy_g (u(x, y+1) - u(x, y))
+//                 + Dxy_g (u(x+1, y) + u(x+1, y+1) - u(x-1, y) - u(x-1, y+1)) / 4
+// with the face's D the mean of its two cells' (Dxx_f = (Dxx(x) + Dxx(x+1)) / 2, ...). Each face's
+// flux is one expression of the same operands from either side (the same bits), so the sum over
+// the grid telescopes. For a uniform D it is exactly seed 003's Eqn 29 (the 9-point Gaussian
+// stencil: corners D_xy / 2 at (1, 1), (-1, -1)), summed in another order.
+// Step (seed 003, Eqn 27 with this L): A' = A + s_A L A + dt R_A, B' likewise, s = delta D_A (the
+// tensor in cells^2: the domain's D times h^-2), the same reactions, parameter map and clamp as
+// generalized_rd_rows. Reads no halo: indices wrap (periodic only), as generalized_rd_rows does.
+// Each cell's arithmetic is fixed, so any band of rows gives the same bits.
+
+// Per-face tensor coefficients, in cells^2 (halo 0): x_xx, x_xy at (x, y) belong to the face
+// between cells x and x + 1 (wrapped); y_xy, y_yy at (x, y) to the face between rows y and y + 1.
+struct Rank2FaceField {
+  FieldF x_xx, x_xy, y_xy, y_yy;
+  Int2 size() const { return x_xx.size(); }
+};
+
+// The faces of a per-cell tensor field (cells xx, xy, yy of one size): each the mean of its two
+// cells, wrapped.
+Rank2FaceField rank2_faces(const FieldF& xx, const FieldF& xy, const FieldF& yy);
+
+// Built-in fields: D = d_along e e^T + d_across (I - e e^T), e = (cos phi, sin phi) turning around
+// the grid's centre c = (nx / 2, ny / 2), seen from the cell's centre (x + 1/2, y + 1/2):
+// kVortex phi = atan2(y - c_y, x - c_x) + pi / 2 (tangential), kRadial without the pi / 2,
+// kUniform phi = 0. A cell exactly at the centre gets the isotropic mean (d_along + d_across) / 2.
+enum class TensorFieldKind : uint8_t { kUniform, kVortex, kRadial };
+// The field in cells^2 (d_along, d_across already scaled by h^-2), as faces.
+Rank2FaceField rank2_tensor_field(Int2 size, TensorFieldKind kind, double d_along,
+                                  double d_across);
+
+// Rows [y0, y1) of the nx x ny interior: a_out, b_out from a, b with L of the face field d.
+// Outputs must not alias inputs.
+void tensor_field_rd_rows(const Rank2FaceField& d, View<const float> a, View<const float> b,
+                          View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+                          const GeneralizedRdParams& p);
 
 }  // namespace ardcell

@@ -63,6 +63,8 @@ const char* device_op_name(DeviceOp op) {
       return "seed 001's temporally blocked steps";
     case DeviceOp::kGeneralizedRd:
       return "generalized reaction-diffusion";
+    case DeviceOp::kTensorFieldRd:
+      return "tensor-field reaction-diffusion";
     case DeviceOp::kPeriodicSolve:
       return "periodic solve (FFT)";
     case DeviceOp::kReactionTrapezoidal:
@@ -342,6 +344,14 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
   for_bands(a.size(), [&](Box2 rows, int worker) {
     generalized_rd_rows(k, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
                         rows.max.y, p, row_scratch(worker));
+  });
+}
+
+void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                                const Rank2FaceField& d, const GeneralizedRdParams& p) {
+  for_bands(a.size(), [&](Box2 rows, int) {
+    tensor_field_rd_rows(d, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
+                         rows.max.y, p);
   });
 }
 

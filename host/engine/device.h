@@ -62,6 +62,7 @@ enum class DeviceOp : uint8_t {
   kExplicitRd,
   kGrayScott9Steps,
   kGeneralizedRd,
+  kTensorFieldRd,
   kPeriodicSolve,
   kReactionTrapezoidal,
   kSbdfRhs,
@@ -179,6 +180,10 @@ class Device {
   // seed 003, Eqn 27 on a periodic grid (kernels/generalized_rd.h): a_out, b_out from a, b.
   virtual void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                               const GeneralizedTaps& k, const GeneralizedRdParams& p) = 0;
+  // seed 003's Table 1, last row at rank 2: div(D(x) grad u) with a per-cell tensor, in flux form,
+  // fused with the reaction like generalized_rd (kernels/generalized_rd.h tensor_field_rd_rows).
+  virtual void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                               const Rank2FaceField& d, const GeneralizedRdParams& p) = 0;
   // x <- (I - delta K)^-1 x on the periodic grid with the solve's delta, exactly (seed 003,
   // Eqn 28; kernels/periodic_stencil_solve.h).
   virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) = 0;
@@ -260,6 +265,8 @@ class CpuDevice final : public Device {
                          const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
+  void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                       const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,

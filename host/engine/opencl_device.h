@@ -90,6 +90,9 @@ class OpenClDevice final : public Device {
                          const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
+  // On the CPU (no device twin of the per-cell tensor field yet), with one line.
+  void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                       const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   // On the CPU (no FFT on the device yet), with one line.
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
