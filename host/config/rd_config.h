@@ -9,6 +9,7 @@
 
 #include "kernels/anisotropy.h"
 #include "kernels/generalized_diffusion.h"
+#include "kernels/generalized_rd.h"
 #include "kernels/linear_solver.h"
 #include "kernels/reaction.h"
 #include "kernels/stencil_operator.h"
@@ -43,6 +44,11 @@ struct GeneralizedRdConfig {
   TensorSequence tensors = kTable2A;
   int savitzky_golay_degree = 4;  // 4, or 5 (minimum-norm pseudo-inverse)
   SecondDerivatives second_derivatives = SecondDerivatives::kCentralDifference;
+  // Table 1's last row at rank 2: a per-cell tensor D(x) = d_along e e^T + d_across (I - e e^T)
+  // in place of the sequence (kernels/generalized_rd.h rank2_tensor_field; rd.scheme explicit,
+  // the rank-3 and rank-4 components 0). kUniform: the homogeneous sequence above.
+  TensorFieldKind field = TensorFieldKind::kUniform;
+  double d_along = 1.0, d_across = 0.25;  // in the domain's units, like the sequence
 };
 
 enum class RdInitialPattern : uint8_t {

@@ -172,6 +172,8 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
     if (ra.cell_size != rb.cell_size) return "rd.cell_size (the generalized stencil holds it)";
     if (ga.savitzky_golay_degree != gb.savitzky_golay_degree) return "rd.generalized.sg_degree";
     if (ga.second_derivatives != gb.second_derivatives) return "rd.generalized.second_derivatives";
+    if (ga.field != gb.field || ga.d_along != gb.d_along || ga.d_across != gb.d_across)
+      return "rd.generalized.field (the tensor field)";
   }
   if (ra.react != rb.react) return "rd.react";
   if (ra.diffuse != rb.diffuse) return "rd.diffuse";

@@ -97,7 +97,28 @@ const char* generalized_problem(const SceneConfig& scene) {
         return "rd.generalized: every tensor component must be a finite number";
   if (scene.size.x < 5 || scene.size.y < 5)
     return "rd.operator generalized needs a grid of at least 5x5 cells (a 5x5 stencil)";
+  if (rd.generalized.field != TensorFieldKind::kUniform) {
+    if (rd.scheme != RdScheme::kExplicit)
+      return "rd.generalized.field: a per-cell tensor field runs with rd.scheme explicit (the FFT "
+             "solves need a homogeneous operator)";
+    for (int nx = 0; nx <= 4; ++nx)
+      for (int ny = 0; nx + ny <= 4; ++ny)
+        if (nx + ny >= 3 && d.component(nx, ny) != 0)
+          return "rd.generalized.field: the tensor field is rank 2; set the rank-3 and rank-4 "
+                 "components of rd.generalized to 0";
+    const GeneralizedRdConfig& g = rd.generalized;
+    if (!(g.d_along >= 0 && g.d_across >= 0) || !std::isfinite(g.d_along + g.d_across))
+      return "rd.generalized.d_along and d_across must be finite and >= 0 (a positive "
+             "semidefinite tensor)";
+  }
   return nullptr;
+}
+
+// The per-cell tensor field of rd.generalized.field in cells (the domain's D times h^-2).
+Rank2FaceField tensor_field(const SceneConfig& scene) {
+  const GeneralizedRdConfig& g = scene.rd.generalized;
+  const double h = rd_cell_of(scene);
+  return rank2_tensor_field(scene.size, g.field, g.d_along / (h * h), g.d_across / (h * h));
 }
 
 }  // namespace
@@ -107,11 +128,25 @@ std::string generalized_stability_line(const SceneConfig& scene) {
   if (!rd.enabled || rd.diffusion_operator != RdOperator::kGeneralized ||
       rd.scheme != RdScheme::kExplicit || !rd.diffuse || generalized_problem(scene))
     return "";
-  const Stencil5x5 k = generalized_stencil(scene);
   // The symbol is smooth in the wavenumber: 128 samples per axis find its extremes.
   const int n = std::min(128, std::min(scene.size.x, scene.size.y));
-  const double rho_a = explicit_spectral_radius(k, diffusion_scale(scene, false), n);
-  const double rho_b = explicit_spectral_radius(k, diffusion_scale(scene, true), n);
+  double rho_a = 0, rho_b = 0;
+  const GeneralizedRdConfig& g = rd.generalized;
+  const auto add = [&](const Stencil5x5& k) {
+    rho_a = std::max(rho_a, explicit_spectral_radius(k, diffusion_scale(scene, false), n));
+    rho_b = std::max(rho_b, explicit_spectral_radius(k, diffusion_scale(scene, true), n));
+  };
+  if (g.field == TensorFieldKind::kUniform) {
+    add(generalized_stencil(scene));
+  } else {  // frozen coefficients: the worst of the field's tensors over 16 directions
+    const double h2 = std::pow(rd_cell_of(scene), 2);
+    for (int i = 0; i < 16; ++i) {
+      const double phi = 3.14159265358979323846 * i / 16, c = std::cos(phi), s = std::sin(phi);
+      add(gaussian_stencil((g.d_along * c * c + g.d_across * s * s) / h2,
+                           (g.d_along - g.d_across) * c * s / h2,
+                           (g.d_along * s * s + g.d_across * c * c) / h2));
+    }
+  }
   char line[256];
   std::snprintf(line, sizeof line,
                 "rd: explicit update (seed 003, Eqn 27): rho(I + dt D_A K) = %.4f, "
@@ -176,6 +211,8 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   if (generalized) {
     const Stencil5x5 k = generalized_stencil(scene);
     generalized_ = std::make_unique<GeneralizedTaps>(k);
+    if (rd_.generalized.field != TensorFieldKind::kUniform)
+      tensor_field_ = std::make_unique<Rank2FaceField>(tensor_field(scene));
     if (rd_.diffuse && rd_.scheme != RdScheme::kExplicit) {
       // Throw std::invalid_argument with problem()'s line when (I - dt D K) is singular.
       periodic_a_ = std::make_unique<PeriodicStencilSolve>(scene.size, k, ex);
@@ -450,9 +487,13 @@ void RdStepper::generalized_step(SimState& s) {
   if (rd_.scheme == RdScheme::kImplicit) {
     if (rd_.react) react(s);  // Eqn 6
   } else if (rd_.react || rd_.diffuse) {
-    // Eqn 27 (explicit), or Eqn 28's u + dt f(u) (semi-implicit: diffusion by the solve below).
-    dev_->generalized_rd(s.A, s.B, scratch_a_, scratch_b_, *generalized_,
-                         generalized_params(rd_.react, rd_.diffuse && !solve));
+    // Eqn 27 (explicit), or Eqn 28's u + dt f(u) (semi-implicit: diffusion by the solve below);
+    // with a tensor field (explicit only), Eqn 27 with Table 1's inhomogeneous rank-2 operator.
+    const GeneralizedRdParams p = generalized_params(rd_.react, rd_.diffuse && !solve);
+    if (tensor_field_)
+      dev_->tensor_field_rd(s.A, s.B, scratch_a_, scratch_b_, *tensor_field_, p);
+    else
+      dev_->generalized_rd(s.A, s.B, scratch_a_, scratch_b_, *generalized_, p);
     dev_->swap(s.A, scratch_a_);
     dev_->swap(s.B, scratch_b_);
   }

@@ -10,6 +10,9 @@
 // 25-point stencil K of the tensor sequence (kernels/generalized_rd.h): `explicit` is Eqn 27 in
 // one pass; `semi-implicit` is Eqn 28 (explicit reaction, then (I - dt D K)^-1 by FFT,
 // kernels/periodic_stencil_solve.h); `implicit` is Eqn 6's reaction, then the same solve.
+// rd.generalized.field vortex or radial replaces the sequence by a per-cell rank-2 tensor (seed
+// 003's Table 1, last row; explicit only): Eqn 27 with div(D(x) grad u) in flux form
+// (kernels/generalized_rd.h tensor_field_rd_rows, Device::tensor_field_rd).
 // The second-order schemes (Laplacian operator; docs/numerics.md, "Reaction-diffusion in
 // time") replace the first two stages:
 //   crank-nicolson-am2  Strang splitting of sec. 3.2's suggestion: the trapezoidal reaction
@@ -120,6 +123,7 @@ class RdStepper {
   double dt_, h_;
   std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
   std::unique_ptr<GeneralizedTaps> generalized_;                   // rd.operator generalized
+  std::unique_ptr<Rank2FaceField> tensor_field_;                   // rd.generalized.field
   std::unique_ptr<PeriodicStencilSolve> periodic_a_, periodic_b_;  // its implicit solves
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;

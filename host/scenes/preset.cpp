@@ -37,6 +37,7 @@ constexpr std::string_view kSchemes[] = {"implicit", "explicit5",     "explicit9
                                          "sbdf2",    "etdrk4"};
 constexpr std::string_view kOperators[] = {"laplacian", "generalized"};
 constexpr std::string_view kSecondDerivatives[] = {"central", "savitzky-golay"};
+constexpr std::string_view kTensorFields[] = {"uniform", "vortex", "radial"};
 constexpr std::string_view kPatterns[] = {"uniform",      "centre-square", "seed-square",
                                           "random-spots", "stripe",        "centre-disc"};
 constexpr std::string_view kColormaps[] = {"gray", "viridis", "magma", "rdbu"};
@@ -241,6 +242,14 @@ const ParamSpec kParams[] = {
                 "Savitzky-Golay fit degree of the rank-3/4 derivatives (5: minimum norm)"),
     ARD_ENUM("rd.generalized.second_derivatives", scene.rd.generalized.second_derivatives,
              kSecondDerivatives, true, "central (the paper's choice) | savitzky-golay"),
+    ARD_ENUM("rd.generalized.field", scene.rd.generalized.field, kTensorFields, true,
+             "uniform (the sequence) | vortex | radial: a per-cell rank-2 tensor, principal "
+             "direction tangential or pointing out from the centre (seed 003 Table 1, last row; "
+             "rd.scheme explicit)"),
+    ARD_NUMBER("rd.generalized.d_along", scene.rd.generalized.d_along, 0, 1e3, true,
+               "rd.generalized.field: the tensor's eigenvalue along its principal direction"),
+    ARD_NUMBER("rd.generalized.d_across", scene.rd.generalized.d_across, 0, 1e3, true,
+               "rd.generalized.field: the tensor's eigenvalue across it"),
     ARD_RD_SOLVER("rd.diffusion_solver", diffusion_solver),
     ARD_ENUM("rd.reaction.model", scene.rd.reaction.model, kModels, true,
              "gray-scott | turing | meinhardt | fitzhugh-nagumo | barkley | barkley-turbulent"),

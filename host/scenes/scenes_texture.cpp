@@ -119,6 +119,26 @@ SceneConfig gray_scott_map() {
   return s;
 }
 
+// Table 1's last row at rank 2: Turing (the presets' alpha 12, beta 15) with a per-cell tensor
+// whose principal direction is tangential around the centre (rd.generalized.field vortex), so the
+// stripes run in circles. Explicit (Eqn 27 with div(D(x) grad u), the FFT solve needs a
+// homogeneous operator): rd.dt 0.1, 100 steps a frame (rho(I + dt D_B K) <= 1; the run prints it).
+SceneConfig turing_vortex() {
+  SceneConfig s = turing_texture(kSpecs[0]);
+  s.name = "mcgraw-turing-vortex";
+  s.description =
+      "seed 003 Table 1, last row: Turing with a per-cell rank-2 tensor turning around the "
+      "centre (vortex), explicit";
+  RdConfig& rd = s.rd;
+  rd.generalized.field = TensorFieldKind::kVortex;
+  rd.generalized.d_along = 2.0;
+  rd.generalized.d_across = 0.5;
+  rd.scheme = RdScheme::kExplicit;
+  rd.dt = 0.1;
+  rd.steps_per_frame = 100;
+  return s;
+}
+
 }  // namespace
 
 void register_texture_scenes(SceneRegistry& registry) {
@@ -132,6 +152,8 @@ void register_texture_scenes(SceneRegistry& registry) {
   }
   const SceneConfig map = gray_scott_map();
   registry.add({map.name, map.description, gray_scott_map});
+  const SceneConfig vortex = turing_vortex();
+  registry.add({vortex.name, vortex.description, turing_vortex});
 }
 
 }  // namespace ardcell

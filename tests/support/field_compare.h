@@ -3,10 +3,21 @@
 // the norm the OpenCL parity tests state their 1e-5 bound in.
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "runtime/field.h"
 
 namespace ardcell {
+
+// A field of uniform random values in [lo, hi) over its interior (the halo left at 0).
+inline FieldF random_field(Int2 size, int halo, unsigned seed, float lo, float hi) {
+  FieldF f(size, halo);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(lo, hi);
+  for (int y = 0; y < size.y; ++y)
+    for (int x = 0; x < size.x; ++x) f(x, y) = u(rng);
+  return f;
+}
 
 inline double max_relative_error(const FieldF& got, const FieldF& ref) {
   double diff = 0, mag = 0;

@@ -20,6 +20,14 @@ inline SceneConfig awkward_preset_scene(const std::string& name) {
   return scene;
 }
 
+// A built-in preset's scene as it is (a failed load fails the test).
+inline SceneConfig builtin_preset_scene(const char* name) {
+  Preset p;
+  const Status s = load_builtin_preset(name, p);
+  EXPECT_TRUE(s) << s.message();
+  return p.scene;
+}
+
 inline std::string preset_test_name(const testing::TestParamInfo<std::string>& info) {
   std::string name = info.param;
   for (char& c : name)

@@ -15,25 +15,11 @@
 #include "host/scenes/preset.h"
 #include "kernels/generalized_rd.h"
 #include "kernels/periodic_stencil_solve.h"
+#include "tests/support/field_compare.h"
+#include "tests/support/preset_params.h"
 
 namespace ardcell {
 namespace {
-
-FieldF random_field(Int2 size, int halo, unsigned seed, float lo, float hi) {
-  FieldF f(size, halo);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(lo, hi);
-  for (int y = 0; y < size.y; ++y)
-    for (int x = 0; x < size.x; ++x) f(x, y) = u(rng);
-  return f;
-}
-
-SceneConfig preset_scene(const char* name) {
-  Preset p;
-  const Status s = load_builtin_preset(name, p);
-  EXPECT_TRUE(s) << s.message();
-  return p.scene;
-}
 
 // Diffusion alone (no reaction, no clamp): the fused float kernel with periodic index wrap
 // against GeneralizedDiffusion's double sums over a wrapped halo of 2.
@@ -113,7 +99,9 @@ TEST(GeneralizedRdKernel, ParameterMapIsTheUniformReactionCellByCell) {
       EXPECT_EQ(am(x, y), au(x, y)) << x << "," << y;
       EXPECT_EQ(bm(x, y), bu(x, y)) << x << "," << y;
       // ...and not the uniform reaction of another cell's parameters.
-      if (x > 0) EXPECT_NE(bm(x, y), bu(0, y)) << x << "," << y;
+      if (x > 0) {
+        EXPECT_NE(bm(x, y), bu(0, y)) << x << "," << y;
+      }
     }
   // The map's corners are the range asked for.
   EXPECT_NEAR(p.reaction.F + p.f_step * size.x, 0.06, 1e-6);
@@ -146,7 +134,7 @@ TEST(GeneralizedRdKernel, PureDiffusionConservesTheTotal) {
 
 // Eqn 28 without reaction is exactly one periodic solve of (I - dt D_A K).
 TEST(GeneralizedRdEngine, SemiImplicitStepIsTheExactSolve) {
-  SceneConfig scene = preset_scene("mcgraw-turing-a");
+  SceneConfig scene = builtin_preset_scene("mcgraw-turing-a");
   scene.size = {40, 36};
   scene.domain_width = 40 * 1.5;
   scene.rd.react = false;
@@ -169,7 +157,7 @@ TEST(GeneralizedRdEngine, SemiImplicitStepIsTheExactSolve) {
 // range. The FFT rounds a mapped field differently, and that rounding accumulates: 2-4e-5 after
 // 100 steps, ~1e-2 after 1000 (measured), so the test takes 100.
 double symmetry_error(const char* preset, bool rotate, int frames = 10) {
-  SceneConfig scene = preset_scene(preset);
+  SceneConfig scene = builtin_preset_scene(preset);
   scene.size = {64, 64};
   scene.rd.react = false;
   scene.rd.steps_per_frame = 10;
@@ -210,7 +198,7 @@ TEST(GeneralizedRdEngine, StepsCommuteWithTheSequencesSymmetries) {
 
 // A texture tiles: across the wrap-around edges neighbours differ no more than inside.
 TEST(GeneralizedRdEngine, TexturesTileWithoutASeam) {
-  SceneConfig scene = preset_scene("mcgraw-gray-scott-e");
+  SceneConfig scene = builtin_preset_scene("mcgraw-gray-scott-e");
   scene.size = {96, 96};
   Engine engine(scene);
   for (int i = 0; i < 150; ++i) engine.step();
@@ -260,7 +248,7 @@ double axis_over_diagonal_power(const FieldF& f) {
 }
 
 double developed_orientation(const char* preset) {
-  SceneConfig scene = preset_scene(preset);
+  SceneConfig scene = builtin_preset_scene(preset);
   Engine engine(scene);  // threads
   for (int i = 0; i < 200; ++i) engine.step();
   return axis_over_diagonal_power(engine.state().A);
@@ -277,30 +265,30 @@ TEST(GeneralizedRdEngine, TuringTexturesTakeTheSequencesOrientations) {
 }
 
 TEST(GeneralizedRdEngine, RefusesWhatTheOperatorCannotRun) {
-  SceneConfig scene = preset_scene("mcgraw-gray-scott-e");
+  SceneConfig scene = builtin_preset_scene("mcgraw-gray-scott-e");
   scene.rd.boundary = BoundaryKind::kNeumann;
   EXPECT_EQ(rd_config_problem(scene),
             "rd.operator generalized needs rd.boundary periodic (its textures tile)");
-  scene = preset_scene("mcgraw-gray-scott-e");
+  scene = builtin_preset_scene("mcgraw-gray-scott-e");
   scene.rd.scheme = RdScheme::kExplicit9;
   EXPECT_NE(rd_config_problem(scene).find("rd.scheme"), std::string::npos);
-  scene = preset_scene("pearson");
+  scene = builtin_preset_scene("pearson");
   scene.rd.scheme = RdScheme::kSemiImplicit;
   EXPECT_NE(rd_config_problem(scene).find("rd.operator generalized"), std::string::npos);
   // The parameter map: Gray-Scott, generalized operator, explicit or semi-implicit.
-  EXPECT_EQ(rd_config_problem(preset_scene("mcgraw-gray-scott-map")), "");
-  scene = preset_scene("mcgraw-gray-scott-map");
+  EXPECT_EQ(rd_config_problem(builtin_preset_scene("mcgraw-gray-scott-map")), "");
+  scene = builtin_preset_scene("mcgraw-gray-scott-map");
   scene.rd.reaction.model = ReactionModel::kTuring;
   EXPECT_NE(rd_config_problem(scene).find("rd.map"), std::string::npos);
-  scene = preset_scene("mcgraw-gray-scott-map");
+  scene = builtin_preset_scene("mcgraw-gray-scott-map");
   scene.rd.scheme = RdScheme::kImplicit;
   EXPECT_NE(rd_config_problem(scene).find("rd.map"), std::string::npos);
-  scene = preset_scene("pearson");
+  scene = builtin_preset_scene("pearson");
   scene.rd.map = true;
   EXPECT_NE(rd_config_problem(scene).find("rd.map"), std::string::npos);
 
   // A new tensor sequence rebuilds the engine; a new rate does not.
-  scene = preset_scene("mcgraw-turing-e");
+  scene = builtin_preset_scene("mcgraw-turing-e");
   scene.size = {32, 32};
   Engine engine(scene);
   SceneConfig next = scene;
@@ -314,7 +302,7 @@ TEST(GeneralizedRdEngine, RefusesWhatTheOperatorCannotRun) {
 }
 
 TEST(GeneralizedRdEngine, ExplicitStabilityLineNamesTheSpectralRadius) {
-  SceneConfig scene = preset_scene("mcgraw-turing-d");
+  SceneConfig scene = builtin_preset_scene("mcgraw-turing-d");
   EXPECT_EQ(generalized_stability_line(scene), "");  // semi-implicit: nothing to say
   scene.rd.scheme = RdScheme::kExplicit;
   const std::string line = generalized_stability_line(scene);

@@ -67,8 +67,8 @@ auto members(const TensorSequence& t) {
   return std::tie(xx, xy, yy, xxx, xxy, xyy, yyy, xxxx, xxxy, xxyy, xyyy, yyyy);
 }
 auto members(const GeneralizedRdConfig& g) {
-  const auto& [tensors, savitzky_golay_degree, second_derivatives] = g;
-  return std::tie(tensors, savitzky_golay_degree, second_derivatives);
+  const auto& [tensors, savitzky_golay_degree, second_derivatives, field, d_along, d_across] = g;
+  return std::tie(tensors, savitzky_golay_degree, second_derivatives, field, d_along, d_across);
 }
 auto members(const RdConfig& r) {
   const auto& [enabled, reaction, map, map_f, map_k, react, use_table, table_resolution,
@@ -179,6 +179,9 @@ SceneConfig everything_changed() {
   r.generalized.tensors = {0.5, 0.25, 1.5, 0.1, -0.2, 0.3, -0.4, -0.5, 0.6, -0.7, 0.8, -0.9};
   r.generalized.savitzky_golay_degree = 5;
   r.generalized.second_derivatives = SecondDerivatives::kSavitzkyGolay;
+  r.generalized.field = TensorFieldKind::kRadial;
+  r.generalized.d_along = 0.7;
+  r.generalized.d_across = 0.15;
   r.diffusion_a = 0.33;
   r.diffusion_b = 0.77;
   r.anisotropy.kind = AnisotropyKind::kPolarSamples;
