@@ -11,14 +11,27 @@
 // it). Periodic wrap couplings stay in A but not in M (M only has to be symmetric positive
 // definite). The vectors are kept in double so the iteration converges to float32 round-off of
 // x; dot products add per-row partials in row order (runtime/row_executor.h).
+//
+// Rounding: the file is compiled without fma contraction, and the recurrences of the triangular
+// solves fuse their multiply-adds explicitly where the CPU has FMA (kernels/iccg_solver.h), so
+// the OpenCL twin (kernels/cl/iccg.cl), which makes the same choice, computes the same bits.
 #include <vector>
 
+#include "kernels/iccg_solver.h"
 #include "kernels/solver_common.h"
 
 namespace ardcell::solver_detail {
 namespace {
 
-constexpr int kBlockRows = 32;
+using iccg::kBlockRows;
+
+// a * b + c, fused where the recurrences fuse (iccg::kFusedRecurrences).
+inline double multiply_add(double a, double b, double c) {
+  if constexpr (iccg::kFusedRecurrences)
+    return std::fma(a, b, c);
+  else
+    return a * b + c;
+}
 
 class IccgSolver final : public LinearSolver {
  public:
@@ -211,7 +224,7 @@ class IccgSolver final : public LinearSolver {
           for (int i = 0; i < nx; ++i) zj[i] = rj[i];
         }
         zj[0] *= inv[0];
-        for (int i = 1; i < nx; ++i) zj[i] = (zj[i] + wx[i] * zj[i - 1]) * inv[i];
+        for (int i = 1; i < nx; ++i) zj[i] = multiply_add(wx[i], zj[i - 1], zj[i]) * inv[i];
       }
       // t = wy(i, j+1) z(i, j+1) (vectorises), then the recurrence along the row.
       double* t = &scratch_rows_[std::size_t(j0 / kBlockRows) * std::size_t(nx)];
@@ -227,7 +240,8 @@ class IccgSolver final : public LinearSolver {
           for (int i = 0; i < nx; ++i) t[i] = 0.0;
         }
         zj[nx - 1] += t[nx - 1] * inv[nx - 1];
-        for (int i = nx - 2; i >= 0; --i) zj[i] += (t[i] + wx[i + 1] * zj[i + 1]) * inv[i];
+        for (int i = nx - 2; i >= 0; --i)
+          zj[i] = multiply_add(multiply_add(wx[i + 1], zj[i + 1], t[i]), inv[i], zj[i]);
       }
     });
     if (null_space_.singular()) project(z);
