@@ -42,7 +42,7 @@ class ImplicitDiffusion {
   BoundaryKind boundary() const { return boundary_; }
   Int2 size() const { return size_; }
   const SolverSettings& solver_settings() const { return solver_->settings(); }
-  bool has_solid() const { return solid_ != nullptr; }
+  const Field<uint8_t>* solid() const { return solid_; }
 
  private:
   void copy_rows(const FieldF& from, FieldF& to) const;  // interiors, in bands of rows

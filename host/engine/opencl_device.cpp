@@ -35,8 +35,8 @@ void OpenClDevice::reserve(Int2 grid) {
 }
 
 // Every op but the FFT ones (the periodic solve, the ETDRK4 step) has a twin; solves run here
-// with Jacobi, RBGS or multigrid and implicit diffusion with fixed Jacobi or RBGS sweeps; the
-// other settings fall back (implicit_diffusion, solve).
+// with every solver (ICCG where the device has doubles) and implicit diffusion with ICCG or
+// fixed Jacobi or RBGS sweeps; the other settings fall back (implicit_diffusion, solve).
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;
@@ -342,6 +342,7 @@ OpenClDevice::OperatorTwin& OpenClDevice::operator_twin(const StencilOperator& o
     // prepare(op) built the coarse operators before the host said it wrote op (fluid_step).
     for (std::size_t k = 0; k < t->levels.size(); ++k)
       t->levels[k].op.upload(ctx_, solver.coarse_operator(int(k)));
+    t->factored = false;
     t->stale = false;
   }
   return *t;
@@ -370,14 +371,14 @@ void OpenClDevice::remove_null_mean(DeviceField& f, const OperatorTwin& t) {
   cl_->subtract_masked(f, t.null_mask, float(sum / double(t.null_space->count())));
 }
 
-// Jacobi, RBGS and multigrid run on the device (below); ICCG's triangular solves are sequential
-// and run on the CPU.
+// Every solver runs on the device (below); ICCG needs doubles there, and runs on the CPU
+// without them.
 SolveReport OpenClDevice::solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                                 FieldF& x) {
   const SolverSettings& settings = solver.settings();
-  if (settings.kind == SolverKind::kIccg) {
+  if (settings.kind == SolverKind::kIccg && !cl_->has_fp64()) {
     say_fallback(DeviceOp::kSolve, solver_kind_name(settings.kind).data(),
-                 "OpenCL runs the jacobi, rbgs and mg solvers");
+                 "the device has no doubles (cl_khr_fp64)");
     host_in(b);
     host_in(x);
     const SolveReport report = cpu_.solve(solver, op, b, x);
@@ -387,8 +388,41 @@ SolveReport OpenClDevice::solve(LinearSolver& solver, const StencilOperator& op,
   OperatorTwin& t = operator_twin(op, solver);
   const DeviceField& db = in(b);
   DeviceField& dx = out(x);
-  return settings.kind == SolverKind::kMultigrid ? solve_multigrid(settings, t, db, dx)
-                                                 : solve_sweeps(settings, t, db, dx);
+  switch (settings.kind) {
+    case SolverKind::kMultigrid:
+      return solve_multigrid(settings, t, db, dx);
+    case SolverKind::kIccg:
+      return solve_iccg(settings, t, db, dx);
+    case SolverKind::kJacobi:
+    case SolverKind::kRedBlackGaussSeidel:
+      break;
+  }
+  return solve_sweeps(settings, t, db, dx);
+}
+
+// kernels/iccg_solver.cpp's solve, step for step (OpenClIccg), on the pivots of the uploaded
+// operator, factored on the device after each upload.
+SolveReport OpenClDevice::solve_iccg(const SolverSettings& settings, OperatorTwin& t,
+                                     const DeviceField& b, DeviceField& x) {
+  if (!t.iccg) {
+    // The first ICCG solve on this operator allocates the solver's vectors.
+    t.iccg = std::make_unique<OpenClIccg>(*cl_, t.host->size);
+    t.factored = false;
+  }
+  if (!t.factored) {
+    t.iccg->factor(t.device);
+    t.factored = true;
+  }
+  const int ny = t.host->size.y;
+  cl_->row_sums_of_squares(b, 0, ny, partial_sum_);
+  const double bb = consistent_part(partial_sum_.sum(ctx_, 0, ny), b, t);
+  const ClNullSpace null{&t.null_mask, t.null_space->count(), bb};
+  SolveReport report{};
+  report.iterations =
+      t.iccg->iterate(t.device, b, x, settings, t.null_space->singular() ? &null : nullptr);
+  remove_null_mean(x, t);
+  report.relative_residual = relative_residual(t, b, x, bb);
+  return report;
 }
 
 // The fixed-sweep solvers of kernels/jacobi_solver.cpp and rbgs_solver.cpp, sweep for sweep.
@@ -514,17 +548,14 @@ void OpenClDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k
 SolveReport OpenClDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                              const FieldF* conductivity, const DiffusionStep& s) {
   const SolverSettings& solver = diffusion.solver_settings();
-  const bool fixed_sweeps =
-      (solver.kind == SolverKind::kJacobi || solver.kind == SolverKind::kRedBlackGaussSeidel) &&
-      solver.tolerance == 0.0;
-  if (!fixed_sweeps || diffusion.has_solid()) {
+  if (!OpenClDiffusion::supports(*cl_, solver)) {
+    const bool iccg = solver.kind == SolverKind::kIccg;
     const bool sweeps =
         solver.kind == SolverKind::kJacobi || solver.kind == SolverKind::kRedBlackGaussSeidel;
-    const char* setting = !sweeps                   ? solver_kind_name(solver.kind).data()
-                          : solver.tolerance != 0.0 ? "a tolerance"
-                                                    : "solid cells";
-    say_fallback(DeviceOp::kImplicitDiffusion, setting,
-                 "OpenCL runs fixed jacobi or rbgs sweeps (tolerance 0) around no solid cells");
+    say_fallback(DeviceOp::kImplicitDiffusion,
+                 sweeps ? "sweeps with a tolerance" : solver_kind_name(solver.kind).data(),
+                 iccg ? "the device has no doubles (cl_khr_fp64)"
+                      : "OpenCL runs iccg, or fixed jacobi or rbgs sweeps (tolerance 0)");
     host_in(field);
     if (conductivity) host_in(*conductivity);
     const SolveReport r = cpu_.implicit_diffusion(diffusion, field, conductivity, s);
@@ -539,10 +570,10 @@ SolveReport OpenClDevice::implicit_diffusion(ImplicitDiffusion& diffusion, Field
                                            *cl_, diffusion.size(), diffusion.boundary(), solver)});
     twin = &diffusions_.back();
   }
-  twin->device->set_sweeps(solver.max_iterations);
+  twin->device->set_limits(solver.max_iterations, solver.tolerance);
   const DeviceField* k = conductivity ? &in(*conductivity) : nullptr;
-  const double residual = twin->device->step(out(field), k, s);
-  return SolveReport{solver.max_iterations, residual};
+  const DeviceField* solid = diffusion.solid() ? &mask(*diffusion.solid()) : nullptr;
+  return twin->device->step(out(field), k, s, solid);
 }
 
 void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,

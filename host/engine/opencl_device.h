@@ -9,10 +9,10 @@
 // when the host asks for it (the shown field, a saved state). So a frame moves nothing between
 // host and device unless someone looks.
 //
-// Every op has a twin. A setting a twin lacks (ICCG solves; implicit diffusion with a solver
-// other than fixed Jacobi or RBGS sweeps, or around solid cells) runs that op on the CPU device
-// instead: its inputs come to the host, its outputs go back when a device op next reads them,
-// and the first time each op falls back, one line says so on stderr.
+// Every op has a twin. A setting a twin lacks (ICCG on a device without doubles; implicit
+// diffusion with multigrid, or with Jacobi or RBGS sweeps to a tolerance) runs that op on the
+// CPU device instead: its inputs come to the host, its outputs go back when a device op next
+// reads them, and the first time each op falls back, one line says so on stderr.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
 #include <deque>
@@ -22,6 +22,7 @@
 
 #include "host/engine/device.h"
 #include "kernels/cl/opencl_diffusion.h"
+#include "kernels/cl/opencl_iccg.h"
 #include "kernels/cl/opencl_kernels.h"
 #include "kernels/stencil_sweeps.h"
 
@@ -130,7 +131,8 @@ class OpenClDevice final : public Device {
     DeviceField x, b, r;
   };
   // A StencilOperator's coefficients on the device, its null space (analysed on the host), the
-  // solver scratch of its size and, for multigrid, the coarse levels of `levels_of`.
+  // solver scratch of its size and, for multigrid, the coarse levels of `levels_of`; for ICCG,
+  // the solver's vectors and pivots (factored: of the operator uploaded last).
   struct OperatorTwin {
     const StencilOperator* host = nullptr;
     ClStencilOperator device;
@@ -138,6 +140,8 @@ class OpenClDevice final : public Device {
     DeviceField null_mask, other, r;
     std::vector<CoarseLevel> levels;
     const LinearSolver* levels_of = nullptr;
+    std::unique_ptr<OpenClIccg> iccg;
+    bool factored = false;
     bool stale = true;
   };
 
@@ -163,6 +167,8 @@ class OpenClDevice final : public Device {
                            DeviceField& x);
   SolveReport solve_multigrid(const SolverSettings& settings, OperatorTwin& t, const DeviceField& b,
                               DeviceField& x);
+  SolveReport solve_iccg(const SolverSettings& settings, OperatorTwin& t, const DeviceField& b,
+                         DeviceField& x);
   // One V-cycle on x for A x = b, A = op; `coarser` are the levels below op's grid, r op's
   // residual scratch.
   void v_cycle(const ClStencilOperator& op, const DeviceField& b, DeviceField& x, DeviceField& r,

@@ -112,23 +112,49 @@ inline float face_y(__global const float* k, int has_k, int ks, int ko, int ny, 
   return 0.0f;
 }
 
+// Whether cell (i, j) is inside the grid and solid (a mask from upload_mask, stride s, origin o).
+inline int solid_at(__global const float* m, int has_m, int s, int o, int nx, int ny, int i,
+                    int j) {
+  return has_m && i >= 0 && i < nx && j >= 0 && j < ny && m[o + j * s + i] != 0.0f;
+}
+
+// A fluid cell's diagonal less the face it shares with a solid neighbour: isolate_solid_cells's
+// update with wall factor 0, in its precision.
+inline float cut_face(float d, float face) {
+  return d + ((float)((real)0.0 * (real)face) - face);
+}
+
 // identity * I - scale div(k grad .): one work-item per point (i, j) of [0, nx] x [0, ny]
 // writes wx(i, j), wy(i, j) and diag(i, j) where they exist (diag recomputes its four faces:
-// the same expressions, so the same floats).
+// the same expressions, so the same floats). With a solid mask (has_m; the layout of k and
+// diag), then isolate_solid_cells(op, solid, 0): faces of a solid cell 0, a solid cell's row
+// the identity, and a fluid cell's diagonal less the faces it shares with solid neighbours, in
+// the order the C++ visits those neighbours (row by row: below, left, right, above).
 __kernel void stencil_assemble(__global const float* k, int has_k, int ks, int ko,
-                               __global float* diag, int ds, int dorg, __global float* wx, int xs,
-                               int xo, __global float* wy, int ys, int yo, int nx, int ny, int bx,
-                               int by, float identity_f, float scale_f) {
+                               __global const float* m, int has_m, __global float* diag, int ds,
+                               int dorg, __global float* wx, int xs, int xo, __global float* wy,
+                               int ys, int yo, int nx, int ny, int bx, int by, float identity_f,
+                               float scale_f) {
   const int i = get_global_id(0), j = get_global_id(1);
   if (i > nx || j > ny) return;
   const real scale = (real)scale_f;
-  if (j < ny) wx[xo + j * xs + i] = face_x(k, has_k, ks, ko, nx, bx, scale, i, j);
-  if (i < nx) wy[yo + j * ys + i] = face_y(k, has_k, ks, ko, ny, by, scale, i, j);
+#define SOLID(x, y) solid_at(m, has_m, ds, dorg, nx, ny, (x), (y))
+  if (j < ny)
+    wx[xo + j * xs + i] =
+        SOLID(i - 1, j) || SOLID(i, j) ? 0.0f : face_x(k, has_k, ks, ko, nx, bx, scale, i, j);
+  if (i < nx)
+    wy[yo + j * ys + i] =
+        SOLID(i, j - 1) || SOLID(i, j) ? 0.0f : face_y(k, has_k, ks, ko, ny, by, scale, i, j);
   if (i >= nx || j >= ny) return;
-  real sum = (real)identity_f + (real)face_x(k, has_k, ks, ko, nx, bx, scale, i, j) +
-             (real)face_x(k, has_k, ks, ko, nx, bx, scale, i + 1, j) +
-             (real)face_y(k, has_k, ks, ko, ny, by, scale, i, j) +
-             (real)face_y(k, has_k, ks, ko, ny, by, scale, i, j + 1);
+  if (SOLID(i, j)) {
+    diag[dorg + j * ds + i] = 1.0f;
+    return;
+  }
+  const float left = face_x(k, has_k, ks, ko, nx, bx, scale, i, j);
+  const float right = face_x(k, has_k, ks, ko, nx, bx, scale, i + 1, j);
+  const float below = face_y(k, has_k, ks, ko, ny, by, scale, i, j);
+  const float above = face_y(k, has_k, ks, ko, ny, by, scale, i, j + 1);
+  real sum = (real)identity_f + (real)left + (real)right + (real)below + (real)above;
   // Dirichlet: the ghost is fixed, so the boundary face keeps its weight on the diagonal.
   const real kc = k_at(k, has_k, ks, ko, i, j);
   if (bx == 2) {
@@ -139,7 +165,13 @@ __kernel void stencil_assemble(__global const float* k, int has_k, int ks, int k
     if (j == 0) sum += scale * kc;
     if (j == ny - 1) sum += scale * kc;
   }
-  diag[dorg + j * ds + i] = (float)sum;
+  float d = (float)sum;
+  if (SOLID(i, j - 1)) d = cut_face(d, below);
+  if (SOLID(i - 1, j)) d = cut_face(d, left);
+  if (SOLID(i + 1, j)) d = cut_face(d, right);
+  if (SOLID(i, j + 1)) d = cut_face(d, above);
+#undef SOLID
+  diag[dorg + j * ds + i] = d;
 }
 
 // ---- Sweeps (kernels/stencil_sweeps.cpp). Neighbour indices: periodic edges wrap, others
@@ -219,19 +251,21 @@ __kernel void stencil_apply(__global const float* diag, int s, int o, __global c
 
 // ImplicitDiffusion::step's right-hand side: rhs = field, or 2 field - A field (crank: ax holds
 // A field); then on Dirichlet edges with a non-zero value, each boundary side a cell lies on
-// adds float(g k) (g = value * D dt / h^2; k = 1 without conductivity), as the C++ adds it once
-// per side.
+// adds float(g k) (g = value * D dt / h^2, a double where the device has them; k = 1 without
+// conductivity), as the C++ adds it once per side, unless the cell is solid (has_m: a mask
+// from upload_mask).
 __kernel void diffusion_rhs(__global const float* field, __global const float* ax,
-                            __global float* rhs, __global const float* k, int has_k, int s, int o,
-                            int nx, int ny, int crank, int dirichlet, float g) {
+                            __global float* rhs, __global const float* k, int has_k,
+                            __global const float* m, int has_m, int s, int o, int nx, int ny,
+                            int crank, int dirichlet, real g) {
   const int i = get_global_id(0), j = get_global_id(1);
   if (i >= nx || j >= ny) return;
   const int c = o + j * s + i;
   float r = crank ? 2.0f * field[c] - ax[c] : field[c];
-  if (dirichlet) {
+  if (dirichlet && !solid_at(m, has_m, s, o, nx, ny, i, j)) {
     const int sides = (i == 0) + (i == nx - 1) + (j == 0) + (j == ny - 1);
     if (sides > 0) {
-      const float add = (float)((real)g * (has_k ? (real)k[c] : (real)1.0));
+      const float add = (float)(g * (has_k ? (real)k[c] : (real)1.0));
       for (int n = 0; n < sides; ++n) r += add;
     }
   }

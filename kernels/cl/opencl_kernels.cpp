@@ -28,7 +28,7 @@ cl_program build_program(OpenClContext& ctx, std::string* error) {
 
 // Whether the device compiles common.cl's `real` as double: it reports cl_khr_fp64 (the
 // extension macro common.cl tests).
-bool has_fp64(cl_device_id device) {
+bool device_has_fp64(cl_device_id device) {
   std::size_t bytes = 0;
   if (clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, nullptr, &bytes) != CL_SUCCESS) return false;
   std::string extensions(bytes, '\0');
@@ -86,7 +86,7 @@ std::unique_ptr<OpenClKernels> OpenClKernels::create(OpenClContext& ctx, std::st
   if (!program) return nullptr;
   auto kernels = std::unique_ptr<OpenClKernels>(new OpenClKernels(ctx, program));
   kernels->tiling_ = default_tiling(ctx.device());
-  kernels->real_bytes_ = has_fp64(ctx.device().device) ? sizeof(double) : sizeof(float);
+  kernels->real_bytes_ = device_has_fp64(ctx.device().device) ? sizeof(double) : sizeof(float);
   return kernels;
 }
 
@@ -228,13 +228,16 @@ void OpenClKernels::check_operator_layout(const ClStencilOperator& op, const Dev
 }
 
 void OpenClKernels::assemble_stencil_operator(ClStencilOperator& op, float identity, float scale,
-                                              const DeviceField* conductivity) {
+                                              const DeviceField* conductivity,
+                                              const DeviceField* solid) {
   if (conductivity) check_operator_layout(op, *conductivity);
+  if (solid) check_operator_layout(op, *solid);
   const DeviceField& k = conductivity ? *conductivity : op.diag;  // unread without conductivity
+  const DeviceField& m = solid ? *solid : op.diag;                // unread without a mask
   cl_kernel kk = kernel("stencil_assemble");
-  set_kernel_args(kk, k.buffer, int(conductivity != nullptr), k.stride, k.origin, op.diag, op.wx,
-                  op.wy, op.size.x, op.size.y, int(op.boundary_x), int(op.boundary_y), identity,
-                  scale);
+  set_kernel_args(kk, k.buffer, int(conductivity != nullptr), k.stride, k.origin, m.buffer,
+                  int(solid != nullptr), op.diag, op.wx, op.wy, op.size.x, op.size.y,
+                  int(op.boundary_x), int(op.boundary_y), identity, scale);
   enqueue_cells(kk, Box2{{0, 0}, {op.size.x + 1, op.size.y + 1}});
 }
 
@@ -320,15 +323,25 @@ void OpenClKernels::prolong_add(const DeviceField& coarse, DeviceField& fine) {
 }
 
 void OpenClKernels::diffusion_rhs(const DeviceField& field, const DeviceField* ax, DeviceField& rhs,
-                                  const DeviceField* conductivity, float g) {
+                                  const DeviceField* conductivity, double g,
+                                  const DeviceField* solid) {
   check_same_layout(field, rhs);
   if (ax) check_same_layout(field, *ax);
   if (conductivity) check_same_layout(field, *conductivity);
+  if (solid) check_same_layout(field, *solid);
   cl_kernel k = kernel("diffusion_rhs");
-  set_kernel_args(k, field.buffer, ax ? ax->buffer : field.buffer, rhs.buffer,
-                  conductivity ? conductivity->buffer : field.buffer, int(conductivity != nullptr),
-                  field.stride, field.origin, field.size.x, field.size.y, int(ax != nullptr),
-                  int(g != 0.0f), g);
+  // `real g`: a double where the device has doubles (the C++ multiplies in double).
+  const auto set_args = [&](auto g_real) {
+    set_kernel_args(k, field.buffer, ax ? ax->buffer : field.buffer, rhs.buffer,
+                    conductivity ? conductivity->buffer : field.buffer,
+                    int(conductivity != nullptr), solid ? solid->buffer : field.buffer,
+                    int(solid != nullptr), field.stride, field.origin, field.size.x, field.size.y,
+                    int(ax != nullptr), int(g != 0.0), g_real);
+  };
+  if (has_fp64())
+    set_args(g);
+  else
+    set_args(float(g));
   enqueue_cells(k, field.interior());
 }
 
@@ -685,10 +698,14 @@ void ClRowPartials::read(OpenClContext& ctx, int y0, int y1, double* out) const 
 
 double ClRowPartials::sum(OpenClContext& ctx, int y0, int y1) const {
   if (y1 <= y0) return 0.0;
-  double* p = host.data();
-  read(ctx, y0, y1, p);
+  read(ctx, y0, y1, host.data());
+  return added(y0, y1);
+}
+
+double ClRowPartials::added(int y0, int y1) const {
+  ARDCELL_CHECK(y0 >= 0 && y1 <= rows, "row partials: rows out of range");
   double total = 0.0;
-  for (int y = y0; y < y1; ++y) total += p[y];
+  for (int y = y0; y < y1; ++y) total += host[std::size_t(y)];
   return total;
 }
 

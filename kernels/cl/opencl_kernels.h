@@ -106,6 +106,9 @@ struct ClRowPartials {
   // [y0, y1), out indexed by the absolute row as the C++ kernels' partials.
   void read(OpenClContext& ctx, int y0, int y1, double* out) const;
   double sum(OpenClContext& ctx, int y0, int y1) const;
+  // Rows [y0, y1) of `host` (where read(..., host.data()) left them) added in row order: for
+  // kernels that write several reductions side by side, read once.
+  double added(int y0, int y1) const;
 };
 
 class OpenClKernels {
@@ -122,6 +125,13 @@ class OpenClKernels {
   OpenClContext& context() { return ctx_; }
   cl_kernel kernel(const char* name);
   ClTiling& tiling() { return tiling_; }
+  // Whether the device has doubles (cl_khr_fp64): common.cl's `real` is double, and the kernels
+  // that need double vectors (iccg.cl) are built.
+  bool has_fp64() const { return real_bytes_ == sizeof(double); }
+  // One work-item per cell of region (2D), for gathers and halo-0 kernels.
+  void enqueue_cells(cl_kernel k, Box2 region);
+  // One work-item per row of [y0, y1) (1D), for the row reductions.
+  void enqueue_rows(cl_kernel k, int y0, int y1);
 
   // Twin of reaction_implicit_tile (Eqn 6; gray_scott_implicit_tile when p.model is
   // Gray-Scott). Outputs may alias inputs.
@@ -144,9 +154,12 @@ class OpenClKernels {
   void conductivity(const DeviceField& a, const DeviceField* theta0, DeviceField& k, Box2 region,
                     const AnisotropyParams& p);
   // Twin of reassemble_stencil_operator (Eqns 13, 17/19): identity I - scale div(k grad .),
-  // k per cell averaged onto faces; conductivity null means k = 1.
+  // k per cell averaged onto faces; conductivity null means k = 1. With a solid mask
+  // (upload_mask, op's layout), then isolate_solid_cells(op, solid, 0): the solid cells' faces
+  // cut, their fluid neighbours' diagonals without them, their rows the identity.
   void assemble_stencil_operator(ClStencilOperator& op, float identity, float scale,
-                                 const DeviceField* conductivity);
+                                 const DeviceField* conductivity,
+                                 const DeviceField* solid = nullptr);
   // Twins of kernels/stencil_sweeps.h (whole interior; x_out must differ from x_in).
   void stencil_jacobi_sweep(const ClStencilOperator& op, const DeviceField& b,
                             const DeviceField& x_in, DeviceField& x_out);
@@ -163,9 +176,10 @@ class OpenClKernels {
   void restrict_sum(const DeviceField& fine, DeviceField& coarse);
   void prolong_add(const DeviceField& coarse, DeviceField& fine);
   // ImplicitDiffusion::step's right-hand side: field (or 2 field - ax, Crank-Nicolson), plus
-  // the Dirichlet boundary value's flux g k on each boundary side of a cell (g = 0: none).
+  // the Dirichlet boundary value's flux g k on each boundary side of a cell (g = 0: none) that
+  // is not solid (solid: upload_mask, field's layout; null: none). g in the device's `real`.
   void diffusion_rhs(const DeviceField& field, const DeviceField* ax, DeviceField& rhs,
-                     const DeviceField* conductivity, float g);
+                     const DeviceField* conductivity, double g, const DeviceField* solid = nullptr);
 
   // Twin of fill_boundary on a whole field: the ghost ring of the domain (f.size).
   void fill_boundary(DeviceField& f, const BoundaryFill& fill);
@@ -284,10 +298,6 @@ class OpenClKernels {
   void check_operator_layout(const ClStencilOperator& op, const DeviceField& f) const;
   // A tiled launch: persistent work-groups walk the region's tiles (common.cl).
   void enqueue_tiled(cl_kernel k, Box2 region);
-  // One work-item per cell of region (2D), for gathers and halo-0 kernels.
-  void enqueue_cells(cl_kernel k, Box2 region);
-  // One work-item per row of [y0, y1) (1D), for the row reductions.
-  void enqueue_rows(cl_kernel k, int y0, int y1);
   void row_reduction(const char* name, const DeviceField& f, int y0, int y1,
                      ClRowPartials& partials);
   void check_partials(const ClRowPartials& partials, int y1) const;

@@ -77,8 +77,8 @@ TEST(LiveCli, BadBackendArgumentsAreOneLineAndExitCodeTwo) {
 
 #if defined(ARDCELL_WITH_OPENCL)
 // An RD-only preset and a fluid preset set to fixed sweeps run on the device with no fallback
-// line; a pressure solver the device does not run (ICCG) runs that op on the CPU with one
-// line naming it.
+// line, and so does an ICCG pressure solve; an implicit diffusion the device does not run
+// (multigrid) runs that op on the CPU with one line naming it.
 TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     GTEST_SKIP() << "no X or Wayland display";
@@ -109,6 +109,11 @@ TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
             "name = \"small-fluid-iccg\"\n[grid]\nsize = [16, 16]\n[fluid.pressure_solver]\n"
             "kind = \"iccg\"\niterations = 2\ntolerance = 0.0\n[fluid.viscosity_solver]\n"
             "kind = \"rbgs\"\niterations = 4\ntolerance = 0.0\n");
+  const std::string rd_mg =
+      write("rd-mg.toml",
+            "name = \"rd-mg\"\n[grid]\nsize = [24, 20]\n[fluid]\nscene = \"none\"\n[rd]\n"
+            "enabled = true\n[rd.diffusion_solver]\nkind = \"mg\"\niterations = 2\n"
+            "tolerance = 0.0\n");
   // LeakSanitizer's stop-the-world tracer crashed (signal 11, exit 134) once at exit of a
   // live window with PoCL's worker threads under a loaded parallel ctest; leaks are checked by
   // the other tests, so these two runs do without the exit-time leak scan.
@@ -127,10 +132,14 @@ TEST(LiveCli, OpenClBackendRunsEveryPresetAndFallsBackPerOp) {
   EXPECT_EQ(on_device.output.find("runs on the CPU"), std::string::npos) << on_device.output;
   EXPECT_NE(on_device.output.find("frames 2, deadline misses "), std::string::npos)
       << on_device.output;
-  const Result one_op =
+  const Result with_iccg =
       run("live " + iccg + " --backend opencl --frames 2 --fps 0 --scale 1", no_leak_scan);
+  EXPECT_EQ(with_iccg.code, 0) << with_iccg.output;
+  EXPECT_EQ(with_iccg.output.find("runs on the CPU"), std::string::npos) << with_iccg.output;
+  const Result one_op =
+      run("live " + rd_mg + " --backend opencl --frames 2 --fps 0 --scale 1", no_leak_scan);
   EXPECT_EQ(one_op.code, 0) << one_op.output;
-  EXPECT_NE(one_op.output.find("ardcell: opencl: linear solve runs on the CPU (iccg: "),
+  EXPECT_NE(one_op.output.find("ardcell: opencl: implicit diffusion runs on the CPU (mg: "),
             std::string::npos)
       << one_op.output;
   EXPECT_NE(one_op.output.find("frames 2, deadline misses "), std::string::npos) << one_op.output;

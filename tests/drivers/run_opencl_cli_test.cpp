@@ -4,9 +4,11 @@
 //     with no fallback line, writes PNG frames, and saves fields that agree with the CPU
 //     engine's within 1e-5 relative in the max norm (max |cl - cpu| / max |cpu|, per field);
 //     resuming a saved state on the device agrees the same way;
-//   - a solver the device does not run (ICCG) runs that op on the CPU with ONE line
-//     naming the setting; an invalid --cl-device prints ONE line and runs on the threads back
-//     end;
+//   - the scene's own ICCG solves (--solver iccg) run on the device too, with no fallback line
+//     and the same agreement;
+//   - a setting the device does not run (multigrid implicit diffusion, an FFT) runs that op on
+//     the CPU with ONE line naming the setting; an invalid --cl-device prints ONE line and runs
+//     on the threads back end;
 //   - --cl-device with --backend threads is a usage error (exit 2, one line).
 #include <gtest/gtest.h>
 
@@ -115,6 +117,21 @@ TEST_F(RunOpenClCliTest, FluidSceneRunsOnTheDeviceAndAgreesWithTheCpu) {
   EXPECT_LE(error, 1e-5);
 }
 
+// Every solve and the implicit diffusion with ICCG (kernels/cl/iccg.cl): no fallback line.
+TEST_F(RunOpenClCliTest, IccgSolvesRunOnTheDeviceAndAgreeWithTheCpu) {
+  if (!have_opencl_device()) GTEST_SKIP() << "no OpenCL device (or built without OpenCL)";
+  const std::string scene =
+      "run cavity-gray-scott --size 45x31 --quiet --steps 5 --every 0 --solver iccg ";
+  const Result cl = run(scene + "--backend opencl --save-state on_cl");
+  ASSERT_EQ(cl.code, 0) << cl.err;
+  EXPECT_EQ(cl.err, "") << "no op may fall back";
+  ASSERT_EQ(run(scene + "--backend serial --save-state on_cpu").code, 0);
+  const double error = state_error("on_cl", "on_cpu");
+  std::printf("cavity-gray-scott 45x31 iccg, 5 frames: OpenCL vs CPU max relative error %.3g\n",
+              error);
+  EXPECT_LE(error, 1e-5);
+}
+
 TEST_F(RunOpenClCliTest, WhatTheDeviceCannotRunFallsBackWithOneLine) {
   struct Case {
     std::string args, expected;
@@ -123,10 +140,9 @@ TEST_F(RunOpenClCliTest, WhatTheDeviceCannotRunFallsBackWithOneLine) {
   const Case cases[] = {
       {"run pearson --size 24 --steps 2 --every 0 --backend opencl",
        device ? "ETDRK4 step (FFT) runs on the CPU (rd.scheme etdrk4: " : "OpenCL"},
-      {"run pearson --size 24 --steps 2 --every 0 --backend opencl --set rd.scheme=implicit",
-       device ? "implicit diffusion runs on the CPU (iccg: " : "OpenCL"},
-      {"run cavity --size 16 --steps 2 --every 0 --backend opencl --solver iccg",
-       device ? "linear solve runs on the CPU (iccg: " : "OpenCL"},
+      {"run pearson --size 24 --steps 2 --every 0 --backend opencl --set rd.scheme=implicit "
+       "--set rd.diffusion_solver.kind=mg",
+       device ? "implicit diffusion runs on the CPU (mg: " : "OpenCL"},
       {std::string(kPearson) + "--steps 2 --every 0 --backend opencl --cl-device 99",
        device ? "--cl-device 99" : "OpenCL"},
   };

@@ -654,7 +654,7 @@ TEST(ClParity, RdParameterChangesRebuildNothing) {
     d.cl->conductivity(a, nullptr, k, box_of_size(size), params);
     for (float rate : {0.5f, 2.0f}) diffusion.step(a, &k, DiffusionStep{rate, 0.0f, false});
   }
-  diffusion.set_sweeps(9);
+  diffusion.set_limits(9, 0.0);
   diffusion.step(a, nullptr, DiffusionStep{1.0, 0.0f, true});
   for (float F : {0.03f, 0.05f}) {
     ReactionParams p;

@@ -12,8 +12,8 @@
 //   - the anisotropic space cookies stay within 1e-5 for 2 frames, and within 4x the CPU's own
 //     drift under an ulp of perturbation (an ulp moved in 40% of the initial cells) for 60.
 // Also: after the first frame a frame moves no field between host and device, and fluid scenes
-// with the real-time solvers, or with the presets' multigrid solvers, run every op on the device
-// (no fallback line).
+// with the real-time solvers, or with the presets' multigrid solvers, and the presets' ICCG
+// diffusion run every op on the device (no fallback line).
 #if defined(ARDCELL_WITH_OPENCL)
 #include <gtest/gtest.h>
 
@@ -175,7 +175,7 @@ TEST(EngineOpenCl, FramesStayOnTheDeviceAndNoOpFallsBack) {
   if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
   for (const char* name : {"cavity-gray-scott", "obstacle", "ink", "seed001"}) {
     SceneConfig scene = awkward_preset_scene(name);
-    // The real-time solvers (the presets' reaction-diffusion chooses ICCG, which runs on the CPU).
+    // The real-time solvers (the presets' own ICCG diffusion: IccgDiffusionPresets... below).
     scene.fluid.pressure_solver = {SolverKind::kJacobi, 20, 0.0};
     scene.fluid.viscosity_solver = {SolverKind::kRedBlackGaussSeidel, 10, 0.0};
     scene.rd.diffusion_solver = {SolverKind::kRedBlackGaussSeidel, 10, 0.0};
@@ -232,7 +232,8 @@ TEST(EngineOpenCl, MultigridPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
 // last-bit differences move it by a few percent: a wrong system would be orders away.
 TEST(EngineOpenCl, DiffusionReportsTheCpusResidual) {
   if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
-  for (SolverKind kind : {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel}) {
+  for (SolverKind kind :
+       {SolverKind::kJacobi, SolverKind::kRedBlackGaussSeidel, SolverKind::kIccg}) {
     SceneConfig scene = fixed_sweeps("pearson", kind, 6);
     scene.rd.scheme = RdScheme::kImplicit;
     Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
@@ -247,6 +248,49 @@ TEST(EngineOpenCl, DiffusionReportsTheCpusResidual) {
     EXPECT_GT(a.diffusion_residual_a, 0.0);
     EXPECT_NEAR(b.diffusion_residual_a, a.diffusion_residual_a, 0.05 * a.diffusion_residual_a);
     EXPECT_NEAR(b.diffusion_residual_b, a.diffusion_residual_b, 0.05 * a.diffusion_residual_b);
+  }
+}
+
+// The presets' own diffusion solver, ICCG to a tolerance (kernels/cl/opencl_iccg.h; the
+// anisotropic cookie's operator assembled and factored on the device every step, the obstacle's
+// solid cells isolated there): frame after frame on the device without a transfer or a
+// fallback line, each solve taking the CPU's iterations, within 1e-5 of serial.
+TEST(EngineOpenCl, IccgDiffusionPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
+  if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  for (const char* name :
+       {"turing-spots", "obstacle-rd-gray-scott", "cavity-gray-scott", "space-cookie-3"}) {
+    const SceneConfig scene = awkward_preset_scene(name);
+    ASSERT_EQ(scene.rd.diffusion_solver.kind, SolverKind::kIccg) << name;
+    ASSERT_GT(scene.rd.diffusion_solver.tolerance, 0.0) << name;
+    testing::internal::CaptureStderr();
+    Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
+    Engine cl(scene, on_device());
+    auto& device = static_cast<OpenClDevice&>(cl.device());
+    std::int64_t up = 0, down = 0;
+    for (int k = 0; k < kFrames; ++k) {
+      serial.step();
+      cl.step();
+      const RdStepStats& a = *serial.rd_stats();
+      const RdStepStats& b = *cl.rd_stats();
+      EXPECT_EQ(b.diffusion_iterations_a, a.diffusion_iterations_a) << name << " frame " << k;
+      EXPECT_EQ(b.diffusion_iterations_b, a.diffusion_iterations_b) << name << " frame " << k;
+      EXPECT_NEAR(b.diffusion_residual_a, a.diffusion_residual_a, 0.05 * a.diffusion_residual_a)
+          << name << " frame " << k;
+      if (k == 0) {
+        cl.finish();
+        up = device.uploaded_bytes();
+        down = device.downloaded_bytes();
+      }
+    }
+    cl.finish();
+    EXPECT_EQ(device.uploaded_bytes(), up) << name;
+    EXPECT_EQ(device.downloaded_bytes(), down) << name;
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << name;
+    const auto [error, field] = worst_error(serial.state(), std::as_const(cl).state());
+    const RdStepStats& last = *serial.rd_stats();
+    std::printf("%s (iccg diffusion): %d frames, last %d + %d iterations, max error %.3g\n", name,
+                kFrames, last.diffusion_iterations_a, last.diffusion_iterations_b, error);
+    EXPECT_LE(error, kTolerance) << name << ": field " << field;
   }
 }
 

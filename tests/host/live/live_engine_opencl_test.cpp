@@ -110,7 +110,7 @@ TEST(LiveOpenCl, SwitchesParametersAndPresetsUnderTheLoopLikeTheCpu) {
   const std::string fluid = fx.preset("cavity-gray-scott", {16, 16}, [](Preset& p) {
     p.scene.fluid.pressure_solver = {SolverKind::kIccg, 2, 0.0};
     p.scene.fluid.viscosity_solver = {SolverKind::kJacobi, 4, 0.0};
-    p.scene.rd.diffusion_solver = {SolverKind::kRedBlackGaussSeidel, 3, 0.0};
+    p.scene.rd.diffusion_solver = {SolverKind::kMultigrid, 2, 0.0};
   });
 
   const int builds = dev->ctx->build_count();
@@ -169,16 +169,17 @@ TEST(LiveOpenCl, SwitchesParametersAndPresetsUnderTheLoopLikeTheCpu) {
   select(turing);
   frames(10, "turing-spots");
   EXPECT_EQ(on_device.simulation().backend(), "opencl");
-  // A fluid preset whose pressure solver the device does not run: that one op on the CPU,
-  // with one line naming the setting (each engine says it once).
+  // A fluid preset (its ICCG pressure solve on the device) whose implicit diffusion the device
+  // does not run: that one op on the CPU, with one line naming the setting (each engine says
+  // it once).
   testing::internal::CaptureStderr();
   select(fluid);
   frames(3, "cavity-gray-scott");
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_EQ(on_device.simulation().backend(), "opencl");
   EXPECT_EQ(said,
-            "ardcell: opencl: linear solve runs on the CPU (iccg: OpenCL runs the jacobi, "
-            "rbgs and mg solvers)\n");
+            "ardcell: opencl: implicit diffusion runs on the CPU (mg: OpenCL runs iccg, or fixed "
+            "jacobi or rbgs sweeps (tolerance 0))\n");
   // And back to a preset with no fallback.
   select(pearson);
   frames(6, "pearson again");

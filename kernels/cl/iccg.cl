@@ -1,0 +1,216 @@
+// Twins of kernels/iccg_solver.cpp (IccgSolver): conjugate gradients preconditioned by block
+// IC(0), blocks of block_rows rows (iccg::kBlockRows) fixed by the grid, the couplings between
+// blocks left out of the factor. The host (kernels/cl/opencl_iccg.cpp) runs the C++ solve's
+// loop, step for step, on these kernels and adds the per-row partials of every dot product in
+// row order.
+//
+// Vectors in double: n = nx * ny, cell (i, j) at j * nx + i, the C++ vectors' layout. The
+// operator stays in its float fields (diag, and the fields b and x: stride s, origin o; wx and wy
+// each their own), converted to double where read: the values the C++ copies into its double
+// arrays. Products and sums in the C++ order, unfused (common.cl: FP_CONTRACT OFF; the C++ is
+// compiled with -ffp-contract=off) but for the triangular solves' recurrences, fused where the
+// C++ fuses them (`fused`: iccg::kFusedRecurrences), so on a device with correctly rounded
+// doubles and fma (PoCL) every vector has the C++ bits.
+//
+// The factorisation and the triangular solves are sequential within a block (each pivot and
+// each z(i, j) needs its left and lower neighbour's): ONE work-item per block walks it in the
+// C++ order, blocks side by side (the C++ runs them as one task per block). The row-parallel
+// parts (the matvec, dot products, updates) are one work-item per row or per cell.
+//
+// Needs doubles (cl_khr_fp64): without them the file compiles to nothing and the host keeps the
+// CPU solver (OpenClKernels::has_fp64).
+#if ARDCELL_REAL_IS_DOUBLE
+
+// a * b + c, in one rounding when `fused` (the C++ multiply_add).
+inline double multiply_add(double a, double b, double c, int fused) {
+  return fused ? fma(a, b, c) : a * b + c;
+}
+
+// Twin of IccgSolver::prepare's factorisation: pivot(i, j) = diag - wx(i, j)^2 / pivot(i - 1, j)
+// - wy(i, j)^2 / pivot(i, j - 1) (the wy term only inside the block), floored as the C++ floors
+// it. One work-item per block.
+__kernel void iccg_factor(__global const float* diag, int s, int o, __global const float* wx,
+                          int xs, int xo, __global const float* wy, int ys, int yo, int nx, int ny,
+                          int block_rows, __global double* pivot, __global double* inv_pivot) {
+  const int j0 = (int)get_global_id(0) * block_rows;
+  if (j0 >= ny) return;
+  const int j1 = min(ny, j0 + block_rows);
+  for (int j = j0; j < j1; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const double dg = (double)diag[o + j * s + i];
+      double d = dg;
+      if (i > 0) {
+        const double w = (double)wx[xo + j * xs + i];
+        d -= w * w / pivot[j * nx + i - 1];
+      }
+      if (j > j0) {
+        const double w = (double)wy[yo + j * ys + i];
+        d -= w * w / pivot[(j - 1) * nx + i];
+      }
+      const double floor_value = 1e-3 * dg;
+      if (!(d > floor_value)) d = dg > 0.0 ? dg : 1.0;
+      pivot[j * nx + i] = d;
+      inv_pivot[j * nx + i] = 1.0 / d;
+    }
+}
+
+// Twin of IccgSolver::solve's first copy: xd = x (float field to double vector). One work-item
+// per cell.
+__kernel void iccg_load(__global const float* x, int s, int o, __global double* xd, int nx,
+                        int ny) {
+  const int i = get_global_id(0), j = get_global_id(1);
+  if (i >= nx || j >= ny) return;
+  xd[j * nx + i] = (double)x[o + j * s + i];
+}
+
+// Twin of IccgSolver::solve's last copy: x = float(xd). One work-item per cell.
+__kernel void iccg_store(__global const double* xd, __global float* x, int s, int o, int nx,
+                         int ny) {
+  const int i = get_global_id(0), j = get_global_id(1);
+  if (i >= nx || j >= ny) return;
+  x[o + j * s + i] = (float)xd[j * nx + i];
+}
+
+// Twin of IccgSolver::multiply (out = A in, wrap couplings included; a non-periodic edge points
+// at the cell itself, whose face weight is 0) and of dot(in, out): partials[j] = the row's
+// sum of in * out, left to right. One work-item per row.
+__kernel void iccg_multiply(__global const float* diag, int s, int o, __global const float* wx,
+                            int xs, int xo, __global const float* wy, int ys, int yo,
+                            __global const double* in, __global double* out, int nx, int ny,
+                            int px, int py, __global double* partials) {
+  const int j = get_global_id(0);
+  if (j >= ny) return;
+  const int jb = j > 0 ? j - 1 : (py ? ny - 1 : j);
+  const int ja = j < ny - 1 ? j + 1 : (py ? 0 : j);
+  __global const double* x0 = in + j * nx;
+  __global const double* xb = in + jb * nx;
+  __global const double* xa = in + ja * nx;
+  __global const float* d = diag + o + j * s;
+  __global const float* wxr = wx + xo + j * xs;
+  __global const float* wyb = wy + yo + j * ys;
+  __global const float* wya = wy + yo + (j + 1) * ys;
+  __global double* y = out + j * nx;
+  double dot = 0.0;
+  for (int i = 0; i < nx; ++i) {
+    const int il = i > 0 ? i - 1 : (px ? nx - 1 : i);
+    const int ir = i < nx - 1 ? i + 1 : (px ? 0 : i);
+    y[i] = (double)d[i] * x0[i] - ((double)wxr[i] * x0[il] + (double)wxr[i + 1] * x0[ir] +
+                                   (double)wyb[i] * xb[i] + (double)wya[i] * xa[i]);
+    dot += x0[i] * y[i];
+  }
+  partials[j] = dot;
+}
+
+// Twin of IccgSolver::solve's initial residual: r = b - q (q = A x) and partials[j] = the row's
+// sum of b^2, left to right. One work-item per row.
+__kernel void iccg_residual(__global const float* b, int s, int o, __global const double* q,
+                            __global double* r, int nx, int ny, __global double* partials) {
+  const int j = get_global_id(0);
+  if (j >= ny) return;
+  __global const float* bj = b + o + j * s;
+  double row = 0.0;
+  for (int i = 0; i < nx; ++i) {
+    const double bi = (double)bj[i];
+    r[j * nx + i] = bi - q[j * nx + i];
+    row += bi * bi;
+  }
+  partials[j] = row;
+}
+
+// Twin of IccgSolver::precondition (its null-space projection aside): z = M^-1 r, in each block
+// forward then backward substitution, row by row. One work-item per block (see the top).
+__kernel void iccg_precondition(__global const double* inv_pivot, __global const float* wx, int xs,
+                                int xo, __global const float* wy, int ys, int yo,
+                                __global const double* r, __global double* z, int nx, int ny,
+                                int block_rows, int fused) {
+  const int j0 = (int)get_global_id(0) * block_rows;
+  if (j0 >= ny) return;
+  const int j1 = min(ny, j0 + block_rows);
+  for (int j = j0; j < j1; ++j) {
+    __global const double* rj = r + j * nx;
+    __global const double* inv = inv_pivot + j * nx;
+    __global const float* wxr = wx + xo + j * xs;
+    __global const float* wyb = wy + yo + j * ys;
+    __global double* zj = z + j * nx;
+    if (j > j0) {
+      __global const double* zb = z + (j - 1) * nx;
+      for (int i = 0; i < nx; ++i) zj[i] = rj[i] + (double)wyb[i] * zb[i];
+    } else {
+      for (int i = 0; i < nx; ++i) zj[i] = rj[i];
+    }
+    zj[0] *= inv[0];
+    for (int i = 1; i < nx; ++i)
+      zj[i] = multiply_add((double)wxr[i], zj[i - 1], zj[i], fused) * inv[i];
+  }
+  // t(i) = wy(i, j + 1) z(i, j + 1) (0 on the block's last row), then the recurrence along the
+  // row (the C++ keeps t in a row of scratch: the same values).
+  for (int j = j1 - 1; j >= j0; --j) {
+    __global const double* inv = inv_pivot + j * nx;
+    __global const float* wxr = wx + xo + j * xs;
+    __global const float* wya = wy + yo + (j + 1) * ys;
+    __global const double* za = z + (j + 1) * nx;  // read only when j < j1 - 1
+    __global double* zj = z + j * nx;
+    const int inner = j < j1 - 1;
+    zj[nx - 1] += (inner ? (double)wya[nx - 1] * za[nx - 1] : 0.0) * inv[nx - 1];
+    for (int i = nx - 2; i >= 0; --i) {
+      const double t = inner ? (double)wya[i] * za[i] : 0.0;
+      zj[i] = multiply_add(multiply_add((double)wxr[i + 1], zj[i + 1], t, fused), inv[i], zj[i],
+                           fused);
+    }
+  }
+}
+
+// Twin of IccgSolver::solve's dot(r, z) and dot(r, r) after a preconditioning (r does not change
+// between them): partials[j] = the row's sum of r * z, partials[ny + j] its sum of r * r, each
+// left to right. One work-item per row.
+__kernel void iccg_dots(__global const double* r, __global const double* z, int nx, int ny,
+                        __global double* partials) {
+  const int j = get_global_id(0);
+  if (j >= ny) return;
+  double rz = 0.0, rr = 0.0;
+  for (int m = j * nx, end = (j + 1) * nx; m < end; ++m) {
+    rz += r[m] * z[m];
+    rr += r[m] * r[m];
+  }
+  partials[j] = rz;
+  partials[ny + j] = rr;
+}
+
+// Twin of IccgSolver::solve's update: x += alpha p, r -= alpha q. One work-item per cell.
+__kernel void iccg_update(__global double* x, __global double* r, __global const double* p,
+                          __global const double* q, double alpha, int n) {
+  const int m = get_global_id(0);
+  if (m >= n) return;
+  x[m] += alpha * p[m];
+  r[m] -= alpha * q[m];
+}
+
+// Twin of IccgSolver::solve's new direction: p = z + beta p. One work-item per cell.
+__kernel void iccg_direction(__global double* p, __global const double* z, double beta, int n) {
+  const int m = get_global_id(0);
+  if (m >= n) return;
+  p[m] = z[m] + beta * p[m];
+}
+
+// Twin of IccgSolver::project's sum: partials[j] = the row's sum of v over the null-space mask
+// (a float field with stride s, origin o: upload_mask), left to right. One work-item per row.
+__kernel void iccg_masked_row_sums(__global const double* v, __global const float* mask, int s,
+                                   int o, int nx, int ny, __global double* partials) {
+  const int j = get_global_id(0);
+  if (j >= ny) return;
+  __global const float* z = mask + o + j * s;
+  double sum = 0.0;
+  for (int i = 0; i < nx; ++i)
+    if (z[i] != 0.0f) sum += v[j * nx + i];
+  partials[j] = sum;
+}
+
+// Twin of IccgSolver::project's map: v -= mean over the null-space mask. One work-item per cell.
+__kernel void iccg_subtract_masked(__global double* v, __global const float* mask, int s, int o,
+                                   int nx, int ny, double mean) {
+  const int i = get_global_id(0), j = get_global_id(1);
+  if (i >= nx || j >= ny) return;
+  if (mask[o + j * s + i] != 0.0f) v[j * nx + i] -= mean;
+}
+
+#endif  // ARDCELL_REAL_IS_DOUBLE
