@@ -6,8 +6,8 @@
 //                               the same iteration; counters serial_ms, threads_ms, opencl_ms,
 //                               speedup (serial / threads), opencl_speedup (serial / opencl)
 // (ratios from one run, so a slow spell of the machine hits every back end alike). The presets
-// run as they are: an op the device does not run (an ICCG or multigrid solve) runs on the CPU
-// for that op, as in `ardcell run`, and says so once on stderr.
+// run as they are: an op the device does not run (an FFT step) runs on the CPU for that op, as
+// in `ardcell run`, and says so once on stderr.
 //
 // Environment: ARDCELL_BENCH_SIZES (default "256,512,1024") restricts the sizes;
 // ARDCELL_BENCH_PRESETS (comma-separated names) restricts the presets; ARDCELL_CL_DEVICE=N picks
