@@ -40,8 +40,7 @@ void OpenClDevice::reserve(Int2 grid) {
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;
-  return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve && op != DeviceOp::kEtdrk4 &&
-         op != DeviceOp::kTensorFieldRd;
+  return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve && op != DeviceOp::kEtdrk4;
 }
 
 // --- residency ---------------------------------------------------------------------------
@@ -637,16 +636,10 @@ void OpenClDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_ou
   cl_->generalized_rd(da, db, out(a_out), out(b_out), weights, p);
 }
 
-void OpenClDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
-                                   FieldF& b_out, const Rank2FaceField& d,
-                                   const GeneralizedRdParams& p) {
-  say_fallback(DeviceOp::kTensorFieldRd, "rd.generalized.field",
-               "the per-cell tensor field has no device twin yet");
-  host_in(a);
-  host_in(b);
-  cpu_.tensor_field_rd(a, b, a_out, b_out, d, p);
-  host_wrote(a_out);
-  host_wrote(b_out);
+void OpenClDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                                   const Rank2FaceField& d, const GeneralizedRdParams& p) {
+  cl_->tensor_field_rd(in(a), in(b), out(a_out), out(b_out), in(d.x_xx), in(d.x_xy), in(d.y_xy),
+                       in(d.y_yy), p);
 }
 
 void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {

@@ -923,5 +923,24 @@ void OpenClKernels::generalized_rd(const DeviceField& a, const DeviceField& b, D
   enqueue_cells(k, a.interior());
 }
 
+void OpenClKernels::tensor_field_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                                    DeviceField& b_out, const DeviceField& x_xx,
+                                    const DeviceField& x_xy, const DeviceField& y_xy,
+                                    const DeviceField& y_yy, const GeneralizedRdParams& p) {
+  if (!check_explicit_rd_args(a, b, a_out, b_out, a.interior())) return;
+  for (const DeviceField* f : {&x_xy, &y_xy, &y_yy}) check_same_layout(x_xx, *f);
+  ARDCELL_CHECK(x_xx.size == a.size && x_xx.halo == 0,
+                "tensor-field RD: the face fields are the grid's size, halo 0");
+  float q[5];
+  reaction_args(p.reaction, q);
+  cl_kernel k = kernel("tensor_field_rd");
+  const cl_int2 size{{a.size.x, a.size.y}};
+  set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin, size,
+                  x_xx.buffer, x_xy.buffer, y_xy.buffer, y_yy.buffer, x_xx.stride,
+                  int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt, p.scale_a, p.scale_b,
+                  cl_float4{{p.a_lo, p.a_hi, p.b_lo, p.b_hi}}, p.f_step, p.k_step);
+  enqueue_cells(k, a.interior());
+}
+
 }  // namespace ardcell
 #endif

@@ -276,6 +276,12 @@ class OpenClKernels {
   void generalized_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                       DeviceField& b_out, const OpenClBuffer& weights,
                       const GeneralizedRdParams& p);
+  // Twin of tensor_field_rd_rows (kernels/generalized_rd.h) over the whole interior (periodic,
+  // reads no halo); the four face fields (Rank2FaceField's, halo 0) share one layout.
+  void tensor_field_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
+                       DeviceField& b_out, const DeviceField& x_xx, const DeviceField& x_xy,
+                       const DeviceField& y_xy, const DeviceField& y_yy,
+                       const GeneralizedRdParams& p);
   // gray_scott9_explicit_tile's twin (no scratch: each work-item sums its own columns).
   void gray_scott9_explicit(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                             DeviceField& b_out, Box2 region, const GrayScott9Params& p);

@@ -15,6 +15,7 @@
 #include "kernels/cl/opencl_kernels.h"
 #include "kernels/explicit_rd.h"
 #include "kernels/field_reductions.h"
+#include "kernels/generalized_rd.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
 #include "kernels/sources.h"
@@ -426,6 +427,46 @@ TEST(ClFrameParity, ExplicitRd5And9EveryModel) {
           EXPECT_LE(relative_error(dev.down(dbo), b_ref, b_out, region), kTolerance);
         }
   }
+}
+
+// Seed 003's per-cell rank-2 tensor field (Table 1's last row): every field kind and the two
+// reactions the presets use, with and without the Gray-Scott parameter map; the same float
+// arithmetic in the same order, so the same bits.
+TEST(ClFrameParity, TensorFieldRdEveryFieldKind) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (TensorFieldKind kind :
+       {TensorFieldKind::kUniform, TensorFieldKind::kVortex, TensorFieldKind::kRadial})
+    for (ReactionModel model : {ReactionModel::kGrayScott, ReactionModel::kTuring})
+      for (Int2 size : {Int2{37, 23}, Int2{64, 48}}) {
+        SCOPED_TRACE(::testing::Message()
+                     << int(kind) << " " << reaction_model_name(model) << " " << size);
+        const Rank2FaceField faces = rank2_tensor_field(size, kind, 0.3, 0.07);
+        GeneralizedRdParams p;
+        p.reaction.model = model;
+        p.dt = 0.1f;
+        p.scale_a = 1.0f;
+        p.scale_b = 0.5f;
+        if (model == ReactionModel::kGrayScott) p.f_step = 0.001f, p.k_step = 0.0005f;
+        const ConcentrationBox r = typical_range(p.reaction);
+        FieldF a(size, 1), b(size, 1), a_ref(size, 1), b_ref(size, 1);
+        fill_random(a, float(r.a_lo), float(r.a_hi), 110);
+        fill_random(b, float(r.b_lo), float(r.b_hi), 111);
+        tensor_field_rd_rows(faces, a.view(), b.view(), a_ref.view(), b_ref.view(), size, 0, size.y,
+                             p);
+        const DeviceField da = dev.up(a), db = dev.up(b);
+        DeviceField dao = dev.up(a_ref), dbo = dev.up(b_ref);
+        const DeviceField fxx = dev.up(faces.x_xx), fxy = dev.up(faces.x_xy),
+                          gxy = dev.up(faces.y_xy), gyy = dev.up(faces.y_yy);
+        d.cl->tensor_field_rd(da, db, dao, dbo, fxx, fxy, gxy, gyy, p);
+        const FieldF a_got = dev.down(dao), b_got = dev.down(dbo);
+        for (int y = 0; y < size.y; ++y)
+          for (int x = 0; x < size.x; ++x) {
+            ASSERT_EQ(a_got(x, y), a_ref(x, y)) << x << "," << y;
+            ASSERT_EQ(b_got(x, y), b_ref(x, y)) << x << "," << y;
+          }
+      }
 }
 
 TEST(ClFrameParity, GrayScott9Explicit) {
