@@ -97,8 +97,7 @@ Rank2FaceField rank2_faces(const FieldF& xx, const FieldF& xy, const FieldF& yy)
 // kUniform phi = 0. A cell exactly at the centre gets the isotropic mean (d_along + d_across) / 2.
 enum class TensorFieldKind : uint8_t { kUniform, kVortex, kRadial };
 // The field in cells^2 (d_along, d_across already scaled by h^-2), as faces.
-Rank2FaceField rank2_tensor_field(Int2 size, TensorFieldKind kind, double d_along,
-                                  double d_across);
+Rank2FaceField rank2_tensor_field(Int2 size, TensorFieldKind kind, double d_along, double d_across);
 
 // Rows [y0, y1) of the nx x ny interior: a_out, b_out from a, b with L of the face field d.
 // Outputs must not alias inputs.

@@ -21,8 +21,8 @@ float sample_at(const FieldF& f, double h, double x, double y) {
   const Int2 n = f.size();
   const double cx = std::clamp(x / h - 0.5, 0.0, double(n.x - 1));
   const double cy = std::clamp(y / h - 0.5, 0.0, double(n.y - 1));
-  const int i = std::min(int(cx), n.x - 2 < 0 ? 0 : n.x - 2);
-  const int j = std::min(int(cy), n.y - 2 < 0 ? 0 : n.y - 2);
+  const int i = std::min(int(cx), std::max(0, n.x - 2));
+  const int j = std::min(int(cy), std::max(0, n.y - 2));
   const double fx = cx - i, fy = cy - j;
   const int i1 = std::min(i + 1, n.x - 1), j1 = std::min(j + 1, n.y - 1);
   return float((1 - fy) * ((1 - fx) * f(i, j) + fx * f(i1, j)) +

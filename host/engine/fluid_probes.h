@@ -42,11 +42,10 @@ class ObstacleProbes {
   // The sample after the engine's last step (its fields brought to the host).
   FluidProbeSample sample(Engine& engine);
   // The sample after a frame: `pressure` the step's physical pressure, `solid` the obstacle
-  // mask (FluidStep::solid). The first call after construction or reset() has no previous
-  // momentum, so its d/dt term is 0. Allocates nothing.
+  // mask (FluidStep::solid). The first call has no previous momentum, so its d/dt term is 0.
+  // Allocates nothing.
   FluidProbeSample sample(const SimState& state, const FieldF& pressure,
                           const Field<uint8_t>& solid);
-  void reset() { have_previous_ = false; }
 
   // The control volume, in cells: [min, max) (tests).
   Box2 box() const { return box_; }

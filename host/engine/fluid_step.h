@@ -62,6 +62,9 @@ class FluidStep {
   void physical_pressure(const SimState& state, FieldF& out) const;
   // The obstacle's solid cells (centre inside the disc; empty when none).
   const Field<uint8_t>& solid() const { return solid_; }
+  // With cut cells, the faces' open fractions ((nx + 1) x ny and nx x (ny + 1)); else empty.
+  const FieldF& open_x() const { return open_x_; }
+  const FieldF& open_y() const { return open_y_; }
 
   const FluidStepReport& last_report() const { return report_; }
   // Boundary rules of each field in this scene.

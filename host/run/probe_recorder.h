@@ -27,7 +27,6 @@ class ProbeRecorder final : public StepObserver {
   Status commit();
   // "probes: drag_max=... lift_max=... strouhal=... pressure_difference=... (t >= T)".
   std::string summary() const;
-  const std::vector<FluidProbeSample>& samples() const { return samples_; }
 
  private:
   explicit ProbeRecorder(Engine& engine);

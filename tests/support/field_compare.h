@@ -19,6 +19,14 @@ inline FieldF random_field(Int2 size, int halo, unsigned seed, float lo, float h
   return f;
 }
 
+// The sum of a field's interior in double, row by row.
+inline double interior_sum(const FieldF& f) {
+  double s = 0.0;
+  for (int y = 0; y < f.ny(); ++y)
+    for (int x = 0; x < f.nx(); ++x) s += f(x, y);
+  return s;
+}
+
 inline double max_relative_error(const FieldF& got, const FieldF& ref) {
   double diff = 0, mag = 0;
   for (int y = 0; y < ref.ny(); ++y)

@@ -200,21 +200,25 @@ TEST(Channel, CutCellProjectionConservesMassThroughOpenFaces) {
   SimState& st = engine.state();
   fluid.project(st);
   const FieldF &uf = fluid.face_u(), &vf = fluid.face_v();
-  const double h = st.h, r = scene.fluid.obstacle_radius / h;
-  const double cx = scene.fluid.obstacle_x / h, cy = scene.fluid.obstacle_y / h;
-  // The open fraction of a vertical face at x from y0 to y0 + 1, as FluidStep computes it.
-  const auto open = [&](double x, double y0, double ox, double oy) {
-    const double dx = x - ox;
-    if (dx * dx >= r * r) return 1.0;
-    const double d = std::sqrt(r * r - dx * dx);
-    const double o = 1.0 - std::max(0.0, std::min(y0 + 1, oy + d) - std::max(y0, oy - d));
-    return o < 0.01 ? 0.0 : o;
-  };
+  const FieldF &ox = fluid.open_x(), &oy = fluid.open_y();
+  ASSERT_FALSE(ox.empty());
+  // The fractions: in [0, 1], some faces cut part way, the faces through the disc's centre
+  // shut over its diameter (2 r / h = 9.6 cells: at least 3 whole faces).
+  int partial = 0;
+  for (std::size_t i = 0; i < ox.raw_size(); ++i) {
+    ASSERT_GE(ox.raw()[i], 0.0f);
+    ASSERT_LE(ox.raw()[i], 1.0f);
+    partial += ox.raw()[i] > 0.0f && ox.raw()[i] < 1.0f;
+  }
+  EXPECT_GT(partial, 4);
+  const int centre_face = int(std::lround(scene.fluid.obstacle_x / st.h));
+  int shut = 0;
+  for (int j = 0; j < scene.size.y; ++j) shut += ox(centre_face, j) == 0.0f;
+  EXPECT_GE(shut, 3);
   double worst = 0.0, unweighted = 0.0, cut_cells = 0;
   for (int j = 1; j < scene.size.y - 1; ++j)
     for (int i = 1; i < scene.size.x - 1; ++i) {
-      const double ol = open(i, j, cx, cy), orr = open(i + 1, j, cx, cy);
-      const double ob = open(j, i, cy, cx), oa = open(j + 1, i, cy, cx);
+      const double ol = ox(i, j), orr = ox(i + 1, j), ob = oy(i, j), oa = oy(i, j + 1);
       if (ol + orr + ob + oa == 0.0) continue;  // covered
       const double flux = orr * uf(i + 1, j) - ol * uf(i, j) + oa * vf(i, j + 1) - ob * vf(i, j);
       worst = std::max(worst, std::abs(flux));

@@ -113,13 +113,7 @@ TEST(GeneralizedRdKernel, PureDiffusionConservesTheTotal) {
   const GeneralizedTaps k(assemble_generalized_stencil(kTable2B));
   FieldF a = random_field(size, 1, 11, 0.0f, 1.0f), b = random_field(size, 1, 12, 0.0f, 1.0f);
   FieldF a2(size, 1), b2(size, 1);
-  const auto total = [&](const FieldF& f) {
-    double s = 0;
-    for (int y = 0; y < size.y; ++y)
-      for (int x = 0; x < size.x; ++x) s += f(x, y);
-    return s;
-  };
-  const double before = total(a);
+  const double before = interior_sum(a);
   GeneralizedRdParams p;
   p.scale_a = p.scale_b = 0.1f;
   std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
@@ -129,7 +123,7 @@ TEST(GeneralizedRdKernel, PureDiffusionConservesTheTotal) {
     std::swap(a, a2);
     std::swap(b, b2);
   }
-  EXPECT_NEAR(total(a), before, 1e-5 * before);
+  EXPECT_NEAR(interior_sum(a), before, 1e-5 * before);
 }
 
 // Eqn 28 without reaction is exactly one periodic solve of (I - dt D_A K).

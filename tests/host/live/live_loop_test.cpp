@@ -14,16 +14,7 @@
 #include <malloc.h>
 #include <unistd.h>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define ARDCELL_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ARDCELL_TEST_ASAN 1
-#endif
-#endif
-#ifndef ARDCELL_TEST_ASAN
-#define ARDCELL_TEST_ASAN 0
-#endif
+#include "tests/support/sanitizers.h"
 #if ARDCELL_TEST_ASAN
 // From the sanitizer runtime (sanitizer/allocator_interface.h, which GCC does not install).
 extern "C" {

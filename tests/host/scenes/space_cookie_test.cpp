@@ -22,17 +22,7 @@
 
 #include "host/engine/engine.h"
 #include "host/scenes/preset.h"
-
-#if defined(__SANITIZE_ADDRESS__)
-#define ARDCELL_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ARDCELL_TEST_ASAN 1
-#endif
-#endif
-#ifndef ARDCELL_TEST_ASAN
-#define ARDCELL_TEST_ASAN 0
-#endif
+#include "tests/support/sanitizers.h"
 
 namespace ardcell {
 namespace {
