@@ -224,6 +224,25 @@ Status check_manifold(const PolyMesh& mesh) {
         parent[find_root(parent, o + k)] = find_root(parent, it->second);
     }
   }
+  // An interior vertex (no boundary edge at it) needs at least 3 faces: with 2, those faces
+  // share both of its edges and the limit surface is undefined there (OpenSubdiv's Bfr does not
+  // guard against it).
+  std::vector<int> corners_at(mesh.points.size(), 0);
+  std::vector<char> on_boundary(mesh.points.size(), 0);
+  for (int f = 0; f < faces; ++f) {
+    const int n = mesh.face_size(f);
+    const int* fv = mesh.face(f);
+    for (int k = 0; k < n; ++k) {
+      const int a = fv[k], b = fv[(k + 1) % n];
+      ++corners_at[a];
+      if (edges[key(a, b)].faces == 1) on_boundary[a] = on_boundary[b] = 1;
+    }
+  }
+  for (std::size_t v = 0; v < corners_at.size(); ++v)
+    if (corners_at[v] > 0 && corners_at[v] < 3 && !on_boundary[v])
+      return Status::error("non-manifold vertex " + std::to_string(v + 1) +
+                           ": an interior vertex of only " + std::to_string(corners_at[v]) +
+                           " faces (expected 3 or more)");
   std::vector<int> fan_of_vertex(mesh.points.size(), -1);
   for (int c = 0; c < corners; ++c) {
     const int v = mesh.face_vertices[c], root = find_root(parent, c);

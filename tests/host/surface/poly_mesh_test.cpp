@@ -94,6 +94,16 @@ TEST(Manifold, NamesTheFirstBadEdgeOrVertex) {
   repeated.add_face({0, 1, 1, 2});
   EXPECT_EQ(check_manifold(repeated).message(), "non-manifold vertex 2: face 1 uses it twice");
 
+  // A quad and a triangle sharing both edges at vertex 4 (the obj fuzzer's input that crashed
+  // OpenSubdiv's Bfr): an interior vertex of two faces.
+  PolyMesh pinched;
+  pinched.points.assign(5, {0, 0, 0});
+  pinched.add_face({3, 2, 1, 0});
+  pinched.add_face({0, 1, 4});
+  pinched.add_face({2, 3, 0});
+  EXPECT_EQ(check_manifold(pinched).message(),
+            "non-manifold vertex 4: an interior vertex of only 2 faces (expected 3 or more)");
+
   EXPECT_TRUE(check_manifold(cube_mesh(2)));
   EXPECT_TRUE(check_manifold(torus_mesh(8, 4, 2, 0.5)));
 }
