@@ -23,7 +23,15 @@ cl_program build_program(OpenClContext& ctx, std::string* error) {
   sources.push_back(common);
   for (const ClSource& s : cl_sources())
     if (std::string_view(s.name) != "common.cl") sources.push_back(s.text);
-  return ctx.program(OpenClKernels::kProgramKey, sources, "-cl-std=CL1.2", error);
+  // OpenCL lets a device divide and take square roots in single precision to 2.5 and 3 ulp
+  // (NVIDIA's does); the C++ twins round correctly, and parity is asked in bits, so a device
+  // that can round correctly is told to.
+  cl_device_fp_config fp = 0;
+  clGetDeviceInfo(ctx.device().device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, nullptr);
+  const char* options = (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
+                            ? "-cl-std=CL1.2 -cl-fp32-correctly-rounded-divide-sqrt"
+                            : "-cl-std=CL1.2";
+  return ctx.program(OpenClKernels::kProgramKey, sources, options, error);
 }
 
 // Whether the device compiles common.cl's `real` as double: it reports cl_khr_fp64 (the
@@ -398,15 +406,28 @@ void OpenClKernels::stam_jacobi_blocked(const DeviceField& rhs, const DeviceFiel
 
 Int2 OpenClKernels::blocked_tile(int sweeps) const {
   // The largest tile (width a multiple of 16, height of 4) whose 5 buffers of (tile + 2 sweeps)
-  // fit in half the device's local memory, capped at 256 x 64 (diminishing returns).
+  // fit in half the device's local memory, capped at 256 x 64 (diminishing returns); {0, 0}
+  // when not even 16 x 4 fits.
   const std::size_t budget = ctx_.device().local_mem_bytes / 2 / (5 * sizeof(float));
-  Int2 best{16, 4};
+  Int2 best{0, 0};
   for (int w = 16; w <= 256; w += 16)
     for (int h = 4; h <= 64; h += 4)
       if (std::size_t(w + 2 * sweeps) * std::size_t(h + 2 * sweeps) <= budget &&
           w * h > best.x * best.y)
         best = {w, h};
   return best;
+}
+
+int OpenClKernels::blocked_sweeps(int wanted) const {
+  // A residency of k sweeps recomputes a ring of width k around its tile; past the k where the
+  // tile's own cells are half of what it computes, more sweeps per load cost more than the
+  // loads they save. A GPU's 48 KiB of __local memory holds 4 sweeps of a 16 x 40 tile; PoCL's
+  // emulated 1 MiB keeps the Cell's 20.
+  for (int k = std::max(1, wanted); k > 1; --k) {
+    const Int2 t = blocked_tile(k);
+    if (2 * t.x * t.y >= (t.x + 2 * k) * (t.y + 2 * k) && t.x > 0) return k;
+  }
+  return 1;
 }
 
 void OpenClKernels::stam_rbgs_half_sweep(const DeviceField& x0, DeviceField& x, Box2 region,

@@ -32,19 +32,22 @@ namespace ardcell {
 struct ClTiling {
   int tile_w = 64;
   int tile_h = 16;
-  int work_group = 64;
-  int groups_per_unit = 4;
+  int work_group = 128;
+  int groups_per_unit = 16;
 };
 
-// The tiling OpenClKernels starts with on a device. A GPU (on-chip __local memory): 64
-// work-items per group, each group striding over the cells of a tile, so neighbouring work-items
-// touch neighbouring cells (coalesced). A CPU (PoCL; __local emulated in cached global memory):
-// ONE work-item per group, so the group's loop over a tile row is an ordinary contiguous loop
-// that the kernel compiler vectorises, and the copy into the local store is a memcpy; bigger
-// tiles (256 x 32: two slots of two fields stay in L2) amortise the per-tile overhead. With 64
-// work-items a PoCL group runs each work-item's strided walk in turn (no vectorisation, a cache
-// line touched once per work-item): 3-4x slower than the threads back end at 1024^2, against
-// 0.5-0.8x with this choice (bench/RESULTS_OPENCL.md).
+// The tiling OpenClKernels starts with on a device. A GPU (on-chip __local memory): 128
+// work-items per group, each group striding over the cells of a 64 x 16 tile, so neighbouring
+// work-items touch neighbouring cells (coalesced), and 16 groups per compute unit, so a 1024^2
+// grid is one tile per group and enough warps are resident to hide memory latency (on an H200,
+// Table 1 fluid+RD at 1024^2 ran 1.9x (stream) and 1.7x (blocked) faster than with 64
+// work-items and 4 groups per unit; bench/RESULTS_OPENCL.md). A CPU (PoCL; __local emulated in
+// cached global memory): ONE work-item per group, so the group's loop over a tile row is an
+// ordinary contiguous loop that the kernel compiler vectorises, and the copy into the local store
+// is a memcpy; bigger tiles (256 x 32: two slots of two fields stay in L2) amortise the per-tile
+// overhead. With 64 work-items a PoCL group runs each work-item's strided walk in turn (no
+// vectorisation, a cache line touched once per work-item): 3-4x slower than the threads back end at
+// 1024^2, against 0.5-0.8x with this choice (bench/RESULTS_OPENCL.md).
 ClTiling default_tiling(const OpenClDeviceInfo& device);
 
 // AnisotropyParams as diffusion.cl's aniso_t (passed by value: one kernel argument).
@@ -192,8 +195,11 @@ class OpenClKernels {
   void stam_jacobi_blocked(const DeviceField& rhs, const DeviceField& x_in, DeviceField& x_out,
                            int sweeps, const StamSweepParams& p, const BoundaryFill& fill,
                            Int2 tile);
-  // A tile for stam_jacobi_blocked that fits the device's local memory.
+  // A tile for stam_jacobi_blocked that fits the device's local memory ({0, 0}: none does).
   Int2 blocked_tile(int sweeps) const;
+  // The sweeps per residency (at most `wanted`, at least 1) whose tile fits the local memory
+  // and is at least half of the cells a residency computes.
+  int blocked_sweeps(int wanted) const;
   void stam_rbgs_half_sweep(const DeviceField& x0, DeviceField& x, Box2 region, int color,
                             const StamSweepParams& p);
   // Twins of kernels/project.h.

@@ -10,8 +10,9 @@ OpenClStamFrame::OpenClStamFrame(OpenClKernels& cl, const ClStamFrameParams& par
     : cl_(cl), p_(params), schedule_(schedule), per_residency_(sweeps_per_residency) {
   ARDCELL_CHECK(p_.grid.x >= 2 && p_.grid.y >= 2, "OpenCL frame: grid must be at least 2 x 2");
   ARDCELL_CHECK(per_residency_ >= 1, "OpenCL frame: sweeps per residency must be >= 1");
-  per_residency_ = std::min(per_residency_, std::max(1, p_.sweeps));
+  per_residency_ = cl_.blocked_sweeps(std::min(per_residency_, std::max(1, p_.sweeps)));
   blocked_tile_ = cl_.blocked_tile(per_residency_);
+  ARDCELL_CHECK(blocked_tile_.x > 0, "OpenCL frame: the device's local memory holds no tile");
   const FieldF like(p_.grid, 1);
   OpenClContext& ctx = cl_.context();
   for (DeviceField* f : {&u_, &v_, &dye_, &u0_, &v0_, &u1_, &v1_, &dye0_, &tu_, &tv_, &tdye_, &p0_,

@@ -175,9 +175,9 @@ TEST(ClParity, SbdfRightHandSideBothOrdersEveryModel) {
 template <class Body>
 void for_each_tiling(OpenClKernels& cl, Body&& body) {
   const ClTiling saved = cl.tiling();
-  // 64 work-items per group (the GPU choice) and one (the CPU choice, default_tiling).
-  for (ClTiling t : {ClTiling{64, 16, 64, 4}, ClTiling{8, 4, 64, 1}, ClTiling{8, 4, 1, 1},
-                     default_tiling(cl.context().device())}) {
+  // 128 work-items per group (the GPU choice), 64, and one (the CPU choice, default_tiling).
+  for (ClTiling t : {ClTiling{}, ClTiling{64, 16, 64, 4}, ClTiling{8, 4, 64, 1},
+                     ClTiling{8, 4, 1, 1}, default_tiling(cl.context().device())}) {
     cl.tiling() = t;
     SCOPED_TRACE(::testing::Message() << "tile " << t.tile_w << "x" << t.tile_h);
     body();
@@ -247,6 +247,27 @@ TEST(ClParity, StamJacobiAndRedBlackSweeps) {
 }
 
 // k sweeps in one residency == k x (sweep + fill), at tiles smaller and larger than k.
+// The Cell's 20 sweeps per residency, cut to what the device's local memory holds: the tile
+// of the chosen depth fits (a GPU's 48 KiB holds 4 sweeps; the launch would otherwise fail with
+// CL_OUT_OF_RESOURCES) and is at least half of the cells a residency computes.
+TEST(ClParity, BlockedSweepsFitTheLocalMemory) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  for (int wanted : {1, 4, 20, 64}) {
+    const int k = d.cl->blocked_sweeps(wanted);
+    const Int2 t = d.cl->blocked_tile(k);
+    SCOPED_TRACE(::testing::Message() << "wanted " << wanted << " k " << k << " tile " << t);
+    EXPECT_GE(k, 1);
+    EXPECT_LE(k, wanted);
+    ASSERT_GT(t.x, 0);
+    EXPECT_LE(5 * sizeof(float) * std::size_t(t.x + 2 * k) * std::size_t(t.y + 2 * k),
+              d.ctx->device().local_mem_bytes);
+    if (k > 1) {
+      EXPECT_GE(2 * t.x * t.y, (t.x + 2 * k) * (t.y + 2 * k));
+    }
+  }
+}
+
 TEST(ClParity, TemporallyBlockedJacobiEqualsSweepBySweep) {
   Fixture& d = device();
   ASSERT_TRUE(d.cl);
