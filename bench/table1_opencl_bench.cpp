@@ -46,7 +46,7 @@ Device& device() {
     dev.ctx = OpenClContext::open(index, &dev.error);
     if (dev.ctx) dev.cl = OpenClKernels::create(*dev.ctx, &dev.error);
     // Tuning: ARDCELL_CL_TILING="tile_w,tile_h,work_group,groups_per_unit" replaces the
-    // device's default_tiling (e.g. "64,16,64,4", the GPU choice, to compare on a CPU).
+    // device's default_tiling (e.g. "64,16,128,16", the GPU choice, to compare on a CPU).
     if (const char* t = std::getenv("ARDCELL_CL_TILING"); t && dev.cl) {
       ClTiling& tiling = dev.cl->tiling();
       if (std::sscanf(t, "%d,%d,%d,%d", &tiling.tile_w, &tiling.tile_h, &tiling.work_group,
