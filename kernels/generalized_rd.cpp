@@ -74,13 +74,34 @@ inline Vec16 load16(const float* p) {
 }
 
 // One chunk's sums K f over cells [x0, x0 + kChunk): tap_rows[t] points at the wrapped row of tap
-// t, shifted by its dx. Sixteen cells at a time hold their sum in a register while every tap is
-// added (in the taps' order, so each cell's arithmetic is the same wherever it sits).
+// t, shifted by its dx. Sixteen cells at a time hold their sum in a register while every group is
+// added (its balanced tree, GeneralizedTaps; the same order for every cell wherever it sits).
 inline void chunk_sums(const GeneralizedTaps& k, const float* const tap_rows[25], int x0,
                        float* __restrict acc) {
   for (int i = 0; i < kChunk; i += 16) {
     Vec16 sum = {};
-    for (int t = 0; t < k.count; ++t) sum += k.taps[t].weight * load16(tap_rows[t] + x0 + i);
+    for (int g = 0; g < k.group_count; ++g) {
+      const GeneralizedTaps::Group& group = k.groups[g];
+      const float* const* r = tap_rows + group.first;
+      const int at = x0 + i;
+      Vec16 tree;
+      switch (group.count) {
+        case 1:
+          tree = load16(r[0] + at);
+          break;
+        case 2:
+          tree = load16(r[0] + at) + load16(r[1] + at);
+          break;
+        case 4:
+          tree = (load16(r[0] + at) + load16(r[1] + at)) + (load16(r[2] + at) + load16(r[3] + at));
+          break;
+        default:
+          tree =
+              ((load16(r[0] + at) + load16(r[1] + at)) + (load16(r[2] + at) + load16(r[3] + at))) +
+              ((load16(r[4] + at) + load16(r[5] + at)) + (load16(r[6] + at) + load16(r[7] + at)));
+      }
+      sum += group.weight * tree;
+    }
     std::memcpy(acc + i, &sum, sizeof sum);
   }
 }
@@ -140,10 +161,56 @@ void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> 
 }  // namespace
 
 GeneralizedTaps::GeneralizedTaps(const Stencil5x5& k) {
+  struct Offset {
+    int dx, dy;
+    bool operator==(const Offset&) const = default;
+  };
+  const auto exact = [&](Offset o) { return k.at(o.dx, o.dy); };
+  const auto weight = [&](Offset o) { return float(exact(o)); };
+  const auto reflect = [](Offset o) { return Offset{-o.dx, -o.dy}; };
+  const auto turn = [](Offset o) { return Offset{-o.dy, o.dx}; };
+  const auto transpose = [](Offset o) { return Offset{o.dy, o.dx}; };
+  // The stencil's symmetries: its double weights agree to 1e-12 of the largest (the assembly
+  // sums mirrored filters in different orders, so mirrored weights may differ in the last bits
+  // and, rarely, round to different floats); a group then takes its first tap's float weight.
+  // Weights below 1e-12 of the largest are the assembly's rounding of a zero: no tap.
+  double largest = 0;
   for (int dy = -2; dy <= 2; ++dy)
-    for (int dx = -2; dx <= 2; ++dx)
-      if (const float weight = float(k.at(dx, dy)); weight != 0.0f)
-        taps[count++] = {dx, dy, weight};
+    for (int dx = -2; dx <= 2; ++dx) largest = std::max(largest, std::abs(exact({dx, dy})));
+  const auto keeps = [&](auto map) {
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx)
+        if (std::abs(exact({dx, dy}) - exact(map(Offset{dx, dy}))) > 1e-12 * largest) return false;
+    return true;
+  };
+  const bool reflection = keeps(reflect), quarter = keeps(turn), transposed = keeps(transpose);
+  bool used[5][5] = {};
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      const float w = weight({dx, dy});
+      if (std::abs(exact({dx, dy})) <= 1e-12 * largest || used[dy + 2][dx + 2]) continue;
+      Offset members[8] = {{dx, dy}};
+      int n = 1;
+      // Doubles the group with the map's images unless the map sends it onto itself.
+      const auto grow = [&](auto map) {
+        const Offset image = map(members[0]);
+        for (int i = 0; i < n; ++i)
+          if (members[i] == image) return;
+        for (int i = 0; i < n; ++i) members[n + i] = map(members[i]);
+        n *= 2;
+      };
+      if (reflection) grow(reflect);
+      if (quarter)
+        grow(turn);
+      else if (transposed)
+        grow(transpose);
+      if (quarter && transposed) grow(transpose);
+      groups[group_count++] = {count, n, w};
+      for (int i = 0; i < n; ++i) {
+        used[members[i].dy + 2][members[i].dx + 2] = true;
+        taps[count++] = {members[i].dx, members[i].dy, w};
+      }
+    }
 }
 
 std::size_t generalized_rd_scratch_floats(int nx) { return 10 * ring_row_floats(nx); }

@@ -9,9 +9,11 @@
 // Eqns 3-4 its Gray-Scott).
 // Reads no halo: the domain is periodic (a texture that tiles), and the kernel wraps its
 // indices itself, so fields of any halo width work and no boundary fill runs between steps.
-// Each cell sums its taps in the stencil's row-major order in float (the OpenCL twin in
-// kernels/cl/reaction_generalized.cl does the same; both without fused multiply-adds), so any
-// band of rows gives the same bits, and PoCL gives the CPU's.
+// Each cell sums its taps in float by symmetry groups (GeneralizedTaps), in one fixed order
+// (the OpenCL twin in kernels/cl/reaction_generalized.cl does the same; both without fused
+// multiply-adds), so any band of rows gives the same bits, PoCL gives the CPU's, and a step
+// commutes EXACTLY with every symmetry of the stencil (a quarter turn of (d) and (e), the
+// transpose of (c)): seed 003's symmetries hold for any number of steps, not to rounding.
 // Every result is clamped to [lo, hi] of its chemical: the rank-4 terms of Table 2's (d), (e), (f)
 // are anti-diffusive along some directions (the sign of D_xxxx k_x^4 + 6 D_xxyy k_x^2 k_y^2 +
 // D_yyyy k_y^4), so the PDE grows without bound at high wavenumbers and only this saturation
@@ -26,14 +28,30 @@
 
 namespace ardcell {
 
-// The stencil's nonzero taps in float, in row-major order (dy, then dx, from -2 to 2).
+// The stencil's nonzero taps in float (a weight under 1e-12 of the largest is the assembly's
+// rounding of a zero and no tap), gathered into groups of equal weight that the stencil's
+// symmetries map onto each other. The symmetries are those of its weights (to 1e-12 relative;
+// a group's taps all take its first tap's float weight) among the point reflection (dx, dy) ->
+// (-dx, -dy), the quarter turn (-dy, dx) and the transpose (dy, dx). A group of n = 1, 2, 4 or 8
+// taps (in `taps`, from `first`) adds its values as a balanced tree,
+// ((t0 + t1) + (t2 + t3)) + ((t4 + t5) + (t6 + t7)), where t1 is t0's reflection, t2..t3 the
+// quarter turn (or the transpose) of t0..t1, and t4..t7 the transpose of t0..t3: every symmetry
+// permutes each group's taps within pairs or swaps whole subtrees, and float addition is
+// commutative, so a mapped field gets the mapped sums bit for bit. A cell's sum is
+// sum over groups, in the order of their first tap row-major, of weight * tree.
 struct GeneralizedTaps {
   struct Tap {
     int dx, dy;
     float weight;
   };
+  struct Group {
+    int first, count;
+    float weight;
+  };
   Tap taps[25];
   int count = 0;
+  Group groups[25];
+  int group_count = 0;
 
   explicit GeneralizedTaps(const Stencil5x5& k);
   GeneralizedTaps() = default;

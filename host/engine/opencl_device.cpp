@@ -619,12 +619,12 @@ const OpenClBuffer& OpenClDevice::stencil_weights(const GeneralizedTaps& k) {
   for (StencilTwin& t : stencils_)
     if (t.host == &k) {
       if (!same(t.uploaded, k)) {
-        t.weights = cl_->stencil25_weights(k);
+        t.weights = cl_->stencil_groups(k);
         t.uploaded = k;
       }
       return t.weights;
     }
-  stencils_.push_back({&k, k, cl_->stencil25_weights(k)});
+  stencils_.push_back({&k, k, cl_->stencil_groups(k)});
   return stencils_.back().weights;
 }
 

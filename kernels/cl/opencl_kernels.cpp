@@ -920,9 +920,19 @@ void OpenClKernels::gray_scott9_explicit(const DeviceField& a, const DeviceField
   enqueue_cells(k, region);
 }
 
-OpenClBuffer OpenClKernels::stencil25_weights(const GeneralizedTaps& k) {
-  float w[25] = {};
-  for (int t = 0; t < k.count; ++t) w[(k.taps[t].dy + 2) * 5 + k.taps[t].dx + 2] = k.taps[t].weight;
+OpenClBuffer OpenClKernels::stencil_groups(const GeneralizedTaps& k) {
+  float w[kStencilGroupFloats] = {};
+  int at = 0;
+  w[at++] = float(k.group_count);
+  for (int g = 0; g < k.group_count; ++g) {
+    const GeneralizedTaps::Group& group = k.groups[g];
+    w[at++] = float(group.count);
+    w[at++] = group.weight;
+    for (int t = group.first; t < group.first + group.count; ++t) {
+      w[at++] = float(k.taps[t].dx);
+      w[at++] = float(k.taps[t].dy);
+    }
+  }
   OpenClBuffer buffer = ctx_.allocate(sizeof(w));
   ctx_.write(buffer, w, sizeof(w));
   return buffer;
@@ -933,7 +943,8 @@ void OpenClKernels::generalized_rd(const DeviceField& a, const DeviceField& b, D
                                    const GeneralizedRdParams& p) {
   // Layouts and aliasing (the kernel wraps its indices: the halo check holds trivially).
   if (!check_explicit_rd_args(a, b, a_out, b_out, a.interior())) return;
-  ARDCELL_CHECK(weights.bytes() == 25 * sizeof(float), "generalized RD: 25 stencil weights");
+  ARDCELL_CHECK(weights.bytes() == kStencilGroupFloats * sizeof(float),
+                "generalized RD: the stencil's groups (stencil_groups)");
   float q[5];
   reaction_args(p.reaction, q);
   cl_kernel k = kernel("generalized_rd");

@@ -277,8 +277,11 @@ class OpenClKernels {
   void explicit_rd9(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                     DeviceField& b_out, Box2 region, const ExplicitRdParams& p);
   // Twin of kernels/generalized_rd.h over the whole interior (periodic, reads no halo); the
-  // stencil's 25 weights as stencil25_weights() uploaded them (row-major from (-2, -2)).
-  OpenClBuffer stencil25_weights(const GeneralizedTaps& k);
+  // stencil's groups as stencil_groups() uploaded them: kStencilGroupFloats floats, the number of
+  // groups, then per group its tap count n, its weight and n pairs (dx, dy), as
+  // GeneralizedTaps orders them.
+  static constexpr int kStencilGroupFloats = 1 + 2 * 25 + 2 * 25;
+  OpenClBuffer stencil_groups(const GeneralizedTaps& k);
   void generalized_rd(const DeviceField& a, const DeviceField& b, DeviceField& a_out,
                       DeviceField& b_out, const OpenClBuffer& weights,
                       const GeneralizedRdParams& p);

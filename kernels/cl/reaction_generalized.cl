@@ -1,23 +1,36 @@
 // Twin of kernels/generalized_rd.h: seed 003's Eqn 27 with reaction on a periodic grid,
 //   A' = A + s_A K A + dt R_A(A, B),  B' = B + s_B K B + dt R_B(A, B)
-// K the 25-point stencil (weights w[25], row-major from (dx, dy) = (-2, -2)); indices wrap, so it
-// reads no halo. Each cell sums its nonzero taps in that order in float, and Gray-Scott (model 0)
-// and Turing (1) react in float as the C++ kernel does, each result clamped to box = (a_lo, a_hi,
-// b_lo, b_hi); the other models through
-// rd_rates (reaction.cl, embedded before this file: sources go in name order). Model ids and
-// p0..p4 as reaction.cl's. Gray-Scott's parameter map: F + f_step (x + 1/2), k + k_step (y + 1/2)
-// (both 0: uniform). One work-item per cell.
+// K the 25-point stencil, as groups (w: OpenClKernels::stencil_groups, GeneralizedTaps' order);
+// indices wrap, so it reads no halo. Each cell adds weight * (the group's balanced tree of taps)
+// over the groups in order in float, and Gray-Scott (model 0) and Turing (1) react in float as the
+// C++ kernel does (the same bits), each result clamped to box = (a_lo, a_hi, b_lo, b_hi); the
+// other models through rd_rates (reaction.cl, embedded before this file: sources go in name
+// order). Model ids and p0..p4 as reaction.cl's. Gray-Scott's parameter map: F + f_step (x + 1/2),
+// k + k_step (y + 1/2) (both 0: uniform). One work-item per cell.
 inline int wrap_index(int i, int n) { return i < 0 ? i + n : (i >= n ? i - n : i); }
 
-inline float stencil25(__global const float* f, __constant const float* w, int stride,
-                       int origin, int x, int y, int nx, int ny) {
+inline float stencil_groups(__global const float* f, __constant const float* w, int stride,
+                            int origin, int x, int y, int nx, int ny) {
   float acc = 0.0f;
-  for (int dy = -2; dy <= 2; ++dy) {
-    const int row = origin + wrap_index(y + dy, ny) * stride;
-    for (int dx = -2; dx <= 2; ++dx) {
-      const float weight = w[(dy + 2) * 5 + dx + 2];
-      if (weight != 0.0f) acc += weight * f[row + wrap_index(x + dx, nx)];
-    }
+  const int groups = (int)w[0];
+  int at = 1;
+  for (int g = 0; g < groups; ++g) {
+    const int n = (int)w[at];
+    const float weight = w[at + 1];
+    at += 2;
+    float t[8];
+    for (int i = 0; i < n; ++i, at += 2)
+      t[i] = f[origin + wrap_index(y + (int)w[at + 1], ny) * stride + wrap_index(x + (int)w[at], nx)];
+    float tree;
+    if (n == 1)
+      tree = t[0];
+    else if (n == 2)
+      tree = t[0] + t[1];
+    else if (n == 4)
+      tree = (t[0] + t[1]) + (t[2] + t[3]);
+    else
+      tree = ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
+    acc += weight * tree;
   }
   return acc;
 }
@@ -60,8 +73,8 @@ __kernel void generalized_rd(__global const float* a, __global const float* b,
   const float A = a[g], B = b[g];
   float ra, rb;
   generalized_rates(model, p0, p1, p2, p3, p4, f_step, k_step, x, y, A, B, &ra, &rb);
-  const float da = sa != 0.0f ? sa * stencil25(a, w, stride, origin, x, y, size.x, size.y) : 0.0f;
-  const float db = sb != 0.0f ? sb * stencil25(b, w, stride, origin, x, y, size.x, size.y) : 0.0f;
+  const float da = sa != 0.0f ? sa * stencil_groups(a, w, stride, origin, x, y, size.x, size.y) : 0.0f;
+  const float db = sb != 0.0f ? sb * stencil_groups(b, w, stride, origin, x, y, size.x, size.y) : 0.0f;
   a_out[g] = min(max(A + da + dt * ra, box.s0), box.s1);
   b_out[g] = min(max(B + db + dt * rb, box.s2), box.s3);
 }

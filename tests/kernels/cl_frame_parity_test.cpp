@@ -429,6 +429,42 @@ TEST(ClFrameParity, ExplicitRd5And9EveryModel) {
   }
 }
 
+// Seed 003's Eqn 27 with each of Table 2's stencils: the taps' symmetry groups uploaded
+// (stencil_groups) and added in GeneralizedTaps' order in float, so the same bits as the C++.
+TEST(ClFrameParity, GeneralizedRdEveryTable2Stencil) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  Dev dev{*d.ctx};
+  for (const NamedTensorSequence& seq : kTable2)
+    for (ReactionModel model : {ReactionModel::kGrayScott, ReactionModel::kTuring}) {
+      SCOPED_TRACE(::testing::Message() << seq.name << " " << reaction_model_name(model));
+      const Int2 size{37, 23};
+      const GeneralizedTaps taps(assemble_generalized_stencil(seq.tensors));
+      GeneralizedRdParams p;
+      p.reaction.model = model;
+      p.dt = 0.1f;
+      p.scale_a = 0.2f;
+      p.scale_b = 0.1f;
+      const ConcentrationBox r = typical_range(p.reaction);
+      FieldF a(size, 2), b(size, 2), a_ref(size, 2), b_ref(size, 2);
+      fill_random(a, float(r.a_lo), float(r.a_hi), 120);
+      fill_random(b, float(r.b_lo), float(r.b_hi), 121);
+      std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
+      generalized_rd_rows(taps, a.view(), b.view(), a_ref.view(), b_ref.view(), size, 0, size.y, p,
+                          scratch.data());
+      const DeviceField da = dev.up(a), db = dev.up(b);
+      DeviceField dao = dev.up(a_ref), dbo = dev.up(b_ref);
+      const OpenClBuffer groups = d.cl->stencil_groups(taps);
+      d.cl->generalized_rd(da, db, dao, dbo, groups, p);
+      const FieldF a_got = dev.down(dao), b_got = dev.down(dbo);
+      for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) {
+          ASSERT_EQ(a_got(x, y), a_ref(x, y)) << x << "," << y;
+          ASSERT_EQ(b_got(x, y), b_ref(x, y)) << x << "," << y;
+        }
+    }
+}
+
 // Seed 003's per-cell rank-2 tensor field (Table 1's last row): every field kind and the two
 // reactions the presets use, with and without the Gray-Scott parameter map; the same float
 // arithmetic in the same order, so the same bits.
