@@ -1,6 +1,6 @@
 // `ardcell surface`: Gray-Scott reaction-diffusion on the Catmull-Clark limit surface of a
 // control mesh (seed 004, docs/surfaces.md), written as a PLY of the limit surface with the
-// field as vertex colours.
+// field as vertex colours (--out) and/or as a texture atlas with a UV-mapped OBJ (--atlas).
 //
 // A subcommand of its own, not a scene of `ardcell run`: the patches do not run on the engine
 // yet (no Device ops, back ends, frames or state files, which run's flags are about); once
@@ -13,7 +13,9 @@
 #include "drivers/cli.h"
 
 #if ARDCELL_WITH_OPENSUBDIV
+#include "drivers/png_writer.h"
 #include "host/io/atomic_file.h"
+#include "host/io/surface_atlas.h"
 #include "host/io/surface_ply.h"
 #include "host/surface/limit_surface.h"
 #include "host/surface/patch_metric.h"
@@ -31,7 +33,8 @@ namespace {
 constexpr long long kMaxCells = 1LL << 22;
 
 struct SurfaceArgs {
-  std::string mesh, shape = "torus", out, reaction = "euler", field = "b", colormap = "magma";
+  std::string mesh, shape = "torus", out, atlas, reaction = "euler", field = "b",
+                    colormap = "magma";
   int patch_cells = 16, steps = 3000;
   unsigned seed = 1;
   double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
@@ -67,7 +70,18 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   SurfacePlyOptions ply;
   if (!parse_colormap(a.colormap, ply.colormap))
     return usage("--colormap '" + a.colormap + "': expected " + std::string(colormap_names()));
-  if (Status s = check_output_path(a.out, false); !s) return usage("--out " + s.message());
+  if (a.out.empty() && a.atlas.empty())
+    return usage("nothing to write: expected --out FILE.ply and/or --atlas PREFIX");
+  if (!a.out.empty())
+    if (Status s = check_output_path(a.out, false); !s) return usage("--out " + s.message());
+  // --atlas PREFIX: PREFIX.obj, PREFIX.mtl and PREFIX.png side by side.
+  const auto atlas_file = [&](const char* extension) {
+    return std::filesystem::path(a.atlas + extension);
+  };
+  if (!a.atlas.empty())
+    for (const char* extension : {".obj", ".mtl", ".png"})
+      if (Status s = check_output_path(atlas_file(extension), false); !s)
+        return usage("--atlas " + s.message());
 
   PolyMesh mesh;
   if (Status s = control_mesh(a, mesh); !s) return usage(s.message());
@@ -119,14 +133,24 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   // b lives in [0, ~0.45] in Gray-Scott's patterns, a in [~0.2, 1].
   ply.lo = a.field == "a" ? 0.2 : 0.0;
   ply.hi = a.field == "a" ? 1.0 : 0.45;
-  if (Status s = write_surface_ply(a.out, surface, op.grid(), field, ply); !s) {
-    std::fprintf(ctx.err, "ardcell surface: %s\n", s.message().c_str());
+  Status written = Status::ok();
+  if (!a.out.empty()) written = write_surface_ply(a.out, surface, op.grid(), field, ply);
+  if (written && !a.atlas.empty()) {
+    const AtlasLayout layout = atlas_layout(surface.patches(), n);
+    written = write_png(atlas_file(".png"), surface_atlas_image(op.grid(), field, layout, ply));
+    if (written)
+      written = write_surface_obj(atlas_file(".obj"), atlas_file(".mtl"),
+                                  atlas_file(".png").filename().string(), surface, layout);
+  }
+  if (!written) {
+    std::fprintf(ctx.err, "ardcell surface: %s\n", written.message().c_str());
     return kExitFailure;
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::fprintf(ctx.out, "steps=%d mean_sweeps=%.1f seconds=%.2f out=%s\n", done,
-               done ? double(sweeps) / done : 0.0, seconds, a.out.c_str());
+  std::fprintf(ctx.out, "steps=%d mean_sweeps=%.1f seconds=%.2f out=%s%s%s\n", done,
+               done ? double(sweeps) / done : 0.0, seconds, a.out.empty() ? "-" : a.out.c_str(),
+               a.atlas.empty() ? "" : " atlas=", a.atlas.empty() ? "" : (a.atlas + ".obj").c_str());
   std::fflush(ctx.out);
   return StopSignals::exit_code(kExitOk);
 }
@@ -139,7 +163,7 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
   CLI::App* cmd = app.add_subcommand(
       "surface",
       "Gray-Scott on the Catmull-Clark limit surface of a mesh (OBJ or built in), written as a "
-      "PLY with the field as vertex colours");
+      "PLY with the field as vertex colours or as a texture atlas with a UV-mapped OBJ");
 #if ARDCELL_WITH_OPENSUBDIV
   auto args = std::make_shared<SurfaceArgs>();
   SurfaceArgs& a = *args;
@@ -151,7 +175,10 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
   a.mesh_opt->excludes(a.shape_opt);
   cmd->add_option("--patch-cells", a.patch_cells, "N: N x N cells a patch, a power of two (16)");
   cmd->add_option("--steps", a.steps, "steps of dt (3000)");
-  cmd->add_option("--out", a.out, "the PLY to write")->required();
+  cmd->add_option("--out", a.out, "the PLY to write (vertex colours)");
+  cmd->add_option("--atlas", a.atlas,
+                  "also (or instead) PREFIX.obj, .mtl and .png: the limit surface UV-mapped onto "
+                  "a texture atlas of the field (Blender, MeshLab)");
   cmd->add_option("--reaction", a.reaction,
                   "euler (the seed's forward Euler) or implicit (ardcell's backward Euler)");
   cmd->add_option("--F", a.F, "Gray-Scott feed (0.055)")->check(finite_range(0, 1));

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "host/io/atomic_file.h"
+#include "host/io/surface_atlas.h"
 
 namespace ardcell {
 namespace {
@@ -44,18 +45,14 @@ Status write_surface_ply(const std::filesystem::path& path, const LimitSurface& 
   const auto& lut = colormap_lut(options.colormap);
   const double span = options.hi > options.lo ? options.hi - options.lo : 1.0;
   std::vector<unsigned char> row(std::size_t(n + 1) * kVertexBytes);
-  LimitSample d;
   for (int p = 0; p < patches; ++p)
     for (int j = 0; j <= n; ++j) {
       unsigned char* at = row.data();
       for (int i = 0; i <= n; ++i) {
-        surface.evaluate(p, double(i) / n, double(j) / n, d);
-        double nx = d.du[1] * d.dv[2] - d.du[2] * d.dv[1];
-        double ny = d.du[2] * d.dv[0] - d.du[0] * d.dv[2];
-        double nz = d.du[0] * d.dv[1] - d.du[1] * d.dv[0];
-        const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-        if (len > 0) nx /= len, ny /= len, nz /= len;
-        for (double v : {d.p[0], d.p[1], d.p[2], nx, ny, nz}) put_float(at, v);
+        double position[3], normal[3];
+        limit_vertex(surface, p, double(i) / n, double(j) / n, position, normal);
+        for (double v : position) put_float(at, v);
+        for (double v : normal) put_float(at, v);
         const double value =
             0.25 * (field[grid.index(p, i - 1, j - 1)] + field[grid.index(p, i, j - 1)] +
                     field[grid.index(p, i - 1, j)] + field[grid.index(p, i, j)]);

@@ -1,6 +1,6 @@
 // `ardcell surface` (the real binary): a PLY of the limit surface with the field as vertex
-// colours from the built-in meshes and from an OBJ, and bad input as one line, exit 2, nothing
-// written.
+// colours from the built-in meshes and from an OBJ, the texture atlas with its UV-mapped OBJ,
+// and bad input as one line, exit 2, nothing written.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -48,6 +48,32 @@ TEST_F(SurfaceCli, BuiltInTorusToPly) {
   EXPECT_TRUE(only_file("t.ply"));  // no temporary left behind
 }
 
+TEST_F(SurfaceCli, AtlasIsAnObjAMaterialAndAPng) {
+  const BinaryRunResult r = run("surface --patch-cells 4 --steps 20 --atlas t");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("out=- atlas=t.obj"), std::string::npos) << r.out;
+  // 32 patches: 6 tiles a row, 6 rows, tiles of 4 + 2 texels.
+  const std::string png = slurp(work() / "t.png");
+  ASSERT_GE(png.size(), 24u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const auto be32 = [&](std::size_t at) {
+    return (unsigned(uint8_t(png[at])) << 24) | (unsigned(uint8_t(png[at + 1])) << 16) |
+           (unsigned(uint8_t(png[at + 2])) << 8) | unsigned(uint8_t(png[at + 3]));
+  };
+  EXPECT_EQ(be32(16), 36u);  // IHDR width
+  EXPECT_EQ(be32(20), 36u);  // and height
+  const std::string obj = slurp(work() / "t.obj");
+  EXPECT_NE(obj.find("mtllib t.mtl\nusemtl ardcell_field\n"), std::string::npos);
+  std::size_t faces = 0, vertices = 0;
+  for (std::size_t at = 0; (at = obj.find('\n', at)) != std::string::npos; ++at) {
+    faces += obj.compare(at + 1, 2, "f ") == 0;
+    vertices += obj.compare(at + 1, 2, "v ") == 0;
+  }
+  EXPECT_EQ(faces, 32u * 16u);
+  EXPECT_EQ(vertices, 32u * 25u);
+  EXPECT_NE(slurp(work() / "t.mtl").find("map_Kd t.png\n"), std::string::npos);
+}
+
 TEST_F(SurfaceCli, MixedObjIsRefinedOnce) {
   // A square pyramid: one quad and four triangles, 16 quads after one refinement.
   std::ofstream(work() / "p.obj")
@@ -86,6 +112,9 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
        "ardcell surface: --reaction 'rk4': expected euler (the seed's) or implicit\n"},
       {"surface --patch-cells 1024 --out x.ply", nullptr},
       {"surface --out no/such/folder/x.ply", nullptr},
+      {"surface --atlas no/such/folder/x", nullptr},
+      {"surface --steps 1",
+       "ardcell surface: nothing to write: expected --out FILE.ply and/or --atlas PREFIX\n"},
   };
   for (const auto& [args, message] : cases) {
     const BinaryRunResult r = run(args);
