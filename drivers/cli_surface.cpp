@@ -47,8 +47,10 @@ Status control_mesh(const SurfaceArgs& a, PolyMesh& mesh) {
     mesh = torus_mesh(8, 4, 2.0, 0.8);
   else if (a.shape == "cube-sphere")
     mesh = cube_mesh(2);
+  else if (a.shape == "genus2")
+    mesh = genus2_mesh(1.0);
   else
-    return Status::error("--shape '" + a.shape + "': expected torus or cube-sphere");
+    return Status::error("--shape '" + a.shape + "': expected torus, cube-sphere or genus2");
   return Status::ok();
 }
 
@@ -170,8 +172,8 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
   a.mesh_opt = cmd->add_option("--mesh", a.mesh,
                                "control mesh, a Wavefront OBJ (quads, or mixed: refined once)");
   a.shape_opt = cmd->add_option("--shape", a.shape,
-                                "built-in mesh when no --mesh: torus (32 patches, default) or "
-                                "cube-sphere (24)");
+                                "built-in mesh when no --mesh: torus (32 patches, default), "
+                                "cube-sphere (24) or genus2 (a double torus, 50)");
   a.mesh_opt->excludes(a.shape_opt);
   cmd->add_option("--patch-cells", a.patch_cells, "N: N x N cells a patch, a power of two (16)");
   cmd->add_option("--steps", a.steps, "steps of dt (3000)");

@@ -3,8 +3,21 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <set>
 
 namespace ardcell {
+
+namespace {
+
+// A side of an axis-aligned cube: the fixed axis, at its low (0) or high (1) end, and two
+// in-face axes (u, v) with u x v outward.
+struct CubeSide {
+  int axis, at, u, v;
+};
+constexpr CubeSide kCubeSides[6] = {{0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2},
+                                    {1, 1, 2, 0}, {2, 0, 1, 0}, {2, 1, 0, 1}};
+
+}  // namespace
 
 PolyMesh cube_mesh(int k) {
   PolyMesh m;
@@ -14,13 +27,7 @@ PolyMesh cube_mesh(int k) {
     if (added) m.points.push_back({2.0 * q[0] / k - 1, 2.0 * q[1] / k - 1, 2.0 * q[2] / k - 1});
     return it->second;
   };
-  // Each face: a fixed axis at 0 or k and two in-face axes (u, v) with u x v outward.
-  struct Side {
-    int axis, at, u, v;
-  };
-  const Side sides[6] = {{0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2},
-                         {1, 1, 2, 0}, {2, 0, 1, 0}, {2, 1, 0, 1}};
-  for (const Side& s : sides)
+  for (const CubeSide& s : kCubeSides)
     for (int b = 0; b < k; ++b)
       for (int a = 0; a < k; ++a) {
         auto point = [&](int da, int db) {
@@ -48,6 +55,37 @@ PolyMesh torus_mesh(int around, int tube, double R, double r) {
   for (int a = 0; a < around; ++a)
     for (int t = 0; t < tube; ++t)
       m.add_face({id(a, t), id(a + 1, t), id(a + 1, t + 1), id(a, t + 1)});
+  return m;
+}
+
+PolyMesh genus2_mesh(double size) {
+  using Cell = std::array<int, 3>;
+  std::set<Cell> cubes;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x)
+      if (!(y == 1 && (x == 1 || x == 3))) cubes.insert({x, y, 0});
+  PolyMesh m;
+  std::map<Cell, int> ids;
+  auto vertex = [&](Cell q) {
+    auto [it, added] = ids.emplace(q, int(m.points.size()));
+    if (added) m.points.push_back({size * (q[0] - 2.5), size * (q[1] - 1.5), size * (q[2] - 0.5)});
+    return it->second;
+  };
+  // Every side of a cube that no other cube covers is a face of the surface.
+  for (const Cell& c : cubes)
+    for (const CubeSide& s : kCubeSides) {
+      Cell beyond = c;
+      beyond[std::size_t(s.axis)] += s.at ? 1 : -1;
+      if (cubes.count(beyond)) continue;
+      auto point = [&](int du, int dv) {
+        Cell q = c;
+        q[std::size_t(s.axis)] += s.at;
+        q[std::size_t(s.u)] += du;
+        q[std::size_t(s.v)] += dv;
+        return vertex(q);
+      };
+      m.add_face({point(0, 0), point(1, 0), point(1, 1), point(0, 1)});
+    }
   return m;
 }
 

@@ -13,6 +13,11 @@ PolyMesh cube_mesh(int k);
 // A torus of `around` x `tube` quads (major radius R, minor r): every vertex has valence 4.
 PolyMesh torus_mesh(int around, int tube, double R, double r);
 
+// A closed surface of genus 2: the outside of a 5 x 3 x 1 plate of unit cubes with the cubes at
+// (1, 1) and (3, 1) taken out, centred on the origin and scaled by `size` (50 quads,
+// outward-facing). Its Catmull-Clark limit is a smooth double torus.
+PolyMesh genus2_mesh(double size);
+
 // The same faces, each with its vertex list rotated by a pseudo-random 0-3 places, so that the
 // patches' parametrisations meet with every quarter turn.
 PolyMesh rotate_faces(const PolyMesh& mesh, std::uint32_t seed);

@@ -49,10 +49,10 @@ TEST_F(SurfaceCli, BuiltInTorusToPly) {
 }
 
 TEST_F(SurfaceCli, AtlasIsAnObjAMaterialAndAPng) {
-  const BinaryRunResult r = run("surface --patch-cells 4 --steps 20 --atlas t");
+  const BinaryRunResult r = run("surface --shape genus2 --patch-cells 4 --steps 20 --atlas t");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("out=- atlas=t.obj"), std::string::npos) << r.out;
-  // 32 patches: 6 tiles a row, 6 rows, tiles of 4 + 2 texels.
+  // The double torus's 50 patches: 8 tiles a row, 7 rows, tiles of 4 + 2 texels.
   const std::string png = slurp(work() / "t.png");
   ASSERT_GE(png.size(), 24u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
@@ -60,8 +60,8 @@ TEST_F(SurfaceCli, AtlasIsAnObjAMaterialAndAPng) {
     return (unsigned(uint8_t(png[at])) << 24) | (unsigned(uint8_t(png[at + 1])) << 16) |
            (unsigned(uint8_t(png[at + 2])) << 8) | unsigned(uint8_t(png[at + 3]));
   };
-  EXPECT_EQ(be32(16), 36u);  // IHDR width
-  EXPECT_EQ(be32(20), 36u);  // and height
+  EXPECT_EQ(be32(16), 48u);  // IHDR width
+  EXPECT_EQ(be32(20), 42u);  // and height
   const std::string obj = slurp(work() / "t.obj");
   EXPECT_NE(obj.find("mtllib t.mtl\nusemtl ardcell_field\n"), std::string::npos);
   std::size_t faces = 0, vertices = 0;
@@ -69,8 +69,8 @@ TEST_F(SurfaceCli, AtlasIsAnObjAMaterialAndAPng) {
     faces += obj.compare(at + 1, 2, "f ") == 0;
     vertices += obj.compare(at + 1, 2, "v ") == 0;
   }
-  EXPECT_EQ(faces, 32u * 16u);
-  EXPECT_EQ(vertices, 32u * 25u);
+  EXPECT_EQ(faces, 50u * 16u);
+  EXPECT_EQ(vertices, 50u * 25u);
   EXPECT_NE(slurp(work() / "t.mtl").find("map_Kd t.png\n"), std::string::npos);
 }
 
@@ -107,7 +107,7 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
        "ardcell surface: point.obj: the limit surface is degenerate (no tangent plane) in patch 1 "
        "at (0.25, 0): coincident or folded control points?\n"},
       {"surface --shape klein --out x.ply",
-       "ardcell surface: --shape 'klein': expected torus or cube-sphere\n"},
+       "ardcell surface: --shape 'klein': expected torus, cube-sphere or genus2\n"},
       {"surface --reaction rk4 --out x.ply",
        "ardcell surface: --reaction 'rk4': expected euler (the seed's) or implicit\n"},
       {"surface --patch-cells 1024 --out x.ply", nullptr},

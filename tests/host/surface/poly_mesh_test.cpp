@@ -3,8 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <utility>
 
 #include "host/surface/limit_surface.h"
 #include "host/surface/procedural_mesh.h"
@@ -135,6 +138,43 @@ TEST(LimitSurfaceBuild, MixedMeshIsRefinedOnceIntoQuads) {
   fin.add_face({0, 1, 6, 7});
   LimitSurface bad;
   EXPECT_FALSE(LimitSurface::build(fin, {}, bad));
+}
+
+// The procedural double torus: a closed, outward-facing quad mesh of Euler characteristic -2
+// (genus 2) enclosing the plate's 13 cubes, whose limit surface builds with a patch a quad.
+TEST(ProceduralMesh, Genus2IsAClosedOutwardDoubleTorus) {
+  const double size = 0.5;
+  const PolyMesh m = genus2_mesh(size);
+  ASSERT_TRUE(check_manifold(m));
+  ASSERT_TRUE(m.all_quads());
+  EXPECT_EQ(m.face_count(), 50);
+  std::map<std::pair<int, int>, int> edges;  // undirected edge -> faces using it
+  double volume = 0;
+  for (int f = 0; f < m.face_count(); ++f) {
+    const int* v = m.face(f);
+    for (int k = 0; k < 4; ++k) {
+      const int a = v[k], b = v[(k + 1) % 4];
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+    // Divergence theorem over the quad's two triangles: (1/6) p0 . (p1 x p2).
+    for (int t : {1, 2}) {
+      const auto& p0 = m.points[std::size_t(v[0])];
+      const auto& p1 = m.points[std::size_t(v[t])];
+      const auto& p2 = m.points[std::size_t(v[t + 1])];
+      volume += (p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
+                 p0[2] * (p1[0] * p2[1] - p1[1] * p2[0])) /
+                6;
+    }
+  }
+  for (const auto& [edge, faces] : edges) EXPECT_EQ(faces, 2) << edge.first << "-" << edge.second;
+  const long long euler =
+      (long long)m.points.size() - (long long)edges.size() + (long long)m.face_count();
+  EXPECT_EQ(euler, -2);
+  EXPECT_NEAR(volume, 13 * size * size * size, 1e-12);
+  LimitSurface s;
+  ASSERT_TRUE(LimitSurface::build(m, {}, s));
+  EXPECT_FALSE(s.refined());
+  EXPECT_EQ(s.patches(), 50);
 }
 
 }  // namespace
