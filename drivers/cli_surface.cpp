@@ -7,6 +7,7 @@
 // patches are blocks of the frame plan it becomes `ardcell run surface-gray-scott`.
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -21,6 +22,7 @@
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
 #include "host/surface/surface_gray_scott.h"
+#include "host/surface/surface_render.h"
 #endif
 
 namespace ardcell {
@@ -33,8 +35,8 @@ namespace {
 constexpr long long kMaxCells = 1LL << 22;
 
 struct SurfaceArgs {
-  std::string mesh, shape = "torus", out, atlas, reaction = "euler", field = "b",
-                    colormap = "magma";
+  std::string mesh, shape = "torus", out, atlas, render, view = "35,25", reaction = "euler",
+                    field = "b", colormap = "magma";
   int patch_cells = 16, steps = 3000;
   unsigned seed = 1;
   double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
@@ -72,8 +74,19 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   SurfacePlyOptions ply;
   if (!parse_colormap(a.colormap, ply.colormap))
     return usage("--colormap '" + a.colormap + "': expected " + std::string(colormap_names()));
-  if (a.out.empty() && a.atlas.empty())
-    return usage("nothing to write: expected --out FILE.ply and/or --atlas PREFIX");
+  if (a.out.empty() && a.atlas.empty() && a.render.empty())
+    return usage("nothing to write: expected --out FILE.ply, --atlas PREFIX or --render FILE.png");
+  SurfaceView view;
+  {
+    char tail = 0;
+    if (std::sscanf(a.view.c_str(), "%lf,%lf%c", &view.azimuth_deg, &view.elevation_deg, &tail) !=
+            2 ||
+        !std::isfinite(view.azimuth_deg) || !(std::abs(view.elevation_deg) <= 90))
+      return usage("--view '" + a.view +
+                   "': expected AZIMUTH,ELEVATION in degrees, elevation in -90..90");
+  }
+  if (!a.render.empty())
+    if (Status s = check_output_path(a.render, false); !s) return usage("--render " + s.message());
   if (!a.out.empty())
     if (Status s = check_output_path(a.out, false); !s) return usage("--out " + s.message());
   // --atlas PREFIX: PREFIX.obj, PREFIX.mtl and PREFIX.png side by side.
@@ -144,15 +157,18 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
       written = write_surface_obj(atlas_file(".obj"), atlas_file(".mtl"),
                                   atlas_file(".png").filename().string(), surface, layout);
   }
+  if (written && !a.render.empty())
+    written = write_png(a.render, render_surface(surface, op.grid(), field, ply, view));
   if (!written) {
     std::fprintf(ctx.err, "ardcell surface: %s\n", written.message().c_str());
     return kExitFailure;
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::fprintf(ctx.out, "steps=%d mean_sweeps=%.1f seconds=%.2f out=%s%s%s\n", done,
+  std::fprintf(ctx.out, "steps=%d mean_sweeps=%.1f seconds=%.2f out=%s%s%s%s%s\n", done,
                done ? double(sweeps) / done : 0.0, seconds, a.out.empty() ? "-" : a.out.c_str(),
-               a.atlas.empty() ? "" : " atlas=", a.atlas.empty() ? "" : (a.atlas + ".obj").c_str());
+               a.atlas.empty() ? "" : " atlas=", a.atlas.empty() ? "" : (a.atlas + ".obj").c_str(),
+               a.render.empty() ? "" : " render=", a.render.c_str());
   std::fflush(ctx.out);
   return StopSignals::exit_code(kExitOk);
 }
@@ -181,6 +197,10 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--atlas", a.atlas,
                   "also (or instead) PREFIX.obj, .mtl and .png: the limit surface UV-mapped onto "
                   "a texture atlas of the field (Blender, MeshLab)");
+  cmd->add_option("--render", a.render,
+                  "also a PNG of the surface from a fixed camera (800 x 600)");
+  cmd->add_option("--view", a.view,
+                  "the render's camera direction AZIMUTH,ELEVATION in degrees (35,25)");
   cmd->add_option("--reaction", a.reaction,
                   "euler (the seed's forward Euler) or implicit (ardcell's backward Euler)");
   cmd->add_option("--F", a.F, "Gray-Scott feed (0.055)")->check(finite_range(0, 1));

@@ -111,6 +111,17 @@ for q in c d e; do
   (cd "$repo" && "$bin" propagator "$q" --size "$size" --out "$out/$name.png" >/dev/null)
   made+=("$name.png")
 done
+# Seed 004: Gray-Scott on the Catmull-Clark limit surface of the double torus (no frames: a
+# render from a fixed camera).
+name=surface_genus2
+# shellcheck disable=SC2053
+if [[ $name == $only ]]; then
+  cells=16 steps=3000
+  [ $small -eq 1 ] && cells=4 steps=4
+  (cd "$repo" && "$bin" surface --shape genus2 --patch-cells "$cells" --steps "$steps" \
+    --render "$out/$name.png" --view 30,40 >/dev/null)
+  made+=("$name.png")
+fi
 # The DFG cylinder benchmark 2D-2 (Re 100): the vortex street behind the cylinder, by its dye.
 fig dfg_2d2 1600 -- run dfg-2d2 --size 440x82 --steps 1600 --every 1600
 # The plain cavity's dye.

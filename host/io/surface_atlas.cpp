@@ -35,19 +35,6 @@ ImageRgb8 surface_atlas_image(const PatchGrid& grid, PatchField field, const Atl
   return image;
 }
 
-void limit_vertex(const LimitSurface& surface, int p, double u, double v, double position[3],
-                  double normal[3]) {
-  LimitSample d;
-  surface.evaluate(p, u, v, d);
-  double nx = d.du[1] * d.dv[2] - d.du[2] * d.dv[1];
-  double ny = d.du[2] * d.dv[0] - d.du[0] * d.dv[2];
-  double nz = d.du[0] * d.dv[1] - d.du[1] * d.dv[0];
-  const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-  if (len > 0) nx /= len, ny /= len, nz /= len;
-  for (int k = 0; k < 3; ++k) position[k] = d.p[std::size_t(k)];
-  normal[0] = nx, normal[1] = ny, normal[2] = nz;
-}
-
 namespace {
 
 // Writes printf-formatted text to an AtomicFile; false once a write failed.

@@ -46,8 +46,4 @@ Status write_surface_obj(const std::filesystem::path& obj_path,
                          const std::filesystem::path& mtl_path, const std::string& atlas_png,
                          const LimitSurface& surface, const AtlasLayout& layout);
 
-// Position and unit normal of patch p's limit surface at (u, v) (shared by the PLY and the OBJ).
-void limit_vertex(const LimitSurface& surface, int p, double u, double v, double position[3],
-                  double normal[3]);
-
 }  // namespace ardcell

@@ -53,9 +53,7 @@ Status write_surface_ply(const std::filesystem::path& path, const LimitSurface& 
         limit_vertex(surface, p, double(i) / n, double(j) / n, position, normal);
         for (double v : position) put_float(at, v);
         for (double v : normal) put_float(at, v);
-        const double value =
-            0.25 * (field[grid.index(p, i - 1, j - 1)] + field[grid.index(p, i, j - 1)] +
-                    field[grid.index(p, i - 1, j)] + field[grid.index(p, i, j)]);
+        const double value = grid.corner_mean(field, p, i, j);
         const Rgb8 c = colormap_at(lut, float((value - options.lo) / span));
         *at++ = c.r, *at++ = c.g, *at++ = c.b;
       }

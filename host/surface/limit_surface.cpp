@@ -1,5 +1,7 @@
 #include "host/surface/limit_surface.h"
 
+#include <cmath>
+
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/primvarRefiner.h>
@@ -124,6 +126,19 @@ std::array<double, 3> LimitSurface::position(int patch, double x1, double x2) co
   std::array<double, 3> p;
   impl_->surfaces[patch].Evaluate(uv, impl_->patch_points[patch].data(), 3, p.data());
   return p;
+}
+
+void limit_vertex(const LimitSurface& surface, int p, double u, double v, double position[3],
+                  double normal[3]) {
+  LimitSample d;
+  surface.evaluate(p, u, v, d);
+  double nx = d.du[1] * d.dv[2] - d.du[2] * d.dv[1];
+  double ny = d.du[2] * d.dv[0] - d.du[0] * d.dv[2];
+  double nz = d.du[0] * d.dv[1] - d.du[1] * d.dv[0];
+  const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+  if (len > 0) nx /= len, ny /= len, nz /= len;
+  for (int k = 0; k < 3; ++k) position[k] = d.p[std::size_t(k)];
+  normal[0] = nx, normal[1] = ny, normal[2] = nz;
 }
 
 }  // namespace ardcell

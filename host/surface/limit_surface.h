@@ -53,6 +53,11 @@ class LimitSurface {
   bool refined_ = false;
 };
 
+// Position and unit normal of patch p's limit surface at (u, v) (the PLY, the OBJ and the
+// renders share it).
+void limit_vertex(const LimitSurface& surface, int p, double u, double v, double position[3],
+                  double normal[3]);
+
 // One uniform Catmull-Clark refinement (OpenSubdiv Far): every face of the result is a quad.
 PolyMesh refine_catmull_clark_once(const PolyMesh& mesh);
 

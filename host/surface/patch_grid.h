@@ -50,6 +50,13 @@ class PatchGrid {
                               Box2{{-1, -1}, {n_ + 1, n_ + 1}});
   }
 
+  // The mean of the four cells around corner (i, j) of patch p, 0 <= i, j <= N (ghosts included:
+  // after an exchange, the patches that share a corner give it the same value).
+  double corner_mean(const PatchField& f, int p, int i, int j) const {
+    return 0.25 * (f[index(p, i - 1, j - 1)] + f[index(p, i, j - 1)] + f[index(p, i - 1, j)] +
+                   f[index(p, i, j)]);
+  }
+
   // Fills every ghost cell (edges, then corners).
   void exchange(PatchField& f) const;
 

@@ -49,9 +49,13 @@ TEST_F(SurfaceCli, BuiltInTorusToPly) {
 }
 
 TEST_F(SurfaceCli, AtlasIsAnObjAMaterialAndAPng) {
-  const BinaryRunResult r = run("surface --shape genus2 --patch-cells 4 --steps 20 --atlas t");
+  const BinaryRunResult r =
+      run("surface --shape genus2 --patch-cells 4 --steps 20 --atlas t --render r.png --view 0,90");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("out=- atlas=t.obj"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("out=- atlas=t.obj render=r.png"), std::string::npos) << r.out;
+  const std::string render = slurp(work() / "r.png");
+  ASSERT_GE(render.size(), 24u);
+  EXPECT_EQ(render.substr(1, 3), "PNG");
   // The double torus's 50 patches: 8 tiles a row, 7 rows, tiles of 4 + 2 texels.
   const std::string png = slurp(work() / "t.png");
   ASSERT_GE(png.size(), 24u);
@@ -114,7 +118,14 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
       {"surface --out no/such/folder/x.ply", nullptr},
       {"surface --atlas no/such/folder/x", nullptr},
       {"surface --steps 1",
-       "ardcell surface: nothing to write: expected --out FILE.ply and/or --atlas PREFIX\n"},
+       "ardcell surface: nothing to write: expected --out FILE.ply, --atlas PREFIX or --render "
+       "FILE.png\n"},
+      {"surface --render x.png --view 10",
+       "ardcell surface: --view '10': expected AZIMUTH,ELEVATION in degrees, elevation in "
+       "-90..90\n"},
+      {"surface --render x.png --view 10,95",
+       "ardcell surface: --view '10,95': expected AZIMUTH,ELEVATION in degrees, elevation in "
+       "-90..90\n"},
   };
   for (const auto& [args, message] : cases) {
     const BinaryRunResult r = run(args);
@@ -125,6 +136,7 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
       EXPECT_EQ(r.err, message) << args;
     }
     EXPECT_FALSE(fs::exists(work() / "x.ply")) << args;
+    EXPECT_FALSE(fs::exists(work() / "x.png")) << args;
   }
 }
 
