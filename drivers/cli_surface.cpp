@@ -23,6 +23,8 @@
 #include "host/surface/procedural_mesh.h"
 #include "host/surface/surface_gray_scott.h"
 #include "host/surface/surface_render.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
 #endif
 
 namespace ardcell {
@@ -37,7 +39,7 @@ constexpr long long kMaxCells = 1LL << 22;
 struct SurfaceArgs {
   std::string mesh, shape = "torus", out, atlas, render, view = "35,25", reaction = "euler",
                     field = "b", colormap = "magma";
-  int patch_cells = 16, steps = 3000;
+  int patch_cells = 16, steps = 3000, workers = 0;
   unsigned seed = 1;
   double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
   CLI::Option *mesh_opt, *shape_opt, *scale_opt;
@@ -62,6 +64,8 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (n < 2 || n > 1024 || (n & (n - 1)) != 0)
     return usage("--patch-cells " + std::to_string(n) + ": expected a power of two in 2..1024");
   if (a.steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
+  if (a.workers < 0 || a.workers > 1024)
+    return usage("--workers " + std::to_string(a.workers) + ": expected 0 (every core) to 1024");
   SurfaceRdParams params;
   params.reaction.F = float(a.F);
   params.reaction.k = float(a.k);
@@ -111,13 +115,20 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
 
   const auto start = std::chrono::steady_clock::now();
   Status geometry = Status::ok();
-  const SurfaceLaplacian op = [&] {  // the metric is needed only to build the operator
+  SurfaceLaplacian op = [&] {  // the metric is needed only to build the operator
     const PatchMetric metric = sample_limit_metric(surface, n);
     geometry = metric.check_nondegenerate();
     return SurfaceLaplacian(surface.topology(), metric);
   }();
   if (!geometry)
     return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + geometry.message());
+  // The patches run side by side on the threads back end (the same bits for any --workers).
+  ThreadBackendOptions threads;
+  threads.workers = a.workers;
+  threads.pin = false;  // a short command beside whatever else runs
+  ThreadBackend backend(threads);
+  RowExecutor executor(backend);
+  op.set_executor(executor);
   // Pattern scale: the classic flat model's cell, 1/20 of a mean patch's side by default.
   const double side = std::sqrt(op.area() / op.patches());
   const double length = a.scale_opt->count() ? a.scale : side / 20;
@@ -128,9 +139,10 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   params.solve.tolerance = a.tolerance;
   std::fprintf(ctx.out,
                "patches=%d%s cells=%lld area=%.4g scale=%.4g r_a=%.4g r_b=%.4g F=%g k=%g dt=%g "
-               "reaction=%s\n",
+               "reaction=%s workers=%d\n",
                surface.patches(), surface.refined() ? " (refined once)" : "", cells, op.area(),
-               length, params.diffusion_a, params.diffusion_b, a.F, a.k, a.dt, a.reaction.c_str());
+               length, params.diffusion_a, params.diffusion_b, a.F, a.k, a.dt, a.reaction.c_str(),
+               backend.workers());
   std::fflush(ctx.out);
   SurfaceGrayScott rd(op, params);
   rd.seed_spots(cell_positions(surface, op.grid()), a.seed, 3 * op.patches(), 0.2 * side);
@@ -193,6 +205,9 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
   a.mesh_opt->excludes(a.shape_opt);
   cmd->add_option("--patch-cells", a.patch_cells, "N: N x N cells a patch, a power of two (16)");
   cmd->add_option("--steps", a.steps, "steps of dt (3000)");
+  cmd->add_option("--workers", a.workers,
+                  "threads that run the patches side by side, 0: one per core (0; the same "
+                  "result for any number)");
   cmd->add_option("--out", a.out, "the PLY to write (vertex colours)");
   cmd->add_option("--atlas", a.atlas,
                   "also (or instead) PREFIX.obj, .mtl and .png: the limit surface UV-mapped onto "

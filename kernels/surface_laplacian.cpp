@@ -1,5 +1,8 @@
 #include "kernels/surface_laplacian.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace ardcell {
 
 void surface_face_fluxes(View<const double> phi, const PatchStencil& s, View<double> f1,
@@ -50,15 +53,23 @@ void surface_laplacian_diagonal(const PatchStencil& s, View<double> diag, int n)
   }
 }
 
-void surface_jacobi_update(View<const double> b, View<const double> lap_x, View<const double> diag,
-                           View<double> x, double c, int n) {
+double surface_jacobi_update(View<const double> b, View<const double> lap_x,
+                             View<const double> diag, View<const double> x, View<double> x_out,
+                             double c, int n) {
+  double largest = 0;
   for (int j = 0; j < n; ++j) {
     const double* bb = b.row(j);
     const double* l = lap_x.row(j);
     const double* d = diag.row(j);
-    double* xx = x.row(j);
-    for (int i = 0; i < n; ++i) xx[i] += (bb[i] - xx[i] + c * l[i]) / (1.0 - c * d[i]);
+    const double* xx = x.row(j);
+    double* xo = x_out.row(j);
+    for (int i = 0; i < n; ++i) {
+      const double r = bb[i] - xx[i] + c * l[i];
+      largest = std::max(largest, std::abs(r));
+      xo[i] = xx[i] + r / (1.0 - c * d[i]);
+    }
   }
+  return largest;
 }
 
 }  // namespace ardcell

@@ -41,8 +41,10 @@ void surface_flux_divergence(View<const double> f1, View<const double> f2, View<
 void surface_laplacian_diagonal(const PatchStencil& s, View<double> diag, int n);
 
 // One Jacobi sweep of (I - c lap) x = b from lap x (computed from x by the two kernels above):
-//   x' = x + (b - x + c lap x) / (1 - c diag).   In place, per cell.
-void surface_jacobi_update(View<const double> b, View<const double> lap_x, View<const double> diag,
-                           View<double> x, double c, int n);
+//   r = b - x + c lap x,  x' = x + r / (1 - c diag),   per cell (x_out may be x);
+// returns max |r| over the patch (the residual of x, before the sweep).
+double surface_jacobi_update(View<const double> b, View<const double> lap_x,
+                             View<const double> diag, View<const double> x, View<double> x_out,
+                             double c, int n);
 
 }  // namespace ardcell

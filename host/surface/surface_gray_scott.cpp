@@ -46,21 +46,24 @@ DiffusionReport SurfaceGrayScott::step() {
   const PatchGrid& g = op_.grid();
   const int n = g.n();
   const double dt = params_.dt;
-  for (int p = 0; p < g.patches(); ++p)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const std::size_t c = g.index(p, i, j);
-        if (params_.scheme == SurfaceReaction::kForwardEuler) {
-          double ra, rb;
-          reaction_rates(params_.reaction, a_[c], b_[c], ra, rb);
-          a_[c] += dt * ra;
-          b_[c] += dt * rb;
-        } else {
-          const ImplicitResult r = implicit_reaction_cell(params_.reaction, dt, a_[c], b_[c]);
-          a_[c] = r.a;
-          b_[c] = r.b;
+  // The reaction per cell, patches side by side on the operator's executor.
+  op_.executor().for_rows(g.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const std::size_t c = g.index(p, i, j);
+          if (params_.scheme == SurfaceReaction::kForwardEuler) {
+            double ra, rb;
+            reaction_rates(params_.reaction, a_[c], b_[c], ra, rb);
+            a_[c] += dt * ra;
+            b_[c] += dt * rb;
+          } else {
+            const ImplicitResult r = implicit_reaction_cell(params_.reaction, dt, a_[c], b_[c]);
+            a_[c] = r.a;
+            b_[c] = r.b;
+          }
         }
-      }
+  });
   // The reaction's result is the right-hand side and the first guess of each solve.
   rhs_ = a_;
   op_.implicit_diffusion(a_, rhs_, dt * params_.diffusion_a, params_.solve);

@@ -79,14 +79,20 @@ void SurfaceLaplacian::stitch_fluxes() const {
         return -1;  // (0, n-1-m)
     }
   };
-  for (const auto& s : grid_.shared_edges())
-    for (int m = 0; m < n; ++m) {
-      double *a, *b;
-      const double sa = outward(s.p, s.e, m, a), sb = outward(s.q, s.f, n - 1 - m, b);
-      const double mean = 0.5 * (sa * *a - sb * *b);  // outward from p
-      *a = sa * mean;
-      *b = -sb * mean;
+  // Each shared edge writes its own faces only: the edges run side by side.
+  const auto& shared = grid_.shared_edges();
+  executor_->for_rows(int(shared.size()), n, [&](int e0, int e1) {
+    for (int e = e0; e < e1; ++e) {
+      const auto& s = shared[std::size_t(e)];
+      for (int m = 0; m < n; ++m) {
+        double *a, *b;
+        const double sa = outward(s.p, s.e, m, a), sb = outward(s.q, s.f, n - 1 - m, b);
+        const double mean = 0.5 * (sa * *a - sb * *b);  // outward from p
+        *a = sa * mean;
+        *b = -sb * mean;
+      }
     }
+  });
   for (const auto& [p, e] : grid_.boundary_edges())
     for (int m = 0; m < n; ++m) {
       double* a;
@@ -95,31 +101,46 @@ void SurfaceLaplacian::stitch_fluxes() const {
     }
 }
 
-void SurfaceLaplacian::apply(PatchField& phi, PatchField& out) const {
+void SurfaceLaplacian::fluxes(PatchField& phi) const {
   const int n = grid_.n();
   const std::size_t faces = std::size_t(n + 1) * n;
   grid_.exchange(phi);
   const Box2 xfaces{{0, 0}, {n + 1, n}}, yfaces{{0, 0}, {n, n + 1}};
-  for (int p = 0; p < grid_.patches(); ++p)
-    surface_face_fluxes(grid_.view(std::as_const(phi), p), stencil(p),
-                        View<double>(f1_.data() + p * faces, n + 1, xfaces),
-                        View<double>(f2_.data() + p * faces, n, yfaces), n);
+  executor_->for_rows(grid_.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      surface_face_fluxes(grid_.view(std::as_const(phi), p), stencil(p),
+                          View<double>(f1_.data() + p * faces, n + 1, xfaces),
+                          View<double>(f2_.data() + p * faces, n, yfaces), n);
+  });
   stitch_fluxes();
-  for (int p = 0; p < grid_.patches(); ++p) {
-    const View<double> o = grid_.view(out, p);
-    surface_flux_divergence(View<const double>(f1_.data() + p * faces, n + 1, xfaces),
-                            View<const double>(f2_.data() + p * faces, n, yfaces), cells(area_, p),
-                            o.crop(Box2{{0, 0}, {n, n}}), n);
-  }
+}
+
+void SurfaceLaplacian::divergence(int p, PatchField& out) const {
+  const int n = grid_.n();
+  const std::size_t faces = std::size_t(n + 1) * n;
+  const Box2 xfaces{{0, 0}, {n + 1, n}}, yfaces{{0, 0}, {n, n + 1}};
+  surface_flux_divergence(View<const double>(f1_.data() + p * faces, n + 1, xfaces),
+                          View<const double>(f2_.data() + p * faces, n, yfaces), cells(area_, p),
+                          grid_.view(out, p).crop(Box2{{0, 0}, {n, n}}), n);
+}
+
+void SurfaceLaplacian::apply(PatchField& phi, PatchField& out) const {
+  fluxes(phi);
+  executor_->for_rows(grid_.patches(), grid_.n() * grid_.n(), [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p) divergence(p, out);
+  });
 }
 
 double SurfaceLaplacian::total(const PatchField& phi) const {
   const int n = grid_.n();
-  double sum = 0;
-  for (int p = 0; p < grid_.patches(); ++p)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) sum += cell_area(p, i, j) * phi[grid_.index(p, i, j)];
-  return sum;
+  return executor_->sum_rows(grid_.patches(), n * n, [&](int p0, int p1, double* partial) {
+    for (int p = p0; p < p1; ++p) {
+      double sum = 0;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) sum += cell_area(p, i, j) * phi[grid_.index(p, i, j)];
+      partial[p] = sum;
+    }
+  });
 }
 
 double SurfaceLaplacian::area() const {
@@ -133,37 +154,53 @@ DiffusionReport SurfaceLaplacian::implicit_diffusion(PatchField& x, const PatchF
   const int n = grid_.n();
   if (lap_interior_.size() != x.size()) lap_interior_.assign(x.size(), 0.0);
   PatchField& lap = lap_interior_;
-  double bmax = 0;
-  for (int p = 0; p < grid_.patches(); ++p)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) bmax = std::max(bmax, std::abs(b[grid_.index(p, i, j)]));
+  // The largest |value| over the interior cells, per patch on the executor (a maximum is the same
+  // in any order).
+  const auto largest = [&](const auto& value) {
+    const int patches = grid_.patches();
+    if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
+    executor_->for_rows(patches, n * n, [&](int p0, int p1) {
+      for (int p = p0; p < p1; ++p) {
+        double m = 0;
+        for (int j = 0; j < n; ++j)
+          for (int i = 0; i < n; ++i) m = std::max(m, std::abs(value(grid_.index(p, i, j))));
+        patch_max_[std::size_t(p)] = m;
+      }
+    });
+    return *std::max_element(patch_max_.begin(), patch_max_.end());
+  };
+  double bmax = largest([&](std::size_t k) { return b[k]; });
   if (bmax == 0) bmax = 1;
+  if (next_.size() != x.size()) next_.assign(x.size(), 0.0);
+  const int patches = grid_.patches();
   DiffusionReport report;
   for (;;) {
-    apply(x, lap);
-    double rmax = 0;
-    for (int p = 0; p < grid_.patches(); ++p)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          const std::size_t k = grid_.index(p, i, j);
-          rmax = std::max(rmax, std::abs(b[k] - x[k] + c * lap[k]));
-        }
-    report.residual = rmax / bmax;
-    if (report.residual <= solve.tolerance || report.sweeps >= solve.max_sweeps) break;
-    for (int p = 0; p < grid_.patches(); ++p) {
+    // Two passes a sweep: the fluxes of x (stitched across the edges), then per patch lap x, the
+    // residual of x and the swept iterate into next_, which replaces x unless x is the answer.
+    fluxes(x);
+    executor_->for_rows(patches, n * n, [&](int p0, int p1) {
       const Box2 inner{{0, 0}, {n, n}};
-      surface_jacobi_update(grid_.view(b, p).crop(inner),
-                            grid_.view(std::as_const(lap), p).crop(inner), cells(diag_, p),
-                            grid_.view(x, p).crop(inner), c, n);
-    }
+      for (int p = p0; p < p1; ++p) {
+        divergence(p, lap);
+        patch_max_[std::size_t(p)] = surface_jacobi_update(
+            grid_.view(b, p).crop(inner), grid_.view(std::as_const(lap), p).crop(inner),
+            cells(diag_, p), grid_.view(std::as_const(x), p).crop(inner),
+            grid_.view(next_, p).crop(inner), c, n);
+      }
+    });
+    report.residual = *std::max_element(patch_max_.begin(), patch_max_.end()) / bmax;
+    if (report.residual <= solve.tolerance || report.sweeps >= solve.max_sweeps) break;
+    std::swap(x, next_);  // buffers only: x's ghosts are filled by the next exchange
     ++report.sweeps;
   }
   // The exact solution has total(x) = total(b) (lap is conservative); a Jacobi iterate has it
   // only to its residual. A constant is in lap's null space: shift by the difference.
   const double shift = (total(b) - total(x)) / area();
-  for (int p = 0; p < grid_.patches(); ++p)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) x[grid_.index(p, i, j)] += shift;
+  executor_->for_rows(grid_.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) x[grid_.index(p, i, j)] += shift;
+  });
   return report;
 }
 

@@ -14,7 +14,13 @@
 // answer is the last iterate shifted by the constant (lap's null space on a closed surface, and
 // with no-flux boundaries) that restores the total: conserved to rounding after any number of
 // sweeps, the residual changed by that constant alone.
+//
+// Work runs per patch (per shared edge when stitching) on a RowExecutor, so the threads back end
+// runs patches side by side; every per-cell result and every reduction (maxima, and totals as
+// per-patch partials added in patch order) is the same bits for any number of workers.
 #include <vector>
+
+#include "runtime/row_executor.h"
 
 #include "host/surface/patch_grid.h"
 #include "host/surface/patch_metric.h"
@@ -37,6 +43,10 @@ class SurfaceLaplacian {
   SurfaceLaplacian(const PatchTopology& topo, const PatchMetric& metric,
                    CornerGhosts corners = CornerGhosts::kDiagonalExtrapolate);
 
+  // Where the patches run (the serial executor by default); `executor` must outlive the operator.
+  void set_executor(RowExecutor& executor) { executor_ = &executor; }
+  RowExecutor& executor() const { return *executor_; }
+
   const PatchGrid& grid() const { return grid_; }
   int n() const { return grid_.n(); }
   int patches() const { return grid_.patches(); }
@@ -51,7 +61,8 @@ class SurfaceLaplacian {
     return area_[(std::size_t(p) * n() + j) * n() + i];
   }
 
-  // Solves (I - c lap) x = b; x holds the first guess on entry. b's ghosts are not read.
+  // Solves (I - c lap) x = b; x holds the first guess on entry. b's ghosts are not read; x's
+  // buffer may come back exchanged with the operator's scratch (same size), its ghosts stale.
   DiffusionReport implicit_diffusion(PatchField& x, const PatchField& b, double c,
                                      const DiffusionSolve& solve) const;
 
@@ -60,11 +71,16 @@ class SurfaceLaplacian {
   View<const double> cells(const std::vector<double>& v, int p) const;
   View<double> cells(std::vector<double>& v, int p) const;
   void stitch_fluxes() const;
+  // The face fluxes of phi (its ghost ring exchanged first), stitched across patch edges.
+  void fluxes(PatchField& phi) const;
+  // out = the divergence of the fluxes on patch p's interior (after fluxes()).
+  void divergence(int p, PatchField& out) const;
 
   PatchGrid grid_;
+  RowExecutor* executor_ = &RowExecutor::serial();
   std::vector<double> ax_, bx_, ay_, by_, area_, diag_;
   // Scratch (the operator is used from one thread at a time).
-  mutable std::vector<double> f1_, f2_, lap_, lap_interior_;
+  mutable std::vector<double> f1_, f2_, lap_, lap_interior_, patch_max_, next_;
 };
 
 }  // namespace ardcell

@@ -1,4 +1,5 @@
-// Gray-Scott on the surface: a developed pattern shows no seams across patch edges.
+// Gray-Scott on the surface: a developed pattern shows no seams across patch edges, and the
+// threads back end gives the serial bits.
 #include "host/surface/surface_gray_scott.h"
 
 #include <gtest/gtest.h>
@@ -7,6 +8,8 @@
 #include <cstdio>
 
 #include "host/surface/procedural_mesh.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
 #include "surface_test_util.h"
 
 namespace ardcell {
@@ -107,6 +110,36 @@ TEST(SurfaceGrayScott, ImplicitReactionPatternHasNoSeams) {
   LimitSurface s;
   ASSERT_TRUE(LimitSurface::build(rotate_faces(cube_mesh(2), 4), {}, s));
   expect_no_seams(run_gray_scott(s, 16, SurfaceReaction::kImplicit, 600), 16, "implicit");
+}
+
+// The patches run side by side on the threads back end: 1, 2 and 3 workers give the same fields
+// bit for bit (per-cell work per patch, maxima, totals as per-patch partials in patch order).
+TEST(SurfaceGrayScott, AnyNumberOfWorkersGivesTheSameBits) {
+  LimitSurface s;
+  ASSERT_TRUE(LimitSurface::build(genus2_mesh(1.0), {}, s));
+  const int n = 16;  // 50 patches of 16^2 cells: enough for the executor to dispatch
+  ASSERT_GE(50L * n * n, RowExecutor::kMinParallelCells);
+  const PatchMetric metric = sample_limit_metric(s, n);
+  PatchField reference_a, reference_b;
+  for (int workers : {1, 2, 3}) {
+    ThreadBackendOptions options;
+    options.workers = workers;
+    options.pin = false;
+    ThreadBackend backend(options);
+    RowExecutor executor(backend);
+    SurfaceLaplacian op(s.topology(), metric);
+    op.set_executor(executor);
+    const double side = std::sqrt(op.area() / op.patches());
+    SurfaceGrayScott rd(op, gray_scott_for_length(side / 12));
+    rd.seed_spots(cell_positions(s, op.grid()), 7, 2 * op.patches(), 0.2 * side);
+    for (int k = 0; k < 10; ++k) rd.step();
+    if (workers == 1) {
+      reference_a = rd.a(), reference_b = rd.b();
+      continue;
+    }
+    EXPECT_TRUE(rd.a() == reference_a) << workers << " workers";
+    EXPECT_TRUE(rd.b() == reference_b) << workers << " workers";
+  }
 }
 
 }  // namespace
