@@ -1,5 +1,7 @@
 #include "host/surface/procedural_mesh.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -19,28 +21,34 @@ constexpr CubeSide kCubeSides[6] = {{0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2},
 
 }  // namespace
 
-PolyMesh cube_mesh(int k) {
+PolyMesh box_mesh(int nx, int ny, int nz) {
+  const std::array<int, 3> cells{nx, ny, nz};
+  const double unit = 2.0 / std::max({nx, ny, nz});
   PolyMesh m;
-  std::map<std::array<int, 3>, int> ids;  // lattice point (in units of 2/k) -> vertex
+  std::map<std::array<int, 3>, int> ids;  // lattice point -> vertex
   auto vertex = [&](std::array<int, 3> q) {
     auto [it, added] = ids.emplace(q, int(m.points.size()));
-    if (added) m.points.push_back({2.0 * q[0] / k - 1, 2.0 * q[1] / k - 1, 2.0 * q[2] / k - 1});
+    if (added)
+      m.points.push_back(
+          {unit * (q[0] - 0.5 * nx), unit * (q[1] - 0.5 * ny), unit * (q[2] - 0.5 * nz)});
     return it->second;
   };
   for (const CubeSide& s : kCubeSides)
-    for (int b = 0; b < k; ++b)
-      for (int a = 0; a < k; ++a) {
+    for (int b = 0; b < cells[std::size_t(s.v)]; ++b)
+      for (int a = 0; a < cells[std::size_t(s.u)]; ++a) {
         auto point = [&](int da, int db) {
           std::array<int, 3> q{};
-          q[s.axis] = s.at * k;
-          q[s.u] = a + da;
-          q[s.v] = b + db;
+          q[std::size_t(s.axis)] = s.at * cells[std::size_t(s.axis)];
+          q[std::size_t(s.u)] = a + da;
+          q[std::size_t(s.v)] = b + db;
           return vertex(q);
         };
         m.add_face({point(0, 0), point(1, 0), point(1, 1), point(0, 1)});
       }
   return m;
 }
+
+PolyMesh cube_mesh(int k) { return box_mesh(k, k, k); }
 
 PolyMesh torus_mesh(int around, int tube, double R, double r) {
   PolyMesh m;

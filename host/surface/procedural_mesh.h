@@ -10,6 +10,10 @@ namespace ardcell {
 // limit is the "cube-sphere": 8 extraordinary vertices of valence 3.
 PolyMesh cube_mesh(int k);
 
+// A box of nx x ny x nz unit cells, each side cut into its cells' quads (2 (nx ny + ny nz + nz nx)
+// patches), centred, its longest side 2, outward-facing; box_mesh(k, k, k) is cube_mesh(k).
+PolyMesh box_mesh(int nx, int ny, int nz);
+
 // A torus of `around` x `tube` quads (major radius R, minor r): every vertex has valence 4.
 PolyMesh torus_mesh(int around, int tube, double R, double r);
 

@@ -1,0 +1,114 @@
+// Seed 004's Table 3: one reaction-diffusion step on a Catmull-Clark surface (ardcell surface's
+// Gray-Scott on the threads back end, every core: forward Euler reaction, implicit diffusion of a
+// and b by Jacobi sweeps to a relative residual of 1e-6, the pattern's scale a mean patch side /
+// 20), beside the paper's GPU (GTX 470) and 8-core CPU (i7) milliseconds, on procedural control
+// meshes with the paper's patch counts:
+//   Surface/rd/<mesh>/<N>   torus-128 (16 x 8 quads; the paper's toroidal), box-166 (1 x 5 x 13
+//   cells; the paper's fertility has 166), box-238 (4 x 5 x 11; dog), torus-1127 (49 x 23; rocker
+//   arm), torus-1292 (38 x 34; bunny), N = 8, 16, 32, 64 cells a patch side (the paper has no 64
+//   for the two largest). One iteration = one step of a growing pattern (after 50 steps).
+// Counters: ms_per_step, sweeps (Jacobi sweeps a step, both solves), paper_cpu_ms, paper_gpu_ms,
+// x_paper_cpu (the paper's CPU time over ours, wall clock: > 1 is faster).
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#if ARDCELL_WITH_OPENSUBDIV
+#include "host/surface/limit_surface.h"
+#include "host/surface/patch_metric.h"
+#include "host/surface/procedural_mesh.h"
+#include "host/surface/surface_gray_scott.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
+#endif
+
+namespace ardcell {
+namespace {
+
+#if ARDCELL_WITH_OPENSUBDIV
+
+struct TableRow {
+  const char* mesh;
+  int patches;
+  double gpu_ms[4], cpu_ms[4];  // N = 8, 16, 32, 64 (0: not in the paper)
+};
+// Seed 004, Table 3 (gpu/cpu ms per iteration).
+constexpr TableRow kTable3[] = {
+    {"torus-128", 128, {2, 6, 16, 60}, {16, 27, 89, 312}},
+    {"box-166", 166, {3, 7, 22, 75}, {15, 36, 110, 500}},
+    {"box-238", 238, {4, 10, 30, 107}, {24, 51, 155, 531}},
+    {"torus-1127", 1127, {33, 55, 144, 0}, {89, 250, 786, 0}},
+    {"torus-1292", 1292, {29, 56, 160, 0}, {102, 295, 911, 0}},
+};
+
+PolyMesh mesh_for(const std::string& name) {
+  if (name == "torus-128") return torus_mesh(16, 8, 2.0, 0.8);
+  if (name == "box-166") return box_mesh(1, 5, 13);
+  if (name == "box-238") return box_mesh(4, 5, 11);
+  if (name == "torus-1127") return torus_mesh(49, 23, 2.0, 0.8);
+  return torus_mesh(38, 34, 2.0, 0.8);
+}
+
+void BM_SurfaceRd(benchmark::State& state, const TableRow& row, int column) {
+  const int n = 8 << column;
+  LimitSurface surface;
+  if (Status s = LimitSurface::build(mesh_for(row.mesh), {}, surface); !s) {
+    state.SkipWithError(s.message().c_str());
+    return;
+  }
+  SurfaceLaplacian op(surface.topology(), sample_limit_metric(surface, n));
+  // As `ardcell surface` runs: the patches side by side on the threads back end, every core.
+  ThreadBackendOptions threads;
+  threads.pin = false;
+  ThreadBackend backend(threads);
+  RowExecutor executor(backend);
+  op.set_executor(executor);
+  const double side = std::sqrt(op.area() / op.patches());
+  SurfaceRdParams params = gray_scott_for_length(side / 20);
+  SurfaceGrayScott rd(op, params);
+  rd.seed_spots(cell_positions(surface, op.grid()), 1, 3 * op.patches(), 0.2 * side);
+  for (int i = 0; i < 50; ++i) rd.step();
+  long long sweeps = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) sweeps += rd.step().sweeps;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double steps = double(state.iterations());
+  state.counters["sweeps"] = double(sweeps) / steps;
+  state.counters["patches"] = op.patches();
+  state.counters["workers"] = backend.workers();
+  state.counters["paper_cpu_ms"] = row.cpu_ms[column];
+  state.counters["paper_gpu_ms"] = row.gpu_ms[column];
+  state.counters["ms_per_step"] = 1e3 * seconds / steps;
+  state.counters["x_paper_cpu"] = row.cpu_ms[column] * 1e-3 * steps / seconds;
+}
+
+#endif
+
+}  // namespace
+}  // namespace ardcell
+
+int main(int argc, char** argv) {
+#if ARDCELL_WITH_OPENSUBDIV
+  using namespace ardcell;
+  for (const TableRow& row : kTable3)
+    for (int column = 0; column < 4; ++column) {
+      if (row.cpu_ms[column] == 0) continue;
+      benchmark::RegisterBenchmark(
+          ("Surface/rd/" + std::string(row.mesh) + "/" + std::to_string(8 << column)).c_str(),
+          [&row, column](benchmark::State& s) { BM_SurfaceRd(s, row, column); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+#else
+  std::fprintf(stderr, "surface_bench: built without OpenSubdiv: no surfaces to time\n");
+#endif
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+}
