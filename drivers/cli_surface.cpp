@@ -1,6 +1,7 @@
 // `ardcell surface`: Gray-Scott reaction-diffusion on the Catmull-Clark limit surface of a
 // control mesh (seed 004, docs/surfaces.md), written as a PLY of the limit surface with the
-// field as vertex colours (--out) and/or as a texture atlas with a UV-mapped OBJ (--atlas).
+// field as vertex colours (--out), as a texture atlas with a UV-mapped OBJ (--atlas) and/or as a
+// PNG render (--render).
 //
 // A subcommand of its own, not a scene of `ardcell run`: the patches do not run on the engine
 // yet (no Device ops, back ends, frames or state files, which run's flags are about); once
@@ -64,8 +65,8 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (n < 2 || n > 1024 || (n & (n - 1)) != 0)
     return usage("--patch-cells " + std::to_string(n) + ": expected a power of two in 2..1024");
   if (a.steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
-  if (a.workers < 0 || a.workers > 1024)
-    return usage("--workers " + std::to_string(a.workers) + ": expected 0 (every core) to 1024");
+  if (a.workers < 0 || a.workers > 256)
+    return usage("--workers " + std::to_string(a.workers) + ": expected 1..256 (0: one per core)");
   SurfaceRdParams params;
   params.reaction.F = float(a.F);
   params.reaction.k = float(a.k);
@@ -75,8 +76,8 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   else if (a.reaction != "euler")
     return usage("--reaction '" + a.reaction + "': expected euler (the seed's) or implicit");
   if (a.field != "a" && a.field != "b") return usage("--field '" + a.field + "': expected a or b");
-  SurfacePlyOptions ply;
-  if (!parse_colormap(a.colormap, ply.colormap))
+  SurfaceColours colours;
+  if (!parse_colormap(a.colormap, colours.colormap))
     return usage("--colormap '" + a.colormap + "': expected " + std::string(colormap_names()));
   if (a.out.empty() && a.atlas.empty() && a.render.empty())
     return usage("nothing to write: expected --out FILE.ply, --atlas PREFIX or --render FILE.png");
@@ -158,19 +159,19 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   }
   const PatchField& field = a.field == "a" ? rd.a() : rd.b();
   // b lives in [0, ~0.45] in Gray-Scott's patterns, a in [~0.2, 1].
-  ply.lo = a.field == "a" ? 0.2 : 0.0;
-  ply.hi = a.field == "a" ? 1.0 : 0.45;
+  colours.lo = a.field == "a" ? 0.2 : 0.0;
+  colours.hi = a.field == "a" ? 1.0 : 0.45;
   Status written = Status::ok();
-  if (!a.out.empty()) written = write_surface_ply(a.out, surface, op.grid(), field, ply);
+  if (!a.out.empty()) written = write_surface_ply(a.out, surface, op.grid(), field, colours);
   if (written && !a.atlas.empty()) {
     const AtlasLayout layout = atlas_layout(surface.patches(), n);
-    written = write_png(atlas_file(".png"), surface_atlas_image(op.grid(), field, layout, ply));
+    written = write_png(atlas_file(".png"), surface_atlas_image(op.grid(), field, layout, colours));
     if (written)
       written = write_surface_obj(atlas_file(".obj"), atlas_file(".mtl"),
                                   atlas_file(".png").filename().string(), surface, layout);
   }
   if (written && !a.render.empty())
-    written = write_png(a.render, render_surface(surface, op.grid(), field, ply, view));
+    written = write_png(a.render, render_surface(surface, op.grid(), field, colours, view));
   if (!written) {
     std::fprintf(ctx.err, "ardcell surface: %s\n", written.message().c_str());
     return kExitFailure;

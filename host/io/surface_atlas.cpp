@@ -16,18 +16,16 @@ AtlasLayout atlas_layout(int patches, int n) {
 }
 
 ImageRgb8 surface_atlas_image(const PatchGrid& grid, PatchField field, const AtlasLayout& layout,
-                              const SurfacePlyOptions& colours) {
+                              const SurfaceColours& colours) {
   grid.exchange(field);
   ImageRgb8 image;
   image.resize(layout.width(), layout.height());
-  const auto& lut = colormap_lut(colours.colormap);
-  const double span = colours.hi > colours.lo ? colours.hi - colours.lo : 1.0;
   const int n = grid.n();
   for (int p = 0; p < grid.patches(); ++p)
     for (int j = -1; j <= n; ++j) {
       uint8_t* row = image.row(layout.tile_y(p) + j + 1) + 3 * (layout.tile_x(p) + 1);
       for (int i = -1; i <= n; ++i) {
-        const Rgb8 c = colormap_at(lut, float((field[grid.index(p, i, j)] - colours.lo) / span));
+        const Rgb8 c = colours.colour(field[grid.index(p, i, j)]);
         uint8_t* texel = row + 3 * i;
         texel[0] = c.r, texel[1] = c.g, texel[2] = c.b;
       }

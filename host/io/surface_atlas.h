@@ -38,7 +38,7 @@ AtlasLayout atlas_layout(int patches, int n);
 
 // The atlas image of `field` (its ghost ring exchanged first), colour-mapped as the PLY is.
 ImageRgb8 surface_atlas_image(const PatchGrid& grid, PatchField field, const AtlasLayout& layout,
-                              const SurfacePlyOptions& colours);
+                              const SurfaceColours& colours);
 
 // The OBJ (positions, normals, texture coordinates into `layout`, quads) and its material file,
 // which names `atlas_png` (a path relative to the OBJ's folder, as written into map_Kd).

@@ -23,8 +23,7 @@ void put_float(unsigned char*& at, double v) {
 }  // namespace
 
 Status write_surface_ply(const std::filesystem::path& path, const LimitSurface& surface,
-                         const PatchGrid& grid, PatchField field,
-                         const SurfacePlyOptions& options) {
+                         const PatchGrid& grid, PatchField field, const SurfaceColours& options) {
   const int n = grid.n(), patches = grid.patches();
   const long long per_patch = (long long)(n + 1) * (n + 1);
   const long long vertices = per_patch * patches, faces = (long long)n * n * patches;
@@ -42,8 +41,6 @@ Status write_surface_ply(const std::filesystem::path& path, const LimitSurface& 
   // A failed write is remembered by the file: commit() reports it and removes the temporary.
   auto failed = [&] { return file.commit(); };
   if (!file.write(header.data(), header.size())) return failed();
-  const auto& lut = colormap_lut(options.colormap);
-  const double span = options.hi > options.lo ? options.hi - options.lo : 1.0;
   std::vector<unsigned char> row(std::size_t(n + 1) * kVertexBytes);
   for (int p = 0; p < patches; ++p)
     for (int j = 0; j <= n; ++j) {
@@ -54,7 +51,7 @@ Status write_surface_ply(const std::filesystem::path& path, const LimitSurface& 
         for (double v : position) put_float(at, v);
         for (double v : normal) put_float(at, v);
         const double value = grid.corner_mean(field, p, i, j);
-        const Rgb8 c = colormap_at(lut, float((value - options.lo) / span));
+        const Rgb8 c = options.colour(value);
         *at++ = c.r, *at++ = c.g, *at++ = c.b;
       }
       if (!file.write(row.data(), row.size())) return failed();

@@ -15,12 +15,18 @@
 
 namespace ardcell {
 
-struct SurfacePlyOptions {
+// How a field value is drawn (the PLY, the atlas and the render share it).
+struct SurfaceColours {
   Colormap colormap = Colormap::kMagma;
   double lo = 0, hi = 1;  // the field values drawn at the colormap's ends
+
+  Rgb8 colour(double value) const {
+    const double span = hi > lo ? hi - lo : 1.0;
+    return colormap_at(colormap_lut(colormap), float((value - lo) / span));
+  }
 };
 
 Status write_surface_ply(const std::filesystem::path& path, const LimitSurface& surface,
-                         const PatchGrid& grid, PatchField field, const SurfacePlyOptions& options);
+                         const PatchGrid& grid, PatchField field, const SurfaceColours& options);
 
 }  // namespace ardcell

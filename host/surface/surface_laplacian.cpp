@@ -154,25 +154,21 @@ DiffusionReport SurfaceLaplacian::implicit_diffusion(PatchField& x, const PatchF
   const int n = grid_.n();
   if (lap_interior_.size() != x.size()) lap_interior_.assign(x.size(), 0.0);
   PatchField& lap = lap_interior_;
-  // The largest |value| over the interior cells, per patch on the executor (a maximum is the same
-  // in any order).
-  const auto largest = [&](const auto& value) {
-    const int patches = grid_.patches();
-    if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
-    executor_->for_rows(patches, n * n, [&](int p0, int p1) {
-      for (int p = p0; p < p1; ++p) {
-        double m = 0;
-        for (int j = 0; j < n; ++j)
-          for (int i = 0; i < n; ++i) m = std::max(m, std::abs(value(grid_.index(p, i, j))));
-        patch_max_[std::size_t(p)] = m;
-      }
-    });
-    return *std::max_element(patch_max_.begin(), patch_max_.end());
-  };
-  double bmax = largest([&](std::size_t k) { return b[k]; });
+  // max |b| over the interior cells, per patch on the executor (a maximum is the same in any
+  // order); the sweeps below fill patch_max_ with the residual's the same way.
+  const int patches = grid_.patches();
+  if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
+  executor_->for_rows(patches, n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p) {
+      double m = 0;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) m = std::max(m, std::abs(b[grid_.index(p, i, j)]));
+      patch_max_[std::size_t(p)] = m;
+    }
+  });
+  double bmax = *std::max_element(patch_max_.begin(), patch_max_.end());
   if (bmax == 0) bmax = 1;
   if (next_.size() != x.size()) next_.assign(x.size(), 0.0);
-  const int patches = grid_.patches();
   DiffusionReport report;
   for (;;) {
     // Two passes a sweep: the fluxes of x (stitched across the edges), then per patch lap x, the

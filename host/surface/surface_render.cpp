@@ -32,7 +32,7 @@ struct Corner {
 }  // namespace
 
 ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, PatchField field,
-                         const SurfacePlyOptions& colours, const SurfaceView& view) {
+                         const SurfaceColours& colours, const SurfaceView& view) {
   grid.exchange(field);
   const int n = grid.n(), patches = grid.patches();
   const double az = view.azimuth_deg * std::numbers::pi / 180;
@@ -44,8 +44,6 @@ ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, Pat
   const Vec3 up = cross(right, Vec3{-eye[0], -eye[1], -eye[2]});
 
   // Every cell corner of every patch, projected (screen units before the fit) and coloured.
-  const auto& lut = colormap_lut(colours.colormap);
-  const double span = colours.hi > colours.lo ? colours.hi - colours.lo : 1.0;
   std::vector<Corner> corners(std::size_t(patches) * std::size_t(n + 1) * std::size_t(n + 1));
   double lo_x = std::numeric_limits<double>::max(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
   double position[3], normal[3];
@@ -55,7 +53,7 @@ ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, Pat
         limit_vertex(surface, p, double(i) / n, double(j) / n, position, normal);
         const Vec3 x{position[0], position[1], position[2]};
         const double value = grid.corner_mean(field, p, i, j);
-        const Rgb8 c = colormap_at(lut, float((value - colours.lo) / span));
+        const Rgb8 c = colours.colour(value);
         const float shade =
             float(0.25 + 0.75 * std::abs(dot(Vec3{normal[0], normal[1], normal[2]}, eye)));
         Corner& k = corners[(std::size_t(p) * (n + 1) + j) * (n + 1) + i];

@@ -21,6 +21,6 @@ struct SurfaceView {
 };
 
 ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, PatchField field,
-                         const SurfacePlyOptions& colours, const SurfaceView& view);
+                         const SurfaceColours& colours, const SurfaceView& view);
 
 }  // namespace ardcell

@@ -50,7 +50,7 @@ TEST(SurfaceAtlas, TexelsAreTheCellsAndTheirGhosts) {
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) field[grid.index(p, i, j)] = (p * n * n + j * n + i) / 400.0;
   const AtlasLayout layout = atlas_layout(grid.patches(), n);
-  SurfacePlyOptions colours;
+  SurfaceColours colours;
   colours.colormap = Colormap::kGray;
   const ImageRgb8 image = surface_atlas_image(grid, field, layout, colours);
   ASSERT_EQ(image.width, layout.width());

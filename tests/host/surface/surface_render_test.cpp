@@ -24,8 +24,8 @@ Scene cube_sphere(int n) {
   return s;
 }
 
-SurfacePlyOptions gray() {
-  SurfacePlyOptions o;
+SurfaceColours gray() {
+  SurfaceColours o;
   o.colormap = Colormap::kGray;
   return o;
 }
