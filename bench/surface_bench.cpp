@@ -7,6 +7,7 @@
 //   cells; the paper's fertility has 166), box-238 (4 x 5 x 11; dog), torus-1127 (49 x 23; rocker
 //   arm), torus-1292 (38 x 34; bunny), N = 8, 16, 32, 64 cells a patch side (the paper has no 64
 //   for the two largest). One iteration = one step of a growing pattern (after 50 steps).
+//   SurfaceWorkers/genus2/<N>   the double torus (50 patches) on one worker against every core.
 // Counters: ms_per_step, sweeps (Jacobi sweeps a step, both solves), paper_cpu_ms, paper_gpu_ms,
 // x_paper_cpu (the paper's CPU time over ours, wall clock: > 1 is faster).
 #include <benchmark/benchmark.h>
@@ -53,38 +54,85 @@ PolyMesh mesh_for(const std::string& name) {
   return torus_mesh(38, 34, 2.0, 0.8);
 }
 
-void BM_SurfaceRd(benchmark::State& state, const TableRow& row, int column) {
-  const int n = 8 << column;
+// One surface simulation as `ardcell surface` runs it: the patches on the threads back end
+// (workers 0: one per core), the pattern's scale a mean patch side / 20, 50 steps grown.
+struct SurfaceRun {
   LimitSurface surface;
-  if (Status s = LimitSurface::build(mesh_for(row.mesh), {}, surface); !s) {
-    state.SkipWithError(s.message().c_str());
+  std::unique_ptr<SurfaceLaplacian> op;
+  std::unique_ptr<ThreadBackend> backend;
+  std::unique_ptr<RowExecutor> executor;
+  std::unique_ptr<SurfaceGrayScott> rd;
+};
+
+std::unique_ptr<SurfaceRun> surface_run(PolyMesh mesh, int n, int workers, std::string* error) {
+  auto r = std::make_unique<SurfaceRun>();
+  if (Status s = LimitSurface::build(std::move(mesh), {}, r->surface); !s) {
+    *error = s.message();
+    return nullptr;
+  }
+  r->op =
+      std::make_unique<SurfaceLaplacian>(r->surface.topology(), sample_limit_metric(r->surface, n));
+  ThreadBackendOptions threads;
+  threads.workers = workers;
+  threads.pin = false;
+  r->backend = std::make_unique<ThreadBackend>(threads);
+  r->executor = std::make_unique<RowExecutor>(*r->backend);
+  r->op->set_executor(*r->executor);
+  const double side = std::sqrt(r->op->area() / r->op->patches());
+  r->rd = std::make_unique<SurfaceGrayScott>(*r->op, gray_scott_for_length(side / 20));
+  r->rd->seed_spots(cell_positions(r->surface, r->op->grid()), 1, 3 * r->op->patches(), 0.2 * side);
+  for (int i = 0; i < 50; ++i) r->rd->step();
+  return r;
+}
+
+void BM_SurfaceRd(benchmark::State& state, const TableRow& row, int column) {
+  std::string error;
+  const std::unique_ptr<SurfaceRun> r = surface_run(mesh_for(row.mesh), 8 << column, 0, &error);
+  if (!r) {
+    state.SkipWithError(error.c_str());
     return;
   }
-  SurfaceLaplacian op(surface.topology(), sample_limit_metric(surface, n));
-  // As `ardcell surface` runs: the patches side by side on the threads back end, every core.
-  ThreadBackendOptions threads;
-  threads.pin = false;
-  ThreadBackend backend(threads);
-  RowExecutor executor(backend);
-  op.set_executor(executor);
-  const double side = std::sqrt(op.area() / op.patches());
-  SurfaceRdParams params = gray_scott_for_length(side / 20);
-  SurfaceGrayScott rd(op, params);
-  rd.seed_spots(cell_positions(surface, op.grid()), 1, 3 * op.patches(), 0.2 * side);
-  for (int i = 0; i < 50; ++i) rd.step();
   long long sweeps = 0;
   const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) sweeps += rd.step().sweeps;
+  for (auto _ : state) sweeps += r->rd->step().sweeps;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double steps = double(state.iterations());
   state.counters["sweeps"] = double(sweeps) / steps;
-  state.counters["patches"] = op.patches();
-  state.counters["workers"] = backend.workers();
+  state.counters["patches"] = r->op->patches();
+  state.counters["workers"] = r->backend->workers();
   state.counters["paper_cpu_ms"] = row.cpu_ms[column];
   state.counters["paper_gpu_ms"] = row.gpu_ms[column];
   state.counters["ms_per_step"] = 1e3 * seconds / steps;
   state.counters["x_paper_cpu"] = row.cpu_ms[column] * 1e-3 * steps / seconds;
+}
+
+// SurfaceWorkers/genus2/<N>: the double torus on one worker and on every core, a step of each in
+// turn (so a slow spell of the machine hits both): serial_ms, threads_ms, speedup, and
+// same_bits (1 when the two runs' fields are equal after the timed steps).
+void BM_SurfaceWorkers(benchmark::State& state, int n) {
+  std::string error;
+  const std::unique_ptr<SurfaceRun> one = surface_run(genus2_mesh(1.0), n, 1, &error);
+  const std::unique_ptr<SurfaceRun> all = surface_run(genus2_mesh(1.0), n, 0, &error);
+  if (!one || !all) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  using Clock = std::chrono::steady_clock;
+  double seconds[2] = {0, 0};
+  for (auto _ : state) {
+    for (int k = 0; k < 2; ++k) {
+      const auto t0 = Clock::now();
+      (k == 0 ? one : all)->rd->step();
+      seconds[k] += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+  }
+  const double steps = double(state.iterations());
+  state.counters["serial_ms"] = 1e3 * seconds[0] / steps;
+  state.counters["threads_ms"] = 1e3 * seconds[1] / steps;
+  state.counters["speedup"] = seconds[0] / seconds[1];
+  state.counters["workers"] = all->backend->workers();
+  state.counters["same_bits"] = one->rd->a() == all->rd->a() && one->rd->b() == all->rd->b();
 }
 
 #endif
@@ -104,6 +152,11 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
+  for (int n : {16, 32})
+    benchmark::RegisterBenchmark(("SurfaceWorkers/genus2/" + std::to_string(n)).c_str(),
+                                 [n](benchmark::State& s) { BM_SurfaceWorkers(s, n); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
 #else
   std::fprintf(stderr, "surface_bench: built without OpenSubdiv: no surfaces to time\n");
 #endif
