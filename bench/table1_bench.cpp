@@ -1,15 +1,17 @@
 // Table 1 of seed 000 (section 7.2): frames per second of the fluid alone and of the fluid with
-// Gray-Scott RD, per grid size and schedule: Table1/<serial|stream|blocked>/<fluid|ard>/<N>.
-// One iteration is one whole frame. Counters: fps, cells_per_s, bytes_per_s (the sweep-by-sweep
-// traffic of bench/README.md, per second). STREAM/triad measures the machine's sustainable
-// bandwidth in the same run, with as many threads as the threads back end has workers.
+// Gray-Scott RD, per grid size and schedule: Table1/<serial|stream|blocked>/<fluid|ard>/<N>, the
+// built-in scenes table1 and table1-ard on the Engine, as `ardcell run` runs them (serial: the
+// serial back end; stream, blocked: threads, workers pinned). One iteration is one whole frame.
+// Counters: fps, cells_per_s, bytes_per_s (the sweep-by-sweep traffic of bench/README.md, per
+// second). STREAM/triad measures the machine's sustainable bandwidth in the same run, with as many
+// threads as the threads back end has workers.
 //
 // Environment: ARDCELL_BENCH_SIZES (e.g. "128,256") restricts the sizes; ARDCELL_BENCH_SERIAL_MAX
 // (default 1024) is the largest size run on the slow serial schedule;
 // ARDCELL_BENCH_STORE_KIB sets the local store per worker of the stream and blocked schedules
 // (default: one L2 of this machine per double-buffer slot, runtime/local_store.h; 256 is the
 // Cell SPE's);
-// ARDCELL_BENCH_SWEEPS the blocked schedule's sweeps per residency (default 20: one load per
+// ARDCELL_BENCH_SWEEPS the blocked schedule's sweeps per residency (default 0: one load per
 // solve). Counter store_kib reports the local store used.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
@@ -22,7 +24,10 @@
 #include <vector>
 
 #include "bench/bench_env.h"
-#include "host/engine/table1.h"
+#include "host/engine/engine.h"
+#include "host/engine/table1_plan.h"
+#include "host/scenes/scene_registry.h"
+#include "runtime/backend.h"
 #include "runtime/field.h"
 
 namespace ardcell {
@@ -41,37 +46,40 @@ int env_int(const char* name, int fallback) {
   return s ? std::atoi(s) : fallback;
 }
 
-void run_table1(benchmark::State& state, Table1Schedule schedule, bool rd, int n) {
-  Table1Options o;
-  o.n = n;
-  o.rd = rd;
-  o.schedule = schedule;
-  o.workers = 0;
-  o.local_store_bytes =
+void run_table1(benchmark::State& state, PlanSchedule schedule, bool rd, int n) {
+  SceneConfig scene = builtin_scenes().find(rd ? "table1-ard" : "table1")->make();
+  scene.size = {n, n};
+  EngineOptions o;
+  o.backend = schedule == PlanSchedule::kSerial ? EngineOptions::Backend::kSerial
+                                                : EngineOptions::Backend::kThreads;
+  o.pin_workers = true;
+  o.plan.schedule = schedule;
+  o.plan.local_store_bytes =
       std::size_t(env_int("ARDCELL_BENCH_STORE_KIB", int(machine_local_store_bytes() / 1024))) *
       1024;
-  if (schedule == Table1Schedule::kBlocked)
-    o.sweeps_per_residency = env_int("ARDCELL_BENCH_SWEEPS", Table1Constants::kSweeps);
-  Table1Workload w(o);
-  w.step();  // warm: first touch of every field and store
-  w.plan().reset_stats();
+  if (schedule == PlanSchedule::kBlocked)
+    o.plan.sweeps_per_residency = env_int("ARDCELL_BENCH_SWEEPS", 0);
+  Engine engine(scene, o);
+  Table1Plan& w = *engine.table1_plan();
+  engine.step();  // warm: first touch of every field and store
+  w.plan()->reset_stats();
   const double cpu0 = process_cpu_seconds();
-  for (auto _ : state) w.step();
+  for (auto _ : state) engine.step();
   const double cpu = process_cpu_seconds() - cpu0;
   const double frames = double(state.iterations());
   // On a shared machine the wall clock counts time the workers spent descheduled; the CPU
   // seconds they consumed per frame give the rate the same cores reach when they are not
   // shared (an upper bound that assumes perfect overlap of the workers).
   state.counters["cpu_ms_per_frame"] = 1e3 * cpu / frames;
-  state.counters["fps_if_unshared"] = frames * w.backend().workers() / std::max(cpu, 1e-9);
+  state.counters["fps_if_unshared"] = frames * w.backend()->workers() / std::max(cpu, 1e-9);
   state.counters["fps"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
   state.counters["cells_per_s"] =
       benchmark::Counter(frames * double(n) * n, benchmark::Counter::kIsRate);
   state.counters["bytes_per_s"] =
       benchmark::Counter(frames * w.bytes_per_frame(), benchmark::Counter::kIsRate);
-  state.counters["workers"] = w.backend().workers();
-  state.counters["store_kib"] = double(o.local_store_bytes / 1024);
-  if (std::getenv("ARDCELL_BENCH_STATS")) w.plan().print_stats(stderr);
+  state.counters["workers"] = w.backend()->workers();
+  state.counters["store_kib"] = double(o.plan.local_store_bytes / 1024);
+  if (std::getenv("ARDCELL_BENCH_STATS")) w.plan()->print_stats(stderr);
 }
 
 // STREAM triad a = b + s c over arrays far larger than the caches, split over `threads`.
@@ -105,12 +113,11 @@ void register_all() {
       ->UseRealTime()
       ->Unit(benchmark::kMillisecond);
   const int serial_max = env_int("ARDCELL_BENCH_SERIAL_MAX", 1024);
-  for (Table1Schedule s :
-       {Table1Schedule::kSerial, Table1Schedule::kStream, Table1Schedule::kBlocked})
+  for (PlanSchedule s : {PlanSchedule::kSerial, PlanSchedule::kStream, PlanSchedule::kBlocked})
     for (bool rd : {false, true})
       for (int n : bench_sizes_from_env({128, 256, 512, 1024, 2048})) {
-        if (s == Table1Schedule::kSerial && n > serial_max) continue;
-        const std::string name = "Table1/" + std::string(table1_schedule_name(s)) + "/" +
+        if (s == PlanSchedule::kSerial && n > serial_max) continue;
+        const std::string name = "Table1/" + std::string(plan_schedule_name(s)) + "/" +
                                  (rd ? "ard" : "fluid") + "/" + std::to_string(n);
         benchmark::RegisterBenchmark(name.c_str(),
                                      [s, rd, n](benchmark::State& st) { run_table1(st, s, rd, n); })

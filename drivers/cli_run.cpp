@@ -17,17 +17,13 @@
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
 #include "host/engine/rd_step.h"
-#include "host/engine/table1.h"
+#include "host/engine/table1_plan.h"
 #include "host/io/atomic_file.h"
 #include "host/io/state_io.h"
 #include "host/run/offline_run.h"
 #include "host/run/probe_recorder.h"
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
-#if defined(ARDCELL_WITH_OPENCL)
-#include "host/engine/table1_opencl.h"
-#include "kernels/cl/opencl_kernels.h"
-#endif
 
 namespace ardcell {
 namespace {
@@ -47,15 +43,6 @@ struct RunArgs {
   CLI::Option *store_kib_opt, *out_opt, *video_opt, *save_state_opt;
   RunPaintOptions paint;  // --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes
 };
-
-// The scenes that run the Table 1 workload (host/engine/table1.h) on the frame plan.
-constexpr const char* kTable1Scenes[][2] = {
-    {"table1", "Table 1 workload (seed 000, 7.2): Stam's stable fluid alone, on the frame plan"},
-    {"table1-ard", "Table 1 workload: fluid + Gray-Scott RD riding on it, on the frame plan"}};
-
-bool is_table1_scene(const std::string& name) {
-  return name == kTable1Scenes[0][0] || name == kTable1Scenes[1][0];
-}
 
 // --stats keeps at most this many per-frame times (8 MiB), allocated before the run.
 constexpr int64_t kMaxTimedFrames = int64_t(1) << 20;
@@ -127,8 +114,6 @@ int list_scenes(CliContext& ctx) {
     if (load_preset(name, p)) description = p.scene.description;
     std::fprintf(ctx.out, "%-24s %s\n", name.c_str(), description.c_str());
   }
-  for (const auto& [name, description] : kTable1Scenes)
-    std::fprintf(ctx.out, "%-24s %s\n", name, description);
   return kExitOk;
 }
 
@@ -254,234 +239,6 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   return StopSignals::exit_code(kExitOk);
 }
 
-// The Table 1 workload shown as a SimState: on the CPU (Table1Workload on the serial or threads
-// back end) or on an OpenCL device (OpenClStamFrame, fields resident on the device).
-class Table1Stepper final : public OfflineStepper {
- public:
-  explicit Table1Stepper(const Table1Options& options)
-      : workload_(std::make_unique<Table1Workload>(options)) {
-    init_state(options);
-  }
-#if defined(ARDCELL_WITH_OPENCL)
-  // Takes the device from choose_backend; null + *error when the kernels cannot be had.
-  static std::unique_ptr<Table1Stepper> on_opencl(const Table1Options& options,
-                                                  std::unique_ptr<OpenClContext> ctx,
-                                                  ClSchedule schedule, std::string* error) {
-    std::unique_ptr<OpenClKernels> kernels = OpenClKernels::create(*ctx, error);
-    if (!kernels) return nullptr;
-    std::unique_ptr<Table1Stepper> s(new Table1Stepper());
-    s->init_state(options);
-    s->ctx_ = std::move(ctx);
-    s->kernels_ = std::move(kernels);
-    Table1Options initial = options;
-    initial.schedule = Table1Schedule::kSerial;
-    const Table1Workload w(initial);  // initial conditions only; never stepped
-    s->frame_ = std::make_unique<OpenClStamFrame>(*s->kernels_,
-                                                  table1_cl_params(w.grid(), options.rd), schedule);
-    table1_cl_upload(w, *s->frame_);
-    s->frame_->finish();
-    return s;
-  }
-  std::string device_name() const { return ctx_ ? ctx_->device().device_name : ""; }
-#endif
-
-  void step() override {
-#if defined(ARDCELL_WITH_OPENCL)
-    if (frame_) {
-      frame_->step();
-      frame_->finish();  // a frame counts when it is done, as when it is shown
-      return;
-    }
-#endif
-    workload_->step();
-  }
-
-  const SimState& frame_state() override {
-#if defined(ARDCELL_WITH_OPENCL)
-    if (frame_) {
-      frame_->download(ClField::kU, state_.u);
-      frame_->download(ClField::kV, state_.v);
-      frame_->download(ClField::kDye, state_.dye);
-      if (!state_.A.empty()) {
-        frame_->download(ClField::kA, state_.A);
-        frame_->download(ClField::kB, state_.B);
-      }
-      return stamp(frame_->frame());
-    }
-#endif
-    state_.u = workload_->u();  // same layout: copies, no allocation
-    state_.v = workload_->v();
-    state_.dye = workload_->dye();
-    if (!state_.A.empty()) {
-      state_.A = workload_->a();
-      state_.B = workload_->b();
-    }
-    return stamp(workload_->frame());
-  }
-
-  Table1Workload* workload() { return workload_.get(); }
-
- private:
-  Table1Stepper() = default;
-  void init_state(const Table1Options& o) {
-    const Int2 grid = o.grid.x > 0 ? o.grid : Int2{o.n, o.n};
-    state_.size = grid;
-    state_.h = 1.0 / double(grid.x);
-    state_.dt = Table1Constants::kDt;
-    state_.u = FieldF(grid, 1);
-    state_.v = FieldF(grid, 1);
-    state_.dye = FieldF(grid, 1);
-    if (o.rd) {
-      state_.A = FieldF(grid, 1);
-      state_.B = FieldF(grid, 1);
-    }
-  }
-  const SimState& stamp(std::int64_t frame) {
-    state_.step = frame;
-    state_.time = double(frame) * state_.dt;
-    return state_;
-  }
-
-  std::unique_ptr<Table1Workload> workload_;
-#if defined(ARDCELL_WITH_OPENCL)
-  std::unique_ptr<OpenClContext> ctx_;
-  std::unique_ptr<OpenClKernels> kernels_;
-  std::unique_ptr<OpenClStamFrame> frame_;
-#endif
-  SimState state_;
-};
-
-int do_run_table1(RunArgs& a, CliContext& ctx, const std::string& scene_name) {
-  auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "run", m); };
-  const std::string fixed = ": the " + scene_name +
-                            " scene runs the fixed Table 1 workload (bench/README.md); expected "
-                            "no ";
-  if (!a.load_state.empty()) return usage("--load-state" + fixed + "--load-state");
-  if (a.dt_opt->count()) return usage("--dt" + fixed + "--dt");
-  if (a.re_opt->count()) return usage("--re" + fixed + "--re");
-  if (a.solver_opt->count()) return usage("--solver" + fixed + "--solver");
-  if (a.realtime_solvers) return usage("--realtime-solvers" + fixed + "--realtime-solvers");
-  if (a.sweeps_opt->count()) return usage("--sweeps" + fixed + "--sweeps");
-  if (!a.sets.empty()) return usage("--set" + fixed + "--set");
-  if (!a.probe_csv.empty())
-    return usage("--probe-csv: scene '" + scene_name +
-                 "' has no obstacle (expected a scene with fluid.scene obstacle)");
-
-  Table1Options options;
-  options.rd = scene_name == "table1-ard";
-  Int2 grid{256, 256};
-  if (a.size_opt->count())
-    if (Status s = parse_grid_size(a.size, grid); !s) return usage(s.message());
-  if (grid.x < 8 || grid.y < 8)
-    return usage("--size " + a.size + ": the Table 1 workload needs at least 8 x 8 cells");
-  options.grid = grid;
-  options.n = grid.x;
-  if (a.workers_opt->count()) {
-    if (a.workers < 1 || a.workers > 256)
-      return usage("--workers " + std::to_string(a.workers) + ": expected 1..256");
-    options.workers = a.workers;
-  }
-  if (a.store_kib_opt->count()) {
-    if (a.store_kib == "spe") {
-      options.local_store_bytes = kSpeLocalStoreBytes;
-    } else {
-      char* end = nullptr;
-      const long kib = std::strtol(a.store_kib.c_str(), &end, 10);
-      if (end == a.store_kib.c_str() || *end != '\0' || kib < 16 || kib > 65536 || kib % 16)
-        return usage("--store-kib " + a.store_kib +
-                     ": expected a multiple of 16 in 16..65536, or spe (the Cell's 256)");
-      options.local_store_bytes = std::size_t(kib) * 1024;
-    }
-  }
-
-  BackendKind kind = BackendKind::kAuto;
-  if (a.backend_opt->count()) parse_backend_kind(a.backend, kind);  // validated by do_run
-  Table1Schedule schedule =
-      kind == BackendKind::kSerial ? Table1Schedule::kSerial : Table1Schedule::kBlocked;
-  if (a.schedule_opt->count()) parse_table1_schedule(a.schedule, schedule);  // validated
-  if (kind == BackendKind::kSerial && schedule != Table1Schedule::kSerial)
-    return usage("--schedule " + a.schedule +
-                 " needs a tiling back end (threads or opencl); --backend serial runs the "
-                 "whole-grid reference (expected --schedule serial or no --schedule)");
-  if (kind == BackendKind::kOpenCl && schedule == Table1Schedule::kSerial)
-    return usage(
-        "--schedule serial is the whole-grid CPU reference; expected stream or blocked with "
-        "--backend opencl");
-  options.schedule = schedule;
-
-  const int64_t steps = a.steps_opt->count() ? a.steps : 100;
-  if (steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
-  const int64_t every = a.every_opt->count() ? a.every : std::max<int64_t>(1, steps / 50);
-  if (every < 0) return usage("--every " + std::to_string(a.every) + ": expected 0 or more");
-  if (a.fps < 1 || a.fps > 1000) return usage("--fps: expected 1..1000");
-
-  SceneConfig scene;
-  scene.name = scene_name;
-  scene.size = grid;
-  scene.dt = Table1Constants::kDt;
-  const std::string show = a.show_opt->count() ? a.show : "dye";
-  FrameField field;
-  if (!parse_frame_field(show, field))
-    return usage("--show '" + show + "': expected one of " + std::string(frame_field_names()));
-  if (field == FrameField::kPressure ||
-      (!options.rd && (field == FrameField::kA || field == FrameField::kB)))
-    return usage("--show " + show + ": scene '" + scene_name + "' has no " + show +
-                 " field (expected dye, speed, vorticity" + (options.rd ? ", A or B)" : ")"));
-  RenderSettings render = default_render_settings(field);
-  if (std::string error = choose_colormap(a, field, scene, render); !error.empty())
-    return usage(error);
-  if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
-
-  // The back end: OpenCL when asked for (or auto with a GPU) and it can be had, else the CPU.
-  std::unique_ptr<Table1Stepper> stepper;
-  std::string backend_name = schedule == Table1Schedule::kSerial ? "serial" : "threads";
-  if (schedule != Table1Schedule::kSerial &&
-      (kind == BackendKind::kOpenCl || kind == BackendKind::kAuto)) {
-#if defined(ARDCELL_WITH_OPENCL)
-    BackendChoice choice = choose_backend(kind, a.cl_device, &OpenClKernels::prepare);
-#else
-    BackendChoice choice = choose_backend(kind, a.cl_device);
-#endif
-    if (!choice.message.empty()) std::fprintf(ctx.err, "%s\n", choice.message.c_str());
-    if (!choice.detail.empty()) std::fprintf(ctx.err, "%s\n", choice.detail.c_str());
-#if defined(ARDCELL_WITH_OPENCL)
-    if (choice.kind == BackendKind::kOpenCl) {
-      std::string error;
-      stepper = Table1Stepper::on_opencl(
-          options, std::move(choice.opencl),
-          schedule == Table1Schedule::kStream ? ClSchedule::kStream : ClSchedule::kBlocked, &error);
-      if (stepper)
-        backend_name = "opencl (" + stepper->device_name() + ")";
-      else
-        std::fprintf(ctx.err, "ardcell: %s; falling back to the threads back end\n",
-                     error.substr(0, error.find('\n')).c_str());
-    }
-#endif
-  }
-  if (!stepper) stepper = std::make_unique<Table1Stepper>(options);
-
-  RunOutputs outputs;
-  if (int rc = open_outputs(a, ctx, scene_name, grid, show, every, outputs); rc != kExitOk)
-    return rc;
-  Table1Workload* cpu = stepper->workload();
-  if (a.stats) {
-    std::fprintf(ctx.out, "scene=%s size=%dx%d schedule=%s backend=%s", scene_name.c_str(), grid.x,
-                 grid.y, std::string(table1_schedule_name(schedule)).c_str(), backend_name.c_str());
-    if (cpu)
-      std::fprintf(ctx.out, " workers=%d local_store=%zuKiB", cpu->backend().workers(),
-                   options.local_store_bytes / 1024);
-    std::fputc('\n', ctx.out);
-  }
-  return run_and_report(a, ctx, *stepper, scene, steps, every, render, outputs, [&] {
-    if (cpu)
-      cpu->plan().print_stats(ctx.out);
-    else
-      std::fprintf(ctx.out,
-                   "passes: the OpenCL frame is timed whole (its kernels are queued, not "
-                   "planned)\n");
-  });
-}
-
 int do_run(RunArgs& a, CliContext& ctx) {
   auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "run", m); };
   if (a.list) return list_scenes(ctx);
@@ -495,27 +252,27 @@ int do_run(RunArgs& a, CliContext& ctx) {
   BackendKind backend = BackendKind::kAuto;
   if (a.backend_opt->count() && !parse_backend_kind(a.backend, backend))
     return usage("--backend '" + a.backend + "': expected auto, threads, serial or opencl");
-  Table1Schedule schedule;
-  if (a.schedule_opt->count() && !parse_table1_schedule(a.schedule, schedule))
+  PlanOptions plan;
+  if (a.schedule_opt->count() && !parse_plan_schedule(a.schedule, plan.schedule))
     return usage("--schedule '" + a.schedule + "': expected serial, stream or blocked");
+  if (a.store_kib_opt->count()) {
+    if (a.store_kib == "spe") {
+      plan.local_store_bytes = kSpeLocalStoreBytes;
+    } else {
+      char* end = nullptr;
+      const long kib = std::strtol(a.store_kib.c_str(), &end, 10);
+      if (end == a.store_kib.c_str() || *end != '\0' || kib < 16 || kib > 65536 || kib % 16)
+        return usage("--store-kib " + a.store_kib +
+                     ": expected a multiple of 16 in 16..65536, or spe (the Cell's 256)");
+      plan.local_store_bytes = std::size_t(kib) * 1024;
+    }
+  }
   if (a.cl_device_opt->count() && a.cl_device < 0)
     return usage("--cl-device " + std::to_string(a.cl_device) +
                  ": expected a device index (0 or more, see ardcell devices)");
-  if (is_table1_scene(scene_name)) {
-    if (a.paint.any())
-      return usage("--strokes/--replay paint into the engine scenes; '" + scene_name +
-                   "' is the fixed Table 1 workload (expected no stroke options)");
-    return do_run_table1(a, ctx, scene_name);
-  }
   // OpenCL: asked for by --backend opencl, or auto (the default: a GPU when there is one).
   const bool opencl_asked = backend == BackendKind::kOpenCl || backend == BackendKind::kAuto;
   {
-    const std::string general =
-        " applies to the table1 scenes (the Table 1 workload on the frame plan); scene '" +
-        (scene_name.empty() ? std::string("cavity") : scene_name) +
-        "' runs on the engine (expected no ";
-    if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
-    if (a.store_kib_opt->count()) return usage("--store-kib" + general + "--store-kib)");
     if (a.workers_opt->count() && (a.workers < 1 || a.workers > 256))
       return usage("--workers " + std::to_string(a.workers) + ": expected 1..256");
     if (a.workers_opt->count() && backend == BackendKind::kSerial)
@@ -598,9 +355,30 @@ int do_run(RunArgs& a, CliContext& ctx) {
 
   if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
 
+  // A scene built as a frame plan (the table1 scenes) takes a schedule and a local store size.
+  const bool planned = scene.fluid.kind == FluidSceneKind::kTable1;
+  if (!planned) {
+    const std::string general =
+        " applies to the scenes built as a frame plan (table1, "
+        "table1-ard); scene '" +
+        scene.name + "' runs its stages as ops (expected no ";
+    if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
+    if (a.store_kib_opt->count()) return usage("--store-kib" + general + "--store-kib)");
+  } else if (a.schedule_opt->count()) {
+    if (backend == BackendKind::kSerial && plan.schedule != PlanSchedule::kSerial)
+      return usage("--schedule " + a.schedule +
+                   " needs a tiling back end (threads or opencl); --backend serial runs the "
+                   "whole-grid reference (expected --schedule serial or no --schedule)");
+    if (backend == BackendKind::kOpenCl && plan.schedule == PlanSchedule::kSerial)
+      return usage(
+          "--schedule serial is the whole-grid CPU reference; expected stream or blocked with "
+          "--backend opencl");
+  }
+
   // The engine, on an OpenCL device when asked for and possible (else the threads back end,
   // with one line saying why), and the saved state it resumes from.
   EngineOptions options;
+  options.plan = plan;
   if (a.workers_opt->count()) options.workers = a.workers;
   options.pin_workers = true;  // nothing else of ours runs beside the engine
   const BackendChoice choice = choose_engine_backend(backend, a.cl_device, options, ctx);
@@ -633,6 +411,10 @@ int do_run(RunArgs& a, CliContext& ctx) {
   if (a.stats) {
     std::fprintf(ctx.out, "scene=%s size=%dx%d backend=%s workers=%d", scene.name.c_str(),
                  scene.size.x, scene.size.y, engine->backend_name(), engine->workers());
+    if (Table1Plan* t = engine->table1_plan()) {
+      std::fprintf(ctx.out, " schedule=%s", std::string(plan_schedule_name(t->schedule())).c_str());
+      if (t->plan()) std::fprintf(ctx.out, " local_store=%zuKiB", t->local_store_bytes() / 1024);
+    }
 #if defined(ARDCELL_WITH_OPENCL)
     if (choice.opencl)
       std::fprintf(ctx.out, " device=%s", choice.opencl->device().device_name.c_str());
@@ -640,7 +422,16 @@ int do_run(RunArgs& a, CliContext& ctx) {
     std::fputc('\n', ctx.out);
   }
   EngineStepper stepper(*engine, playback.get());
-  return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs);
+  Table1Plan* table1 = engine->table1_plan();
+  return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, [&] {
+    if (!table1) return;
+    if (FramePlan* p = table1->plan())
+      p->print_stats(ctx.out);
+    else
+      std::fprintf(ctx.out,
+                   "passes: the OpenCL frame is timed whole (its kernels are queued, not "
+                   "planned)\n");
+  });
 }
 
 }  // namespace

@@ -19,6 +19,8 @@ enum class FluidSceneKind : uint8_t {
   kCavity,    // lid-driven cavity (seed 000, Fig. 5)
   kObstacle,  // channel with inflow, outflow and a disc (seed 000, Fig. 6)
   kInk,       // closed or periodic box stirred by sources and forces
+  kTable1,    // seed 000's Table 1 workload: Stam's box stirred by four turning splats, run as
+              // a frame plan (host/engine/table1_plan.h)
 };
 
 // The walls of the ink box.

@@ -3,6 +3,7 @@
 #include "host/engine/device.h"
 #include "host/engine/fluid_step.h"
 #include "host/engine/rd_step.h"
+#include "host/engine/table1_plan.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
 #if defined(ARDCELL_WITH_OPENCL)
@@ -19,6 +20,8 @@ namespace ardcell {
 struct Engine::Solvers {
   std::unique_ptr<FluidStep> fluid;  // when the scene has a fluid
   std::unique_ptr<RdStepper> rd;     // when config.rd.enabled (host/engine/rd_step.h)
+  // Instead of both, for a scene built as a frame plan (fluid.scene table1).
+  std::unique_ptr<Table1Plan> table1;
 };
 
 namespace {
@@ -40,6 +43,7 @@ std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
   ThreadBackendOptions t;
   t.workers = options.workers;
   t.pin = options.pin_workers;
+  t.local_store_bytes = options.plan.local_store_bytes;
   return std::make_unique<ThreadBackend>(t);
 }
 
@@ -57,6 +61,23 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.size = config_.size;
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
+  if (config_.fluid.kind == FluidSceneKind::kTable1) {
+    for (FieldF* f : {&state_.u, &state_.v, &state_.dye}) *f = FieldF(config_.size, 1);
+    if (config_.rd.enabled)
+      for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF(config_.size, 1);
+    PlanOptions plan = options.plan;
+    if (options.backend == EngineOptions::Backend::kSerial) plan.schedule = PlanSchedule::kSerial;
+      // Throws std::invalid_argument with one line naming a setting the plan cannot run.
+#if defined(ARDCELL_WITH_OPENCL)
+    if (options.backend == EngineOptions::Backend::kOpenCl)
+      solvers_->table1 = std::make_unique<Table1Plan>(
+          config_, state_, static_cast<OpenClDevice&>(*device_).kernels(), plan);
+#endif
+    if (!solvers_->table1)
+      solvers_->table1 = std::make_unique<Table1Plan>(config_, state_, *backend_, plan);
+    reset();
+    return;
+  }
   if (config_.fluid.kind != FluidSceneKind::kNone) {
     if (std::string why = fluid_config_problem(config_); !why.empty())
       throw std::invalid_argument(why);
@@ -74,9 +95,12 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
 Engine::~Engine() = default;
 
 const char* Engine::backend_name() const {
+  if (solvers_->table1 && solvers_->table1->backend()) return solvers_->table1->backend()->name();
   return device_->fields_on_host() ? backend_->name() : device_->name();
 }
 int Engine::workers() const {
+  if (solvers_->table1 && solvers_->table1->backend())
+    return solvers_->table1->backend()->workers();
   return device_->fields_on_host() ? backend_->workers() : device_->workers();
 }
 
@@ -103,23 +127,34 @@ auto among(std::span<const std::string_view> fields) {
 // The non-const forms hand the fields to a caller that may write them (painting, a loaded
 // state): a multistep RD scheme then starts again from A and B as they will be.
 SimState& Engine::state() {
+  if (Table1Plan* t = solvers_->table1.get()) {
+    t->download();
+    t->host_wrote();
+    return state_;
+  }
   sync_fields(*device_, state_, kEveryField, true);
   if (solvers_->rd) solvers_->rd->restart();
   return state_;
 }
 
 const SimState& Engine::state() const {
+  if (solvers_->table1) {
+    solvers_->table1->download();
+    return state_;
+  }
   sync_fields(*device_, state_, kEveryField, false);
   return state_;
 }
 
 SimState& Engine::state(std::span<const std::string_view> fields) {
+  if (solvers_->table1) return state();  // the plan's fields move together
   sync_fields(*device_, state_, among(fields), true);
   if (solvers_->rd && (among(fields)("A") || among(fields)("B"))) solvers_->rd->restart();
   return state_;
 }
 
 const SimState& Engine::state(std::span<const std::string_view> fields) const {
+  if (solvers_->table1) return state();
   sync_fields(*device_, state_, among(fields), false);
   return state_;
 }
@@ -129,6 +164,7 @@ void Engine::reset() {
   state_.rd_time = 0.0;
   state_.step = 0;
   state_.dt = config_.dt;
+  if (solvers_->table1) solvers_->table1->reset();
   if (solvers_->fluid) solvers_->fluid->reset(state_);
   if (solvers_->rd) solvers_->rd->init_state(state_);
 }
@@ -157,6 +193,14 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
   if (fa.emitters.size() != fb.emitters.size()) return "fluid.emitters (their number)";
   if (fa.viscosity_solver.kind != fb.viscosity_solver.kind) return "fluid.viscosity_solver.kind";
   if (fa.pressure_solver.kind != fb.pressure_solver.kind) return "fluid.pressure_solver.kind";
+  if (fa.kind == FluidSceneKind::kTable1 &&
+      (a.dt != b.dt || fa.viscosity != fb.viscosity || fa.dye_diffusion != fb.dye_diffusion ||
+       fa.pressure_solver.max_iterations != fb.pressure_solver.max_iterations ||
+       fa.viscosity_solver.max_iterations != fb.viscosity_solver.max_iterations || ra.dt != rb.dt ||
+       ra.diffusion_a != rb.diffusion_a || ra.diffusion_b != rb.diffusion_b ||
+       ra.reaction.F != rb.reaction.F || ra.reaction.k != rb.reaction.k ||
+       ra.diffusion_solver.max_iterations != rb.diffusion_solver.max_iterations))
+    return "fluid.scene table1 (its dt, rates and sweeps are built into its frame plan)";
   if (ra.enabled != rb.enabled) return "rd.enabled";
   if (!ra.enabled) return nullptr;
   if (ra.reaction.model != rb.reaction.model) return "rd.reaction.model";
@@ -197,7 +241,9 @@ Status Engine::update_parameters(const SceneConfig& next) {
                          "presets) to change it");
   if (!(next.dt > 0.0)) return Status::error("grid.dt: expected a positive time step");
   if (std::string why = fluid_config_problem(next); !why.empty()) return Status::error(why);
-  if (next.rd.enabled) {
+  if (next.fluid.kind == FluidSceneKind::kTable1) {
+    if (std::string why = table1_config_problem(next); !why.empty()) return Status::error(why);
+  } else if (next.rd.enabled) {
     if (std::string why = rd_config_problem(next); !why.empty()) return Status::error(why);
     if (solvers_->rd)
       if (std::string why = solvers_->rd->parameter_problem(next); !why.empty())
@@ -227,6 +273,7 @@ Status Engine::update_parameters(const SceneConfig& next) {
 }
 
 void Engine::step() {
+  if (solvers_->table1) solvers_->table1->step();
   // Fluid first: the RD is advected by this frame's velocity.
   if (solvers_->fluid) solvers_->fluid->step(state_);
   // RD: implicit reaction -> anisotropic diffusion -> advection by this frame's u, v.
@@ -235,15 +282,22 @@ void Engine::step() {
   ++state_.step;
 }
 
-void Engine::finish() { device_->finish(); }
+void Engine::finish() {
+  if (solvers_->table1) solvers_->table1->finish();
+  device_->finish();
+}
 
 void Engine::step_without_rd() {
+  // A plan's RD rides in its fluid passes: the whole frame.
+  if (solvers_->table1) solvers_->table1->step();
   if (solvers_->fluid) solvers_->fluid->step(state_);
   state_.time += state_.dt;
   ++state_.step;
 }
 
 FluidStep* Engine::fluid_step() { return solvers_->fluid.get(); }
+
+Table1Plan* Engine::table1_plan() { return solvers_->table1.get(); }
 
 const RdStepStats* Engine::rd_stats() const {
   return solvers_->rd ? &solvers_->rd->stats() : nullptr;

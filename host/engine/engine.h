@@ -15,6 +15,7 @@
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
 #include "host/config/status.h"
+#include "host/engine/frame_plan.h"
 
 namespace ardcell {
 
@@ -23,6 +24,7 @@ class FluidStep;
 class Backend;
 class Device;
 class RowExecutor;
+class Table1Plan;
 
 class OpenClContext;
 
@@ -42,6 +44,9 @@ struct EngineOptions {
   // against 1.8 pinned). Off by default: the live display and a kiosk's other processes share
   // the cores, and a pinned thread cannot leave one.
   bool pin_workers = false;
+  // Scenes built as a frame plan (fluid.scene table1, host/engine/table1_plan.h): the schedule,
+  // the local store per worker and the residency. The serial back end runs the serial schedule.
+  PlanOptions plan = {};
 };
 
 class Engine {
@@ -97,6 +102,9 @@ class Engine {
   const RdStepStats* rd_stats() const;
   // The fluid solver (its masks, the physical pressure for probes); nullptr without a fluid.
   FluidStep* fluid_step();
+  // The frame plan of a scene built as one (fluid.scene table1): its passes' timings, the
+  // schedule; nullptr for the other scenes.
+  Table1Plan* table1_plan();
 
  private:
   struct Solvers;  // the fluid and RD solvers and their scratch (host/engine/engine.cpp)

@@ -175,6 +175,9 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
     case FluidSceneKind::kNone:
       fill_u_ = fill_v_ = BoundaryFill::copy();
       break;
+    case FluidSceneKind::kTable1:  // a frame plan of its own (host/engine/table1_plan.h)
+      ARDCELL_CHECK(false, "FluidStep: the table1 scene runs as a frame plan");
+      break;
   }
 
   auto make_op = [&](const BoundaryFill& fill) {

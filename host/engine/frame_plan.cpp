@@ -242,4 +242,28 @@ void FramePlan::print_stats(std::FILE* out) const {
   }
 }
 
+bool parse_plan_schedule(std::string_view name, PlanSchedule& out) {
+  if (name == "serial")
+    out = PlanSchedule::kSerial;
+  else if (name == "stream")
+    out = PlanSchedule::kStream;
+  else if (name == "blocked")
+    out = PlanSchedule::kBlocked;
+  else
+    return false;
+  return true;
+}
+
+std::string_view plan_schedule_name(PlanSchedule s) {
+  switch (s) {
+    case PlanSchedule::kSerial:
+      return "serial";
+    case PlanSchedule::kStream:
+      return "stream";
+    case PlanSchedule::kBlocked:
+      return "blocked";
+  }
+  return "?";
+}
+
 }  // namespace ardcell

@@ -28,6 +28,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "runtime/backend.h"
@@ -83,6 +84,25 @@ struct FramePlanOptions {
   std::size_t local_store_bytes = machine_local_store_bytes();
   int workers = 1;         // tiles are cut so that each worker gets several
   int max_tile_width = 0;  // caps for tests (0: as large as the store allows)
+  int max_tile_height = 0;
+};
+
+// How a scene built as a plan runs (host/engine/table1_plan.h):
+//   serial  - the whole-grid reference, every pass one loop over whole fields;
+//   stream  - every solver sweep one pass of tiles through the local stores;
+//   blocked - ghost-zone temporal blocking, several sweeps per tile load.
+enum class PlanSchedule : uint8_t { kSerial, kStream, kBlocked };
+// "serial", "stream", "blocked"; false when unknown.
+bool parse_plan_schedule(std::string_view name, PlanSchedule& out);
+std::string_view plan_schedule_name(PlanSchedule s);
+
+struct PlanOptions {
+  PlanSchedule schedule = PlanSchedule::kBlocked;
+  // Per worker, both double-buffer slots: two of the machine's L2 caches by default;
+  // kSpeLocalStoreBytes for the Cell-faithful comparison.
+  std::size_t local_store_bytes = machine_local_store_bytes();
+  int sweeps_per_residency = 0;  // blocked: sweeps per tile load (0: a whole solve)
+  int max_tile_width = 0;        // test hooks: cap tile sizes to force awkward tilings
   int max_tile_height = 0;
 };
 

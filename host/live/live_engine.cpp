@@ -159,7 +159,9 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
   const auto lock = lock_device();
   engine_ = std::make_unique<Engine>(preset.scene, options);
   const SceneConfig& scene = engine_->config();
-  if (!scene.rd.enabled || !preset.quality.adaptive) return;
+  // A frame plan's RD rides in its fluid passes (the table1 scenes): no coarser RD grid.
+  if (!scene.rd.enabled || !preset.quality.adaptive || scene.fluid.kind == FluidSceneKind::kTable1)
+    return;
   snap_a_ = FieldF(scene.size, 1);
   snap_b_ = FieldF(scene.size, 1);
   Int2 previous = scene.size;

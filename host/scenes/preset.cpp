@@ -19,7 +19,7 @@ namespace ardcell {
 
 namespace {
 
-constexpr std::string_view kFluidScenes[] = {"none", "cavity", "obstacle", "ink"};
+constexpr std::string_view kFluidScenes[] = {"none", "cavity", "obstacle", "ink", "table1"};
 constexpr std::string_view kSolvers[] = {"jacobi", "rbgs", "iccg", "mg"};
 constexpr std::string_view kShows[] = {"dye", "speed", "vorticity", "pressure", "A", "B"};
 constexpr std::string_view kWalls[] = {"free-slip", "no-slip", "periodic"};
@@ -151,7 +151,8 @@ const ParamSpec kParams[] = {
     ARD_NUMBER("grid.dt", scene.dt, 1e-9, 100, false, "time step per frame"),
     ARD_INTEGER("grid.steps", scene.default_steps, 1, 1e9, false,
                 "frames for `ardcell run` without --steps"),
-    ARD_ENUM("fluid.scene", scene.fluid.kind, kFluidScenes, true, "none | cavity | obstacle | ink"),
+    ARD_ENUM("fluid.scene", scene.fluid.kind, kFluidScenes, true,
+             "none | cavity | obstacle | ink | table1 (the Table 1 workload as a frame plan)"),
     ARD_NUMBER("fluid.viscosity", scene.fluid.viscosity, 0, 1e3, false, "kinematic viscosity"),
     ARD_NUMBER("fluid.lid_speed", scene.fluid.lid_speed, -1e3, 1e3, false, "cavity lid speed"),
     ARD_NUMBER("fluid.dye_diffusion", scene.fluid.dye_diffusion, 0, 1e3, false,
@@ -1111,7 +1112,10 @@ void apply_quality(const Preset& preset, const QualityLevel& level, SceneConfig&
 void use_realtime_solvers(Preset& preset) {
   set_fluid_solver(preset.scene.fluid, SolverKind::kJacobi, preset.quality.max_sweeps);
   preset.scene.rd.diffusion_solver = preset.scene.fluid.pressure_solver;
-  if (preset.scene.rd.scheme == RdScheme::kImplicit) preset.scene.rd.use_table = true;
+  // The Table 1 plan reacts by Newton in its passes (host/engine/table1_plan.h): no table.
+  if (preset.scene.rd.scheme == RdScheme::kImplicit &&
+      preset.scene.fluid.kind != FluidSceneKind::kTable1)
+    preset.scene.rd.use_table = true;
 }
 
 std::vector<std::string> preset_names() {

@@ -109,10 +109,51 @@ SceneConfig ink_scene() {
   return s;
 }
 
+// seed 000's Table 1 workload (section 7.2; bench/README.md): Stam's stable fluid in a free-slip
+// box, 20 Jacobi sweeps a solve, stirred by four turning splats; with `rd`, Gray-Scott riding on
+// it (F 0.055, k 0.062, one RD time unit a frame, D_A 1 and D_B 0.5 cells^2 per unit). The
+// engine runs it as a frame plan (host/engine/table1_plan.h; `--schedule`).
+SceneConfig table1_scene(bool rd) {
+  SceneConfig s;
+  s.name = rd ? "table1-ard" : "table1";
+  s.description = rd ? "Table 1 workload (seed 000, 7.2): fluid + Gray-Scott RD riding on it, "
+                       "on the frame plan"
+                     : "Table 1 workload (seed 000, 7.2): Stam's stable fluid alone, on the frame "
+                       "plan";
+  s.size = {256, 256};
+  s.domain_width = 1.0;
+  s.dt = 0.1;
+  s.default_steps = 100;
+  s.fluid.kind = FluidSceneKind::kTable1;
+  s.fluid.viscosity = 1e-4;
+  s.fluid.dye_diffusion = 1e-4;
+  s.fluid.conserve_dye = false;
+  s.fluid.walls = FluidWalls::kFreeSlip;
+  s.fluid.viscosity_solver = {SolverKind::kJacobi, 20, 0.0};
+  s.fluid.pressure_solver = {SolverKind::kJacobi, 20, 0.0};
+  if (rd) {
+    s.rd.enabled = true;
+    s.rd.reaction.model = ReactionModel::kGrayScott;
+    s.rd.reaction.F = 0.055f;
+    s.rd.reaction.k = 0.062f;
+    s.rd.dt = 1.0;
+    s.rd.diffusion_a = 1.0;
+    s.rd.diffusion_b = 0.5;
+    s.rd.diffusion_solver = {SolverKind::kJacobi, 20, 0.0};
+    s.rd.boundary = BoundaryKind::kNeumann;
+  }
+  s.output.show = "dye";
+  return s;
+}
+
+SceneConfig table1_fluid() { return table1_scene(false); }
+SceneConfig table1_ard() { return table1_scene(true); }
+
 }  // namespace
 
 void register_fluid_scenes(SceneRegistry& registry) {
-  for (SceneConfig (*make)() : {cavity_scene, obstacle_scene, ink_scene, dfg_2d1, dfg_2d2}) {
+  for (SceneConfig (*make)() :
+       {cavity_scene, obstacle_scene, ink_scene, dfg_2d1, dfg_2d2, table1_fluid, table1_ard}) {
     const SceneConfig s = make();
     registry.add({s.name, s.description, make});
   }

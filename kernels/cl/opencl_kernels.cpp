@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <initializer_list>
 #include <stdexcept>
 #include <vector>
@@ -94,6 +96,19 @@ std::unique_ptr<OpenClKernels> OpenClKernels::create(OpenClContext& ctx, std::st
   if (!program) return nullptr;
   auto kernels = std::unique_ptr<OpenClKernels>(new OpenClKernels(ctx, program));
   kernels->tiling_ = default_tiling(ctx.device());
+  if (const char* t = std::getenv("ARDCELL_CL_TILING")) {
+    ClTiling& tiling = kernels->tiling_;
+    char rest = 0;
+    if (std::sscanf(t, "%d,%d,%d,%d%c", &tiling.tile_w, &tiling.tile_h, &tiling.work_group,
+                    &tiling.groups_per_unit, &rest) != 4 ||
+        tiling.tile_w < 1 || tiling.tile_h < 1 || tiling.work_group < 1 ||
+        tiling.groups_per_unit < 1) {
+      if (error)
+        *error = "ARDCELL_CL_TILING '" + std::string(t).substr(0, 40) +
+                 "': expected four positive integers tile_w,tile_h,work_group,groups_per_unit";
+      return nullptr;
+    }
+  }
   kernels->real_bytes_ = device_has_fp64(ctx.device().device) ? sizeof(double) : sizeof(float);
   return kernels;
 }

@@ -120,7 +120,9 @@ class OpenClKernels {
   static constexpr const char* kProgramKey = "ardcell";
 
   // Builds (once per context) the program of every embedded .cl file. Null + *error (summary
-  // line, then the build log) on failure.
+  // line, then the build log) on failure. The tiling is default_tiling's, or the environment's
+  // ARDCELL_CL_TILING="tile_w,tile_h,work_group,groups_per_unit" (tuning on a new device; a
+  // malformed value is an error).
   static std::unique_ptr<OpenClKernels> create(OpenClContext& ctx, std::string* error);
   // For choose_backend's OpenClPrepare: builds the program, true on success.
   static bool prepare(OpenClContext& ctx, std::string* error);

@@ -1,9 +1,9 @@
 #pragma once
-// The Table 1 frame (host/engine/table1.h: Stam's stable fluid, optionally with Gray-Scott RD
+// The Table 1 frame (host/engine/table1_plan.h: Stam's stable fluid, optionally with Gray-Scott RD
 // riding on it) on an OpenCL device, with every field resident in device memory across frames: a
 // frame enqueues kernels only (no allocation, no read-back); download() reads a field when one
-// is asked for. The stages and their order are those of Table1Workload's serial schedule, so
-// the fields agree with it (tests/host/opencl_table1_test.cpp):
+// is asked for. The stages and their order are those of Table1Plan's serial schedule, so
+// the fields agree with it (tests/host/engine/opencl_table1_test.cpp):
 //   sources (+ reaction) -> diffuse u, v -> project (+ A's diffusion) -> advect u, v ->
 //   project (+ B's diffusion) -> diffuse dye -> advect dye (+ A, B).
 // Two schedules of the same kernels:

@@ -61,7 +61,7 @@ TEST_F(RunStrokesTest, StrokesPaintIntoTheSceneDeterministically) {
   EXPECT_EQ(painted, slurp(dir_ / "painted2" / "B.npy")) << "stroke playback is not repeatable";
 }
 
-TEST_F(RunStrokesTest, BadStrokeFileAndTable1GiveOneLineAndExitTwo) {
+TEST_F(RunStrokesTest, BadStrokeFileGivesOneLineAndExitTwo) {
   EXPECT_EQ(run(kSmall + "--strokes missing.jsonl --save-state s"), 2);
   EXPECT_EQ(std::count(err_.begin(), err_.end(), '\n'), 1) << err_;
   EXPECT_NE(err_.find("missing.jsonl"), std::string::npos) << err_;
@@ -70,9 +70,18 @@ TEST_F(RunStrokesTest, BadStrokeFileAndTable1GiveOneLineAndExitTwo) {
   std::ofstream(dir_ / "broken.jsonl") << "{\"t\": 0, \"x\": \n";
   EXPECT_EQ(run(kSmall + "--strokes broken.jsonl"), 2);
   EXPECT_EQ(std::count(err_.begin(), err_.end(), '\n'), 1) << err_;
+}
 
-  EXPECT_EQ(run("run table1 --size 16 --steps 1 --strokes '" + kSpiral + "'"), 2);
-  EXPECT_EQ(std::count(err_.begin(), err_.end(), '\n'), 1) << err_;
+// The Table 1 scene runs as a frame plan on state's own fields: strokes paint into it as into
+// any scene.
+TEST_F(RunStrokesTest, StrokesPaintIntoTheTable1Scene) {
+  const std::string base = "run table1-ard --size 48 --steps 30 --every 0 --quiet ";
+  ASSERT_EQ(run(base + "--save-state plain"), 0) << err_;
+  ASSERT_EQ(run(base + "--strokes '" + kSpiral + "' --paint-radius 3 --save-state painted"), 0)
+      << err_;
+  const std::string plain = slurp(dir_ / "plain" / "B.npy");
+  ASSERT_FALSE(plain.empty());
+  EXPECT_NE(plain, slurp(dir_ / "painted" / "B.npy")) << "the strokes left no trace in B";
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
 // `ardcell run table1 | table1-ard` through the real binary (ARDCELL_BINARY): the Table 1
-// workload on the frame plan with --schedule, --backend, --cl-device, --workers and --stats.
+// scenes, which the Engine builds as a frame plan, with --schedule, --backend, --cl-device,
+// --workers and --stats.
 //   - blocked with --stats prints the summary, the frame times and one timing line per pass;
 //   - serial, stream and blocked save bitwise-identical dye, A and B (.npy bytes);
 //   - --backend opencl (PoCL) agrees with serial within 1e-5 relative in the max norm
 //     (max |cl - serial| / max |serial| over the interior, per field);
 //   - --cl-device 99 prints the fallback line and still runs (on threads);
-//   - bad --schedule / --backend exit 2 with one line; general scenes refuse --schedule with
+//   - a saved state resumes bit for bit; --dt reaches the plan;
+//   - bad --schedule / --backend / settings the plan cannot run exit 2 with one line; general
+//   scenes refuse --schedule with
 //     one line (their --backend opencl: tests/drivers/run_opencl_cli_test.cpp);
 //   - general scenes on --backend serial and threads (--workers 2, 3) save the same bytes.
 #include <sys/wait.h>
@@ -40,7 +43,7 @@ TEST_F(RunTable1Test, BlockedWithStatsPrintsPassTimingsAndFrames) {
                        "--workers 2 --every 5 --out frames");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("frames=5 "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("schedule=blocked backend=threads workers=2 local_store="),
+  EXPECT_NE(r.out.find("backend=threads workers=2 schedule=blocked local_store="),
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("frame ms: mean="), std::string::npos) << r.out;
@@ -120,7 +123,9 @@ TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
       std::string(kSmall) + "--backend serial --schedule blocked",
       std::string(kSmall) + "--backend opencl --schedule serial",
       std::string(kSmall) + "--workers 0",
-      std::string(kSmall) + "--dt 0.5",
+      std::string(kSmall) + "--solver mg",
+      std::string(kSmall) + "--set rd.reaction.model=fhn",
+      std::string(kSmall) + "--set fluid.viscosity_solver.iterations=7",
       std::string(kSmall) + "--show pressure",
       std::string("run table1 --size 48 --show A"),
       std::string("run cavity --size 16 --steps 1 --schedule blocked"),
@@ -138,6 +143,20 @@ TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
     EXPECT_EQ(r.out, "") << args;
     EXPECT_TRUE(fs::is_empty(work())) << args << ": left files behind";
   }
+}
+
+// The Table 1 scenes are scenes like any other: a saved state resumes bit for bit (the splats
+// turn with the saved frame number), and the scene's dt reaches the plan.
+TEST_F(RunTable1Test, SavedStatesResumeAndTheScenesParametersApply) {
+  const std::string base = "run table1-ard --size 40x36 --quiet --every 0 --backend threads ";
+  ASSERT_EQ(run(base + "--steps 10 --save-state ten").code, 0);
+  ASSERT_EQ(run(base + "--steps 5 --save-state five").code, 0);
+  const Result resumed = run(base + "--steps 5 --load-state five --save-state resumed");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  for (const char* field : {"u.npy", "v.npy", "dye.npy", "A.npy", "B.npy"})
+    EXPECT_EQ(slurp(work() / "ten" / field), slurp(work() / "resumed" / field)) << field;
+  ASSERT_EQ(run(base + "--steps 10 --dt 0.05 --save-state half-dt").code, 0);
+  EXPECT_NE(slurp(work() / "ten" / "u.npy"), slurp(work() / "half-dt" / "u.npy"));
 }
 
 TEST_F(RunTable1Test, GeneralSceneStatsPrintFrameTimes) {

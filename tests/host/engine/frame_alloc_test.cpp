@@ -1,7 +1,7 @@
 // No heap allocation during a steady-state frame: global operator new is replaced in this
-// test program and counted while frames run, on every Table 1 schedule and on every preset on
-// every back end of the engine (the OpenCL one on PoCL: the host side of its frame, which only
-// enqueues kernels).
+// test program and counted while frames run, on every schedule of the Table 1 plan and on every
+// preset on every back end of the engine (the OpenCL one on PoCL: the host side of its frame, which
+// only enqueues kernels).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "host/engine/engine.h"
-#include "host/engine/table1.h"
+#include "host/engine/table1_plan.h"
 #include "host/scenes/preset.h"
+#include "host/scenes/scene_registry.h"
 
 #include "tests/support/alloc_counter.h"
 #if defined(ARDCELL_WITH_OPENCL)
@@ -22,20 +23,19 @@ namespace ardcell {
 namespace {
 
 TEST(FrameAlloc, SteadyStateFramesDoNotAllocate) {
-  for (Table1Schedule s :
-       {Table1Schedule::kSerial, Table1Schedule::kStream, Table1Schedule::kBlocked}) {
+  for (PlanSchedule s : {PlanSchedule::kSerial, PlanSchedule::kStream, PlanSchedule::kBlocked}) {
     for (bool rd : {false, true}) {
-      Table1Options o;
-      o.n = 64;
-      o.rd = rd;
-      o.schedule = s;
+      SceneConfig scene = builtin_scenes().find(rd ? "table1-ard" : "table1")->make();
+      scene.size = {64, 64};
+      EngineOptions o;
       o.workers = 2;
-      Table1Workload w(o);
+      o.plan.schedule = s;
+      Engine w(scene, o);
       w.step();  // first frame: nothing should allocate either, but it is not the steady state
       const long before = g_allocations.load();
       for (int i = 0; i < 5; ++i) w.step();
       EXPECT_EQ(g_allocations.load() - before, 0)
-          << table1_schedule_name(s) << (rd ? " ard" : " fluid");
+          << plan_schedule_name(s) << (rd ? " ard" : " fluid");
     }
   }
 }

@@ -1,15 +1,19 @@
-// The whole Table 1 workload on OpenCL (PoCL) against the serial back end over 100 frames, at an
-// awkward non-square grid, in both OpenCL schedules. Norm: per field (u, v, dye, A, B), the
-// normwise relative error in the max norm over interior + halo,
+// The Table 1 scene (table1-ard) on the Engine's OpenCL back end (PoCL) against the serial back
+// end over 100 frames, at an awkward non-square grid, in both OpenCL schedules. Norm: per field
+// (u, v, dye, A, B), the normwise relative error in the max norm over interior + halo,
 //   max |cl - serial| / max |serial|  <= 1e-5.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
-#include "host/engine/table1_opencl.h"
+#include "host/engine/engine.h"
+#include "host/engine/table1_plan.h"
+#include "host/scenes/scene_registry.h"
 #include "runtime/opencl/backend_choice.h"
+#include "tests/support/opencl_test_device.h"
 
 namespace ardcell {
 namespace {
@@ -28,138 +32,106 @@ double relative_error(const FieldF& got, const FieldF& ref) {
   return diff / std::max(mag, 1e-30);
 }
 
-struct Device {
-  std::unique_ptr<OpenClContext> ctx;
-  std::unique_ptr<OpenClKernels> cl;
-};
-
-Device open_device() {
-  Device d;
-  std::string error;
-  d.ctx = OpenClContext::open(0, &error);
-  if (d.ctx) d.cl = OpenClKernels::create(*d.ctx, &error);
-  EXPECT_TRUE(d.cl) << error;
-  return d;
+SceneConfig scene() {
+  SceneConfig s = builtin_scenes().find("table1-ard")->make();
+  s.size = kGrid;
+  return s;
 }
 
-// The serial workload's fields after kFrames (computed once per process).
-const Table1Workload& serial_reference() {
-  static Table1Workload* w = [] {
-    Table1Options o;
-    o.grid = kGrid;
-    o.rd = true;
-    o.schedule = Table1Schedule::kSerial;
-    auto* s = new Table1Workload(o);
+std::unique_ptr<Engine> engine(EngineOptions::Backend backend, PlanSchedule schedule, int k,
+                               OpenClContext* ctx = nullptr) {
+  EngineOptions o;
+  o.backend = backend;
+  o.workers = 2;
+  o.opencl = ctx;
+  o.plan.schedule = schedule;
+  o.plan.sweeps_per_residency = k;
+  return std::make_unique<Engine>(scene(), o);
+}
+
+// The serial engine's fields after kFrames (computed once per process).
+const SimState& serial_reference() {
+  static Engine* e = [] {
+    Engine* s = engine(EngineOptions::Backend::kSerial, PlanSchedule::kSerial, 0).release();
     for (int i = 0; i < kFrames; ++i) s->step();
     return s;
   }();
-  return *w;
+  return e->state();
 }
 
-void expect_agrees(OpenClStamFrame& frame, const Table1Workload& ref, const char* what) {
-  FieldF got(kGrid, 1);
-  const std::pair<ClField, const FieldF*> fields[] = {{ClField::kU, &ref.u()},
-                                                      {ClField::kV, &ref.v()},
-                                                      {ClField::kDye, &ref.dye()},
-                                                      {ClField::kA, &ref.a()},
-                                                      {ClField::kB, &ref.b()}};
-  const char* names[] = {"u", "v", "dye", "A", "B"};
-  int i = 0;
-  for (const auto& [which, field] : fields) {
-    frame.download(which, got);
-    const double err = relative_error(got, *field);
-    std::printf("%s %s: relative max-norm error %.3g\n", what, names[i], err);
-    EXPECT_LE(err, kTolerance) << what << " " << names[i];
-    ++i;
-  }
-}
-
-void run_schedule(ClSchedule schedule, int per_residency, const char* what) {
-  Device d = open_device();
-  ASSERT_TRUE(d.cl);
-  Table1Options o;
-  o.grid = kGrid;
-  o.rd = true;
-  o.schedule = Table1Schedule::kSerial;
-  const Table1Workload initial(o);
-  OpenClStamFrame frame(*d.cl, table1_cl_params(kGrid, true), schedule, per_residency);
-  table1_cl_upload(initial, frame);
-  const int builds = d.ctx->build_count();
-  for (int i = 0; i < kFrames; ++i) frame.step();
-  frame.finish();
-  EXPECT_EQ(frame.frame(), kFrames);
-  EXPECT_EQ(d.ctx->build_count(), builds);
+void run_schedule(PlanSchedule schedule, int per_residency, const char* what) {
+  TestOpenClDevice* d = test_opencl_device();
+  if (!d) GTEST_SKIP() << "no OpenCL device";
+  auto cl = engine(EngineOptions::Backend::kOpenCl, schedule, per_residency, d->ctx.get());
+  EXPECT_STREQ(cl->backend_name(), "opencl");
+  const int builds = d->ctx->build_count();
+  for (int i = 0; i < kFrames; ++i) cl->step();
+  cl->finish();
+  EXPECT_EQ(d->ctx->build_count(), builds);
   // The fluid must actually move for the comparison to mean anything.
-  const Table1Workload& ref = serial_reference();
+  const SimState& ref = serial_reference();
   double speed = 0;
   for (int y = 0; y < kGrid.y; ++y)
-    for (int x = 0; x < kGrid.x; ++x) speed = std::max(speed, double(std::abs(ref.u()(x, y))));
+    for (int x = 0; x < kGrid.x; ++x) speed = std::max(speed, double(std::abs(ref.u(x, y))));
   ASSERT_GT(speed, 1e-3);
-  expect_agrees(frame, ref, what);
+  const SimState& got = cl->state();
+  EXPECT_EQ(got.step, kFrames);
+  const std::pair<const char*, const FieldF SimState::*> fields[] = {{"u", &SimState::u},
+                                                                     {"v", &SimState::v},
+                                                                     {"dye", &SimState::dye},
+                                                                     {"A", &SimState::A},
+                                                                     {"B", &SimState::B}};
+  for (const auto& [name, field] : fields) {
+    const double err = relative_error(got.*field, ref.*field);
+    std::printf("%s %s: relative max-norm error %.3g\n", what, name, err);
+    EXPECT_LE(err, kTolerance) << what << " " << name;
+  }
 }
 
 TEST(OpenClTable1, StreamAgreesWithSerialOver100Frames) {
-  run_schedule(ClSchedule::kStream, 1, "stream");
+  run_schedule(PlanSchedule::kStream, 0, "stream");
 }
 
 TEST(OpenClTable1, BlockedAgreesWithSerialOver100Frames) {
-  run_schedule(ClSchedule::kBlocked, 20, "blocked-20");
+  run_schedule(PlanSchedule::kBlocked, 0, "blocked-20");
 }
 
 TEST(OpenClTable1, BlockedWithSeveralResidenciesPerSolve) {
-  run_schedule(ClSchedule::kBlocked, 7, "blocked-7");
+  run_schedule(PlanSchedule::kBlocked, 7, "blocked-7");
 }
 
-// Parameters are kernel arguments: changing them between frames of a running loop changes the
-// result and builds nothing.
-TEST(OpenClTable1, SwitchingParametersUnderARunningLoopRebuildsNothing) {
-  Device d = open_device();
-  ASSERT_TRUE(d.cl);
-  Table1Options o;
-  o.grid = kGrid;
-  o.rd = true;
-  const Table1Workload initial(o);
-  OpenClStamFrame steady(*d.cl, table1_cl_params(kGrid, true), ClSchedule::kStream);
-  OpenClStamFrame switched(*d.cl, table1_cl_params(kGrid, true), ClSchedule::kStream);
-  table1_cl_upload(initial, steady);
-  table1_cl_upload(initial, switched);
-  const int builds = d.ctx->build_count();
-  for (int i = 0; i < 10; ++i) {
-    steady.step();
-    ClStamFrameParams& p = switched.params();
-    // A preset switch and slider moves every frame: feed and kill rates, viscosity, RD speed.
-    p.reaction.F = i % 2 ? 0.035f : 0.055f;
-    p.reaction.k = i % 2 ? 0.065f : 0.062f;
-    p.viscosity.a *= 1.5f;
-    p.viscosity.inv_c = 1.0f / (1.0f + 4.0f * p.viscosity.a);
-    p.rd_b = StamSweepParams{0.25f, 1.0f / (1.0f + 4.0f * 0.25f)};
-    switched.step();
+// What the host writes into the fields (a loaded state, painting) goes to the device before the
+// next frame: a frame from the same fields gives the same result as on the CPU.
+TEST(OpenClTable1, HostWritesReachTheDevice) {
+  TestOpenClDevice* d = test_opencl_device();
+  if (!d) GTEST_SKIP() << "no OpenCL device";
+  auto cl = engine(EngineOptions::Backend::kOpenCl, PlanSchedule::kStream, 0, d->ctx.get());
+  auto cpu = engine(EngineOptions::Backend::kSerial, PlanSchedule::kSerial, 0);
+  for (Engine* e : {cl.get(), cpu.get()}) {
+    SimState& s = e->state();
+    for (int y = 10; y < 20; ++y)
+      for (int x = 10; x < 30; ++x) {
+        s.dye(x, y) = 1.0f;
+        s.u(x, y) = 0.5f;
+      }
+    for (int i = 0; i < 5; ++i) e->step();
   }
-  d.ctx->finish();
-  EXPECT_EQ(d.ctx->build_count(), builds);
-  FieldF a1(kGrid, 1), a2(kGrid, 1);
-  steady.download(ClField::kB, a1);
-  switched.download(ClField::kB, a2);
-  EXPECT_GT(relative_error(a2, a1), 1e-3) << "the new parameters took effect";
+  EXPECT_LE(relative_error(cl->state().dye, cpu->state().dye), kTolerance);
+  EXPECT_LE(relative_error(cl->state().u, cpu->state().u), kTolerance);
+  EXPECT_GT(cpu->state().dye(20, 15), 0.5f);
 }
 
-// The fallback: an invalid device index gives one line and the workload runs on threads.
+// The fallback: an invalid device index gives one line and the scene runs on threads.
 TEST(OpenClTable1, InvalidDeviceRunsOnThreads) {
   const BackendChoice c = choose_backend(BackendKind::kOpenCl, 42);
   ASSERT_EQ(c.kind, BackendKind::kThreads);
   EXPECT_NE(c.message.find("--cl-device 42"), std::string::npos) << c.message;
-  Table1Options o;
-  o.grid = kGrid;
-  o.rd = true;
-  o.schedule = Table1Schedule::kStream;
-  o.workers = 2;
-  Table1Workload threads(o);
-  EXPECT_STREQ(threads.backend().name(), "threads");
-  for (int i = 0; i < 3; ++i) threads.step();
-  o.schedule = Table1Schedule::kSerial;
-  Table1Workload serial(o);
-  for (int i = 0; i < 3; ++i) serial.step();
-  EXPECT_EQ(relative_error(threads.u(), serial.u()), 0.0);
+  auto threads = engine(EngineOptions::Backend::kThreads, PlanSchedule::kStream, 0);
+  EXPECT_STREQ(threads->backend_name(), "threads");
+  for (int i = 0; i < 3; ++i) threads->step();
+  auto serial = engine(EngineOptions::Backend::kSerial, PlanSchedule::kSerial, 0);
+  for (int i = 0; i < 3; ++i) serial->step();
+  EXPECT_EQ(relative_error(threads->state().u, serial->state().u), 0.0);
 }
 
 }  // namespace

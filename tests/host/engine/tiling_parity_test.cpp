@@ -1,5 +1,6 @@
-// Tiling parity: the stream and blocked schedules run the same kernels on tiles copied into
-// local stores; serial runs them on whole fields. Every field must agree bit for bit, on a grid
+// Tiling parity: the stream and blocked schedules of a scene built as a frame plan (table1-ard on
+// the Engine) run the same kernels on tiles copied into local stores; serial runs them on whole
+// fields. Every field must agree bit for bit, on a grid
 // no tile divides (127 x 93), with tiles touching every domain edge and corner, for any number
 // of workers.
 #include <gtest/gtest.h>
@@ -7,8 +8,12 @@
 #include <cmath>
 #include <cstring>
 
+#include <memory>
+
+#include "host/engine/engine.h"
 #include "host/engine/frame_plan.h"
-#include "host/engine/table1.h"
+#include "host/engine/table1_plan.h"
+#include "host/scenes/scene_registry.h"
 #include "kernels/stam_sweeps.h"
 #include "runtime/thread/thread_backend.h"
 
@@ -24,64 +29,69 @@ bool same_cells(const FieldF& a, const FieldF& b) {
   return true;
 }
 
-Table1Options awkward(Table1Schedule s, int workers, int k = 20) {
-  Table1Options o;
-  o.grid = {127, 93};
-  o.rd = true;
-  o.schedule = s;
+std::unique_ptr<Engine> awkward(PlanSchedule s, int workers, int k = 0) {
+  SceneConfig scene = builtin_scenes().find("table1-ard")->make();
+  scene.size = {127, 93};
+  EngineOptions o;
+  o.backend = s == PlanSchedule::kSerial ? EngineOptions::Backend::kSerial
+                                         : EngineOptions::Backend::kThreads;
   o.workers = workers;
-  o.sweeps_per_residency = k;
-  o.local_store_bytes = 1024 * 1024;
-  o.max_tile_width = 32;  // many tiles: 32 wide, at most 24 tall, none dividing the grid
-  o.max_tile_height = 24;
-  return o;
+  o.plan.schedule = s;
+  o.plan.sweeps_per_residency = k;
+  o.plan.local_store_bytes = 1024 * 1024;
+  o.plan.max_tile_width = 32;  // many tiles: 32 wide, at most 24 tall, none dividing the grid
+  o.plan.max_tile_height = 24;
+  return std::make_unique<Engine>(scene, o);
 }
 
-void expect_same_state(const Table1Workload& a, const Table1Workload& b, const char* what) {
-  EXPECT_TRUE(same_cells(a.u(), b.u())) << what << ": u";
-  EXPECT_TRUE(same_cells(a.v(), b.v())) << what << ": v";
-  EXPECT_TRUE(same_cells(a.dye(), b.dye())) << what << ": dye";
-  EXPECT_TRUE(same_cells(a.a(), b.a())) << what << ": A";
-  EXPECT_TRUE(same_cells(a.b(), b.b())) << what << ": B";
+void expect_same_state(Engine& a, Engine& b, const char* what) {
+  const SimState &x = a.state(), &y = b.state();
+  EXPECT_TRUE(same_cells(x.u, y.u)) << what << ": u";
+  EXPECT_TRUE(same_cells(x.v, y.v)) << what << ": v";
+  EXPECT_TRUE(same_cells(x.dye, y.dye)) << what << ": dye";
+  EXPECT_TRUE(same_cells(x.A, y.A)) << what << ": A";
+  EXPECT_TRUE(same_cells(x.B, y.B)) << what << ": B";
 }
 
 constexpr int kFrames = 6;
 
 TEST(TilingParity, StreamAndBlockedEqualSerialBitwiseOnAnAwkwardGrid) {
-  Table1Workload serial(awkward(Table1Schedule::kSerial, 1));
-  for (int i = 0; i < kFrames; ++i) serial.step();
+  auto serial = awkward(PlanSchedule::kSerial, 1);
+  for (int i = 0; i < kFrames; ++i) serial->step();
   // The run is not trivial: the fluid moved and the chemicals reacted.
-  EXPECT_NE(serial.u()(31, 23), 0.0f);
-  EXPECT_GT(serial.dye()(31, 23), 0.0f);
-  EXPECT_GT(serial.b()(47, 35), 0.0f);
-  for (Table1Schedule s : {Table1Schedule::kStream, Table1Schedule::kBlocked}) {
-    Table1Workload w(awkward(s, 2));
-    for (int p = 0; p < w.plan().pass_count(); ++p)
-      ASSERT_GT(w.plan().tiles(p).tiles().size(), 8u) << w.plan().pass_name(p);
-    for (int i = 0; i < kFrames; ++i) w.step();
-    expect_same_state(w, serial, std::string(table1_schedule_name(s)).c_str());
+  const SimState& ref = serial->state();
+  EXPECT_NE(ref.u(31, 23), 0.0f);
+  EXPECT_GT(ref.dye(31, 23), 0.0f);
+  EXPECT_GT(ref.B(47, 35), 0.0f);
+  for (PlanSchedule s : {PlanSchedule::kStream, PlanSchedule::kBlocked}) {
+    auto w = awkward(s, 2);
+    const FramePlan& plan = *w->table1_plan()->plan();
+    for (int p = 0; p < plan.pass_count(); ++p)
+      ASSERT_GT(plan.tiles(p).tiles().size(), 8u) << plan.pass_name(p);
+    for (int i = 0; i < kFrames; ++i) w->step();
+    expect_same_state(*w, *serial, std::string(plan_schedule_name(s)).c_str());
   }
 }
 
 TEST(TilingParity, BlockedWithSeveralResidenciesPerSolveEqualsSerial) {
-  Table1Workload serial(awkward(Table1Schedule::kSerial, 1));
-  for (int i = 0; i < 3; ++i) serial.step();
+  auto serial = awkward(PlanSchedule::kSerial, 1);
+  for (int i = 0; i < 3; ++i) serial->step();
   for (int k : {1, 3, 7, 19}) {
-    Table1Workload w(awkward(Table1Schedule::kBlocked, 2, k));
-    for (int i = 0; i < 3; ++i) w.step();
-    expect_same_state(w, serial, ("blocked k=" + std::to_string(k)).c_str());
+    auto w = awkward(PlanSchedule::kBlocked, 2, k);
+    for (int i = 0; i < 3; ++i) w->step();
+    expect_same_state(*w, *serial, ("blocked k=" + std::to_string(k)).c_str());
   }
 }
 
 TEST(TilingParity, ResultsDoNotDependOnTheNumberOfWorkers) {
-  for (Table1Schedule s : {Table1Schedule::kStream, Table1Schedule::kBlocked}) {
-    Table1Workload one(awkward(s, 1));
-    for (int i = 0; i < 3; ++i) one.step();
+  for (PlanSchedule s : {PlanSchedule::kStream, PlanSchedule::kBlocked}) {
+    auto one = awkward(s, 1);
+    for (int i = 0; i < 3; ++i) one->step();
     for (int workers : {2, 4}) {
-      Table1Workload w(awkward(s, workers));
-      EXPECT_EQ(w.backend().workers(), workers);
-      for (int i = 0; i < 3; ++i) w.step();
-      expect_same_state(w, one, "workers");
+      auto w = awkward(s, workers);
+      EXPECT_EQ(w->workers(), workers);
+      for (int i = 0; i < 3; ++i) w->step();
+      expect_same_state(*w, *one, "workers");
     }
   }
 }

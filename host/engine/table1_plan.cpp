@@ -1,11 +1,19 @@
-#include "host/engine/table1.h"
+#include "host/engine/table1_plan.h"
 
 #include <cmath>
 #include <deque>
+#include <span>
+#include <stdexcept>
 
+#include "kernels/advect.h"
+#include "kernels/project.h"
+#include "kernels/reaction.h"
 #include "kernels/sources.h"
+#include "kernels/stam_sweeps.h"
 #include "runtime/check.h"
-#include "runtime/thread/thread_backend.h"
+#if defined(ARDCELL_WITH_OPENCL)
+#include "kernels/cl/opencl_stam_frame.h"
+#endif
 
 namespace ardcell {
 namespace {
@@ -24,26 +32,26 @@ struct SourceParams {
   const std::int64_t* frame = nullptr;
 };
 
-// Four Gaussian splats at the quarter points; their forces turn slowly with the frame number.
-SplatParams splat(const SourceParams& p, int i) {
+// Splat i of a component (0 u, 1 v, 2 dye): four Gaussian splats at the quarter points whose
+// forces turn slowly with the frame number. The OpenCL frame takes the same function.
+SplatParams table1_splat(Int2 grid, int component, int i, std::int64_t frame) {
   const float cx = (i == 0 || i == 3) ? 0.25f : 0.75f;
   const float cy = (i < 2) ? 0.25f : 0.75f;
-  const float angle = 0.05f * float(*p.frame) + float(i) * 0.5f * kPi + 0.25f * kPi;
+  const float angle = 0.05f * float(frame) + float(i) * 0.5f * kPi + 0.25f * kPi;
   SplatParams s;
-  s.cx = cx * float(p.grid.x);
-  s.cy = cy * float(p.grid.y);
-  s.radius = std::max(1.0f, float(std::min(p.grid.x, p.grid.y)) / 32.0f);
-  const float force = 0.1f, dye = 0.1f;
-  s.amount = p.component == 0   ? force * std::cos(angle)
-             : p.component == 1 ? force * std::sin(angle)
-                                : dye;
+  s.cx = cx * float(grid.x);
+  s.cy = cy * float(grid.y);
+  s.radius = std::max(1.0f, float(std::min(grid.x, grid.y)) / 32.0f);
+  s.amount = component == 0   ? Table1Constants::kSplatForce * std::cos(angle)
+             : component == 1 ? Table1Constants::kSplatForce * std::sin(angle)
+                              : Table1Constants::kSplatDye;
   return s;
 }
 
 void sources_kernel(const void* params, Bufs b, Box2 region) {
   const auto& p = *static_cast<const SourceParams*>(params);
   for (int i = 0; i < Table1Constants::kSplats; ++i)
-    add_splat(b[std::size_t(p.buf)], region, splat(p, i));
+    add_splat(b[std::size_t(p.buf)], region, table1_splat(p.grid, p.component, i, *p.frame));
 }
 
 struct ReactParams {
@@ -166,43 +174,64 @@ PassOpDesc jacobi_op(const StamSweepParams* p, int8_t a, int8_t b, int8_t rhs, i
 
 }  // namespace
 
-bool parse_table1_schedule(std::string_view name, Table1Schedule& out) {
-  if (name == "serial")
-    out = Table1Schedule::kSerial;
-  else if (name == "stream")
-    out = Table1Schedule::kStream;
-  else if (name == "blocked")
-    out = Table1Schedule::kBlocked;
-  else
-    return false;
-  return true;
+std::string table1_config_problem(const SceneConfig& c) {
+  const FluidConfig& f = c.fluid;
+  const RdConfig& r = c.rd;
+  const std::string runs = ": the table1 plan (host/engine/table1_plan.h) runs ";
+  if (c.size.x < 8 || c.size.y < 8) return "grid.size" + runs + "at least 8 x 8 cells";
+  if (f.walls != FluidWalls::kFreeSlip) return "fluid.walls" + runs + "free-slip walls only";
+  if (!f.emitters.empty()) return "fluid.emitters" + runs + "its four splats, no emitters";
+  if (f.advection != AdvectionScheme::kSemiLagrangian)
+    return "fluid.advection" + runs + "semi-lagrangian advection only";
+  if (f.conserve_dye) return "fluid.conserve_dye" + runs + "no mass fix (expected false)";
+  const auto fixed_jacobi = [&](const SolverSettings& s, const char* key) -> std::string {
+    if (s.kind != SolverKind::kJacobi || s.tolerance != 0.0)
+      return std::string(key) + runs + "fixed Jacobi sweeps (expected kind jacobi, tolerance 0)";
+    if (s.max_iterations != f.pressure_solver.max_iterations)
+      return std::string(key) + ".iterations" + runs +
+             "one sweep count for every solve (expected fluid.pressure_solver.iterations, " +
+             std::to_string(f.pressure_solver.max_iterations) + ")";
+    return "";
+  };
+  if (std::string why = fixed_jacobi(f.pressure_solver, "fluid.pressure_solver"); !why.empty())
+    return why;
+  if (std::string why = fixed_jacobi(f.viscosity_solver, "fluid.viscosity_solver"); !why.empty())
+    return why;
+  if (f.pressure_solver.max_iterations < 1 || f.pressure_solver.max_iterations > 64)
+    return "fluid.pressure_solver.iterations" + runs + "1..64 sweeps a solve";
+  if (!r.enabled) return "";
+  if (std::string why = fixed_jacobi(r.diffusion_solver, "rd.diffusion_solver"); !why.empty())
+    return why;
+  if (r.reaction.model != ReactionModel::kGrayScott)
+    return "rd.reaction.model" + runs + "gray-scott only";
+  if (r.diffusion_operator != RdOperator::kLaplacian || r.scheme != RdScheme::kImplicit ||
+      r.crank_nicolson)
+    return "rd.scheme" + runs + "the implicit scheme with the Laplacian only";
+  if (r.use_table || r.map) return "rd.table / rd.map" + runs + "the Newton reaction, one F and k";
+  if (r.anisotropy.kind != AnisotropyKind::kIsotropic || r.anisotropy.isotropic_value != 1.0f)
+    return "rd.anisotropy" + runs + "isotropic diffusion only";
+  if (r.boundary != BoundaryKind::kNeumann) return "rd.boundary" + runs + "neumann only";
+  if (!r.react || !r.diffuse || !r.advect)
+    return "rd.react / diffuse / advect" + runs + "all three";
+  if (r.steps_per_frame != 1) return "rd.steps_per_frame" + runs + "one RD step a frame";
+  return "";
 }
 
-std::string_view table1_schedule_name(Table1Schedule s) {
-  switch (s) {
-    case Table1Schedule::kSerial:
-      return "serial";
-    case Table1Schedule::kStream:
-      return "stream";
-    case Table1Schedule::kBlocked:
-      return "blocked";
-  }
-  return "?";
-}
-
-struct Table1Workload::Fields {
-  explicit Fields(Int2 g, bool rd) {
-    for (FieldF* f : {&u, &v, &dye, &u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div})
+struct Table1Plan::Fields {
+  // u, v, dye, A, B are the scene's (SimState); the rest is the plan's scratch.
+  Fields(SimState& s, Int2 g, bool rd) : u(s.u), v(s.v), dye(s.dye), A(s.A), B(s.B) {
+    for (FieldF* f : {&u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div})
       *f = FieldF(g, 1);
     if (rd)
-      for (FieldF* f : {&A, &B, &A0, &B0, &tA, &tB}) *f = FieldF(g, 1);
+      for (FieldF* f : {&A0, &B0, &tA, &tB}) *f = FieldF(g, 1);
   }
-  FieldF u, v, dye, u0, v0, u1, v1, dye0, tu, tv, tdye, p0, p1, div;
-  FieldF A, B, A0, B0, tA, tB;
+  FieldF &u, &v, &dye, &A, &B;
+  FieldF u0, v0, u1, v1, dye0, tu, tv, tdye, p0, p1, div;
+  FieldF A0, B0, tA, tB;
 };
 
 // Parameters the passes point at: kept at stable addresses for the plan's lifetime.
-struct Table1Workload::Params {
+struct Table1Plan::Params {
   std::deque<std::shared_ptr<void>> keep_alive;
   template <class T>
   const T* keep(const T& value) {
@@ -213,96 +242,183 @@ struct Table1Workload::Params {
   StamSweepParams viscosity, dye_diffusion, pressure, rd_a, rd_b;
   ProjectParams project;
   AdvectParams advect;
+  GrayScottImplicitParams reaction;
 };
 
-Table1Workload::Table1Workload(const Table1Options& options) : options_(options) {
-  grid_ = options.grid.x > 0 ? options.grid : Int2{options.n, options.n};
-  ARDCELL_CHECK(grid_.x >= 4 && grid_.y >= 4, "Table 1 grid must be at least 4 x 4");
+void Table1Plan::init(const SceneConfig& config) {
+  if (std::string why = table1_config_problem(config); !why.empty())
+    throw std::invalid_argument(why);
+  grid_ = config.size;
+  rd_ = config.rd.enabled;
+  sweeps_ = config.fluid.pressure_solver.max_iterations;
+  if (options_.sweeps_per_residency == 0) options_.sweeps_per_residency = sweeps_;
+  ARDCELL_CHECK(options_.sweeps_per_residency >= 1 && options_.sweeps_per_residency <= sweeps_,
+                "Table1Plan: sweeps per residency must be 1 .. the sweeps of a solve");
   ARDCELL_CHECK(
-      options.sweeps_per_residency >= 1 && options.sweeps_per_residency <= Table1Constants::kSweeps,
-      "sweeps per residency must be 1..20");
-  f_ = std::make_unique<Fields>(grid_, options.rd);
+      state_.u.size() == grid_ && state_.dye.size() == grid_ && (!rd_ || state_.A.size() == grid_),
+      "Table1Plan: the scene's fields must be allocated");
   p_ = std::make_unique<Params>();
-  const float n = float(grid_.x);  // h = 1/N along x (square cells)
-  const float dt = Table1Constants::kDt;
+  // Stam's solver in cell units: h = domain width / grid.x (square cells).
+  const float h = float(config.domain_width / double(grid_.x));
+  const float dt = float(config.dt);
   const auto diffusion = [](float a) { return StamSweepParams{a, 1.0f / (1.0f + 4.0f * a)}; };
-  p_->viscosity = diffusion(dt * Table1Constants::kViscosity * n * n);
-  p_->dye_diffusion = diffusion(dt * Table1Constants::kDyeDiffusion * n * n);
+  p_->viscosity = diffusion(dt * float(config.fluid.viscosity) / (h * h));
+  p_->dye_diffusion = diffusion(dt * float(config.fluid.dye_diffusion) / (h * h));
   p_->pressure = StamSweepParams{1.0f, 0.25f};
-  p_->rd_a = diffusion(Table1Constants::kRdStep * Table1Constants::kDiffA);
-  p_->rd_b = diffusion(Table1Constants::kRdStep * Table1Constants::kDiffB);
-  p_->project = ProjectParams{1.0f / n};
-  p_->advect = AdvectParams{dt * n, grid_, false};
+  p_->project = ProjectParams{h};
+  p_->advect = AdvectParams{dt / h, grid_, false};
+  if (rd_) {
+    // D_A, D_B in cells^2 per unit of rd.dt.
+    const float rd_dt = float(config.rd.dt > 0.0 ? config.rd.dt : config.dt);
+    p_->rd_a = diffusion(rd_dt * float(config.rd.diffusion_a));
+    p_->rd_b = diffusion(rd_dt * float(config.rd.diffusion_b));
+    p_->reaction = GrayScottImplicitParams{config.rd.reaction.F, config.rd.reaction.k, rd_dt};
+  }
+}
 
-  if (options.backend) {
-    backend_ = options.backend;
-  } else if (options.schedule == Table1Schedule::kSerial) {
-    owned_backend_ = std::make_unique<SerialBackend>();
-    backend_ = owned_backend_.get();
+Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& backend,
+                       const PlanOptions& options)
+    : state_(state), options_(options) {
+  init(config);
+  f_ = std::make_unique<Fields>(state_, grid_, rd_);
+  if (options_.schedule == PlanSchedule::kSerial) {
+    serial_backend_ = std::make_unique<SerialBackend>();
+    backend_ = serial_backend_.get();
   } else {
-    ThreadBackendOptions t;
-    t.workers = options.workers;
-    t.local_store_bytes = options.local_store_bytes;
-    owned_backend_ = std::make_unique<ThreadBackend>(t);
-    backend_ = owned_backend_.get();
+    backend_ = &backend;
   }
   FramePlanOptions po;
   po.grid = grid_;
   po.field_halo = 1;
-  po.local_store_bytes = options.local_store_bytes;
+  po.local_store_bytes = options_.local_store_bytes;
   po.workers = backend_->workers();
-  po.max_tile_width = options.max_tile_width;
-  po.max_tile_height = options.max_tile_height;
+  po.max_tile_width = options_.max_tile_width;
+  po.max_tile_height = options_.max_tile_height;
   plan_ = std::make_unique<FramePlan>(po);
   build();
   reset();
 }
 
-Table1Workload::~Table1Workload() = default;
+#if defined(ARDCELL_WITH_OPENCL)
+Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, OpenClKernels& cl,
+                       const PlanOptions& options)
+    : state_(state), options_(options) {
+  if (options_.schedule == PlanSchedule::kSerial)
+    throw std::invalid_argument(
+        "schedule serial is the whole-grid CPU reference; expected stream or blocked on OpenCL");
+  init(config);
+  ClStamFrameParams c;
+  c.grid = grid_;
+  c.rd = rd_;
+  c.sweeps = sweeps_;
+  c.viscosity = p_->viscosity;
+  c.dye_diffusion = p_->dye_diffusion;
+  c.pressure = p_->pressure;
+  c.rd_a = p_->rd_a;
+  c.rd_b = p_->rd_b;
+  c.project = p_->project;
+  c.advect = p_->advect;
+  c.reaction = p_->reaction;
+  c.splats = Table1Constants::kSplats;
+  c.splat = &table1_splat;
+  cl_frame_ = std::make_unique<OpenClStamFrame>(
+      cl, c,
+      options_.schedule == PlanSchedule::kStream ? ClSchedule::kStream : ClSchedule::kBlocked,
+      options_.sweeps_per_residency);
+  reset();
+}
+#endif
 
-const FieldF& Table1Workload::u() const { return f_->u; }
-const FieldF& Table1Workload::v() const { return f_->v; }
-const FieldF& Table1Workload::dye() const { return f_->dye; }
-const FieldF& Table1Workload::a() const { return f_->A; }
-const FieldF& Table1Workload::b() const { return f_->B; }
+Table1Plan::~Table1Plan() = default;
 
-double Table1Workload::bytes_per_frame() const {
+double Table1Plan::bytes_per_frame() const {
   const double cells = double(grid_.x) * grid_.y;
-  return cells * (Table1Constants::kFluidBytesPerCell +
-                  (options_.rd ? Table1Constants::kRdBytesPerCell : 0.0));
+  return cells *
+         (Table1Constants::kFluidBytesPerCell + (rd_ ? Table1Constants::kRdBytesPerCell : 0.0));
 }
 
-void Table1Workload::reset() {
-  Fields& f = *f_;
-  for (FieldF* x : {&f.u, &f.v, &f.dye, &f.u0, &f.v0, &f.u1, &f.v1, &f.dye0, &f.tu, &f.tv, &f.tdye,
-                    &f.p0, &f.p1, &f.div})
-    x->fill(0.0f);
-  if (options_.rd) {
+void Table1Plan::reset() {
+  SimState& s = state_;
+  for (FieldF* x : {&s.u, &s.v, &s.dye}) x->fill(0.0f);
+  if (rd_) {
     // A = 1, B = 0, with four seeded squares (A = 0.5, B = 0.25) between the splats.
-    f.A.fill(1.0f);
-    f.B.fill(0.0f);
+    s.A.fill(1.0f);
+    s.B.fill(0.0f);
     const int side = std::max(2, grid_.x / 16);
-    for (int s = 0; s < 4; ++s) {
-      const int cx = grid_.x * (s % 2 == 0 ? 3 : 5) / 8, cy = grid_.y * (s < 2 ? 3 : 5) / 8;
+    for (int q = 0; q < 4; ++q) {
+      const int cx = grid_.x * (q % 2 == 0 ? 3 : 5) / 8, cy = grid_.y * (q < 2 ? 3 : 5) / 8;
       for (int y = cy - side / 2; y < cy + side / 2; ++y)
         for (int x = cx - side / 2; x < cx + side / 2; ++x) {
-          f.A(x, y) = 0.5f;
-          f.B(x, y) = 0.25f;
+          s.A(x, y) = 0.5f;
+          s.B(x, y) = 0.25f;
         }
     }
-    for (FieldF* x : {&f.A0, &f.B0, &f.tA, &f.tB}) x->fill(0.0f);
   }
-  frame_ = 0;
+  if (f_) {
+    Fields& f = *f_;
+    for (FieldF* x :
+         {&f.u0, &f.v0, &f.u1, &f.v1, &f.dye0, &f.tu, &f.tv, &f.tdye, &f.p0, &f.p1, &f.div})
+      x->fill(0.0f);
+    if (rd_)
+      for (FieldF* x : {&f.A0, &f.B0, &f.tA, &f.tB}) x->fill(0.0f);
+  }
+#if defined(ARDCELL_WITH_OPENCL)
+  if (cl_frame_) {
+    host_wrote();
+    cl_frame_->set_frame(s.step);
+  }
+#endif
 }
 
-void Table1Workload::step() {
+void Table1Plan::step() {
+#if defined(ARDCELL_WITH_OPENCL)
+  if (cl_frame_) {
+    if (upload_) {
+      cl_frame_->upload(ClField::kU, state_.u);
+      cl_frame_->upload(ClField::kV, state_.v);
+      cl_frame_->upload(ClField::kDye, state_.dye);
+      if (rd_) {
+        cl_frame_->upload(ClField::kA, state_.A);
+        cl_frame_->upload(ClField::kB, state_.B);
+      }
+      upload_ = false;
+    }
+    cl_frame_->set_frame(state_.step);
+    cl_frame_->step();
+    return;
+  }
+#endif
   plan_->run(*backend_);
-  ++frame_;
+}
+
+void Table1Plan::finish() {
+#if defined(ARDCELL_WITH_OPENCL)
+  if (cl_frame_) cl_frame_->finish();
+#endif
+}
+
+void Table1Plan::download() {
+#if defined(ARDCELL_WITH_OPENCL)
+  if (!cl_frame_ || upload_) return;  // the host holds the current fields
+  cl_frame_->download(ClField::kU, state_.u);
+  cl_frame_->download(ClField::kV, state_.v);
+  cl_frame_->download(ClField::kDye, state_.dye);
+  if (rd_) {
+    cl_frame_->download(ClField::kA, state_.A);
+    cl_frame_->download(ClField::kB, state_.B);
+  }
+#endif
+}
+
+void Table1Plan::host_wrote() {
+#if defined(ARDCELL_WITH_OPENCL)
+  if (cl_frame_) upload_ = true;
+#endif
 }
 
 // Sources (stream, serial, and blocked with several residencies per solve): u, v, dye in place,
 // with the RD reaction riding along on A and B.
-void Table1Workload::add_sources_pass(bool with_reaction) {
+void Table1Plan::add_sources_pass(bool with_reaction) {
   Fields& f = *f_;
   PassDesc d;
   d.name = with_reaction ? "sources+reaction" : "sources";
@@ -310,17 +426,14 @@ void Table1Workload::add_sources_pass(bool with_reaction) {
                bd = add_buffer(d, &f.dye, &f.dye, 0);
   int comp = 0;
   for (int8_t buf : {bu, bv, bd}) {
-    const auto* sp = p_->keep(SourceParams{comp, buf, grid_, &frame_});
+    const auto* sp = p_->keep(SourceParams{comp, buf, grid_, &state_.step});
     d.ops.push_back(map_op(sources_kernel, sp, 0, {buf},
                            {{buf, BoundaryFill::stam(comp == 2 ? 0 : comp + 1)}}));
     ++comp;
   }
   if (with_reaction) {
     const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
-    const auto* rp = p_->keep(ReactParams{
-        {Table1Constants::kGrayScottF, Table1Constants::kGrayScottK, Table1Constants::kRdStep},
-        ba,
-        bb});
+    const auto* rp = p_->keep(ReactParams{p_->reaction, ba, bb});
     d.ops.push_back(map_op(reaction_kernel, rp, 0, {ba, bb},
                            {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
   }
@@ -331,10 +444,10 @@ void Table1Workload::add_sources_pass(bool with_reaction) {
 // the solves share their passes. Stream: one pass per sweep, through out/tmp; blocked: one load
 // per `k` sweeps. With `with_sources` (blocked, one residency) the splats are added in store to
 // the loaded x first.
-void Table1Workload::add_diffusion(const char* name, std::span<const DiffusionSpec> solves,
-                                   bool with_sources) {
-  const int total = Table1Constants::kSweeps;
-  const int k = options_.schedule == Table1Schedule::kBlocked ? options_.sweeps_per_residency : 1;
+void Table1Plan::add_diffusion(const char* name, std::span<const DiffusionSpec> solves,
+                               bool with_sources) {
+  const int total = sweeps_;
+  const int k = options_.schedule == PlanSchedule::kBlocked ? options_.sweeps_per_residency : 1;
   const int passes = (total + k - 1) / k;
   std::array<const FieldF*, 4> cur{};
   for (std::size_t i = 0; i < solves.size(); ++i) cur[i] = solves[i].x;
@@ -357,15 +470,15 @@ void Table1Workload::add_diffusion(const char* name, std::span<const DiffusionSp
 // `next`. `whole` (the solve's only residency): x is loaded once with halo `sweeps`, (the
 // sources added to it in store,) copied as the first iterate; otherwise the iterate is loaded
 // with halo `sweeps` and x with halo sweeps - 1.
-void Table1Workload::append_residency(PassDesc& d, const DiffusionSpec& sv, const FieldF* cur,
-                                      FieldF* next, int sweeps, bool whole, bool with_sources) {
+void Table1Plan::append_residency(PassDesc& d, const DiffusionSpec& sv, const FieldF* cur,
+                                  FieldF* next, int sweeps, bool whole, bool with_sources) {
   if (whole) {
     const int8_t rhs = add_buffer(d, sv.x, nullptr, sweeps);
     const int8_t a = add_buffer(d, nullptr, sweeps % 2 == 0 ? next : nullptr, sweeps);
     const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
     if (with_sources) {
       const int comp = sv.b == 1 ? 0 : sv.b == 2 ? 1 : 2;
-      const auto* sp = p_->keep(SourceParams{comp, rhs, grid_, &frame_});
+      const auto* sp = p_->keep(SourceParams{comp, rhs, grid_, &state_.step});
       d.ops.push_back(map_op(sources_kernel, sp, sweeps, {rhs}, {{rhs, BoundaryFill::stam(sv.b)}}));
     }
     d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
@@ -380,11 +493,11 @@ void Table1Workload::append_residency(PassDesc& d, const DiffusionSpec& sv, cons
 
 // Divergence, 20-sweep pressure solve, gradient subtraction: (u, v) -> (u_out, v_out).
 // rd_rider: 1 = A's diffusion rides on the passes, 2 = B's, 0 = none.
-void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out,
-                                    FieldF& v_out, int rd_rider) {
+void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out,
+                                FieldF& v_out, int rd_rider) {
   Fields& f = *f_;
-  const int total = Table1Constants::kSweeps;
-  const bool blocked = options_.schedule == Table1Schedule::kBlocked;
+  const int total = sweeps_;
+  const bool blocked = options_.schedule == PlanSchedule::kBlocked;
   const int k = blocked ? options_.sweeps_per_residency : 1;
   std::string base(name);
   if (blocked && k == total) {
@@ -467,9 +580,9 @@ void Table1Workload::add_projection(const char* name, FieldF& u, FieldF& v, Fiel
 // Blocked schedule: both RD diffusions in one residency of A and B (reacted earlier, in the
 // velocity advection pass: the reaction is per cell, so in a halo-20 pass it would be computed
 // again on every halo cell).
-void Table1Workload::add_rd_diffusion_pass() {
+void Table1Plan::add_rd_diffusion_pass() {
   Fields& f = *f_;
-  const int k = Table1Constants::kSweeps;
+  const int k = sweeps_;
   PassDesc d;
   d.name = "rd:diffuse:AB";
   const int8_t ra = add_buffer(d, &f.A, nullptr, k), rb = add_buffer(d, &f.B, nullptr, k);
@@ -483,11 +596,11 @@ void Table1Workload::add_rd_diffusion_pass() {
   plan_->add_pass(std::move(d));
 }
 
-void Table1Workload::build() {
+void Table1Plan::build() {
   Fields& f = *f_;
-  const bool rd = options_.rd;
-  const bool blocked = options_.schedule == Table1Schedule::kBlocked;
-  const bool one_residency = blocked && options_.sweeps_per_residency == Table1Constants::kSweeps;
+  const bool rd = rd_;
+  const bool blocked = options_.schedule == PlanSchedule::kBlocked;
+  const bool one_residency = blocked && options_.sweeps_per_residency == sweeps_;
   // vel_step: sources, diffuse (u -> u0), project (u0 -> u1), advect (u1 -> u0), project
   // (u0 -> u). dens_step: diffuse (dye -> dye0), advect (dye0 -> dye). RD: react, diffuse
   // (A -> A0), advect (A0 -> A).
@@ -518,13 +631,8 @@ void Table1Workload::build() {
     if (rd && one_residency) {
       // The reaction rides on this halo-0 pass (A and B in place).
       const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
-      d.ops.push_back(
-          map_op(reaction_kernel,
-                 p_->keep(ReactParams{{Table1Constants::kGrayScottF, Table1Constants::kGrayScottK,
-                                       Table1Constants::kRdStep},
-                                      ba,
-                                      bb}),
-                 0, {ba, bb}, {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
+      d.ops.push_back(map_op(reaction_kernel, p_->keep(ReactParams{p_->reaction, ba, bb}), 0,
+                             {ba, bb}, {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
       d.name += "+react";
     }
     plan_->add_pass(std::move(d));

@@ -1,0 +1,122 @@
+#pragma once
+// The Table 1 scenes' frame (fluid.scene = table1; seed 000 section 7.2, bench/README.md): Stam's
+// stable fluid in a free-slip box stirred by four turning splats, alone (`table1`) or with
+// Gray-Scott reaction-diffusion riding on it (`table1-ard`), built once as a FramePlan of fused
+// passes and run by the Engine (host/engine/engine.h) every frame, under one of three schedules
+// of the same kernels (PlanSchedule, host/engine/frame_plan.h):
+//   serial  - whole-grid reference: every stage a global loop on the calling thread, no tiling;
+//   stream  - Cell-faithful: every solver sweep streams the tiles through the local stores
+//             (threads back end); the RD work is fused into passes the fluid makes anyway
+//             (reaction with the sources pass, A's and B's diffusion sweeps in store with
+//             the projections' divergence passes, their advection with the dye's);
+//   blocked - ghost-zone temporal blocking: each solve loads its tile with a halo of its sweeps
+//             once, sweeps in store and writes the core once; the projection (divergence,
+//             solve, gradient) is one pass.
+// All three give the same fields bit for bit (tests/host/engine/tiling_parity_test.cpp). On an
+// OpenCL device the same frame runs as OpenClStamFrame's kernels (kernels/cl/
+// opencl_stam_frame.h), its stream or blocked schedule, fields resident on the device.
+//
+// The plan reads the scene's dt, fluid.viscosity, fluid.dye_diffusion, the Jacobi sweeps of its
+// solvers and, with RD, the Gray-Scott F and k, rd.dt and the diffusion rates;
+// table1_config_problem names any other setting it cannot run.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "host/config/scene_config.h"
+#include "host/config/sim_state.h"
+#include "host/engine/frame_plan.h"
+#include "kernels/stam_sweeps.h"
+#include "runtime/backend.h"
+
+namespace ardcell {
+
+class OpenClKernels;
+class OpenClStamFrame;
+
+// The Table 1 workload's fixed parts (bench/README.md): its splats and the traffic figures.
+struct Table1Constants {
+  static constexpr int kSplats = 4;
+  static constexpr float kSplatForce = 0.1f, kSplatDye = 0.1f;
+  // Bytes per cell per frame a sweep-by-sweep implementation must move (each stage reads its
+  // inputs once and writes its outputs once, float32); the bytes_per_s counter's numerator.
+  static constexpr double kFluidBytesPerCell = 1328;
+  static constexpr double kRdBytesPerCell = 520;
+};
+
+// "" when the Table 1 plan can run `config` (fluid.scene table1), else one line naming the first
+// setting it cannot and what it expects.
+std::string table1_config_problem(const SceneConfig& config);
+
+class Table1Plan {
+ public:
+  // Runs on `backend` (stream, blocked) or on its own serial back end (serial). The scene's
+  // fields u, v, dye (and A, B with RD) are `state`'s, allocated by the caller with halo 1 and
+  // kept at the same addresses; state.step turns the splats.
+  Table1Plan(const SceneConfig& config, SimState& state, Backend& backend,
+             const PlanOptions& options);
+#if defined(ARDCELL_WITH_OPENCL)
+  // The same frame on an OpenCL device (schedule stream or blocked), fields resident there.
+  Table1Plan(const SceneConfig& config, SimState& state, OpenClKernels& cl,
+             const PlanOptions& options);
+#endif
+  ~Table1Plan();
+  Table1Plan(const Table1Plan&) = delete;
+  Table1Plan& operator=(const Table1Plan&) = delete;
+
+  // The initial conditions in state's fields (and on the device).
+  void reset();
+  // One frame (no heap allocation); on OpenCL, queued.
+  void step();
+  // OpenCL: waits for the queued frames; downloads state's fields / uploads them before the
+  // next frame. No-ops on the CPU, where the plan works on state's fields themselves.
+  void finish();
+  void download();
+  void host_wrote();
+
+  PlanSchedule schedule() const { return options_.schedule; }
+  // The CPU plan and the back end it runs on; null on OpenCL.
+  FramePlan* plan() { return plan_.get(); }
+  Backend* backend() { return backend_; }
+  std::size_t local_store_bytes() const { return options_.local_store_bytes; }
+  // The sweep-by-sweep minimum traffic of one frame (bench/README.md).
+  double bytes_per_frame() const;
+
+ private:
+  struct Fields;
+  struct Params;
+  void init(const SceneConfig& config);
+  void build();
+  void add_sources_pass(bool with_reaction);
+  struct DiffusionSpec {
+    FieldF* x;    // initial guess and right-hand side (kept)
+    FieldF* out;  // result
+    FieldF* tmp;  // ping-pong partner of out
+    const StamSweepParams* params;
+    int b;  // Stam's set_bnd kind
+  };
+  void add_diffusion(const char* name, std::span<const DiffusionSpec> solves, bool with_sources);
+  void append_residency(PassDesc& d, const DiffusionSpec& sv, const FieldF* cur, FieldF* next,
+                        int sweeps, bool whole, bool with_sources);
+  void add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out, FieldF& v_out,
+                      int pressure_pass_with_rider);
+  void add_rd_diffusion_pass();
+
+  SimState& state_;
+  PlanOptions options_;
+  Int2 grid_{};
+  bool rd_ = false;
+  int sweeps_ = 20;  // Jacobi sweeps of every solve
+  std::unique_ptr<Fields> f_;
+  std::unique_ptr<Params> p_;
+  std::unique_ptr<FramePlan> plan_;
+  std::unique_ptr<Backend> serial_backend_;
+  Backend* backend_ = nullptr;
+#if defined(ARDCELL_WITH_OPENCL)
+  std::unique_ptr<OpenClStamFrame> cl_frame_;
+  bool upload_ = false;
+#endif
+};
+
+}  // namespace ardcell
