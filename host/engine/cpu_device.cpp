@@ -73,6 +73,8 @@ const char* device_op_name(DeviceOp op) {
       return "SBDF right-hand side";
     case DeviceOp::kEtdrk4:
       return "ETDRK4 step (FFT)";
+    case DeviceOp::kStamJacobi:
+      return "Stam's Jacobi sweeps";
     case DeviceOp::kCount:
       break;
   }
@@ -126,6 +128,19 @@ void CpuDevice::swap(FieldF& a, FieldF& b) { std::swap(a, b); }
 
 void CpuDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
   ardcell::fill_boundary(f.view(), f.size(), fill);
+}
+
+void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
+                                   const StamSweepParams& p, const BoundaryFill& fill) {
+  FieldF* cur = &a;
+  FieldF* next = &b;
+  for (int s = 0; s < sweeps; ++s) {
+    for_bands(a.size(), [&](Box2 rows) {
+      ardcell::stam_jacobi_sweep(rhs.view(), cur->view(), next->view(), rows, p);
+    });
+    ardcell::fill_boundary(next->view(), next->size(), fill);
+    std::swap(cur, next);
+  }
 }
 
 void CpuDevice::fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) {

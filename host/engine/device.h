@@ -26,6 +26,7 @@
 #include "kernels/reaction.h"
 #include "kernels/reaction_table.h"
 #include "kernels/sources.h"
+#include "kernels/stam_sweeps.h"
 #include "runtime/boundary.h"
 #include "runtime/field.h"
 
@@ -67,6 +68,7 @@ enum class DeviceOp : uint8_t {
   kReactionTrapezoidal,
   kSbdfRhs,
   kEtdrk4,
+  kStamJacobi,
   kCount
 };
 const char* device_op_name(DeviceOp op);
@@ -147,6 +149,12 @@ class Device {
   // Puts `missing` mass back with weights (q - lo)(hi - q), clamped to [lo, hi]
   // (host/engine/fluid_step.cpp says why).
   virtual void restore_mass(FieldF& f, double missing, float lo, float hi) = 0;
+
+  // Stam's constant-coefficient Jacobi sweeps (kernels/stam_sweeps.h; the Table 1 plan's
+  // solves): `sweeps` sweeps from a with right-hand side rhs, ping-ponging between a and b,
+  // each followed by `fill`; the result in a (sweeps even) or b (odd), as FramePlan's Jacobi op.
+  virtual void stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
+                                  const StamSweepParams& p, const BoundaryFill& fill) = 0;
 
   // --- linear systems (kernels/linear_solver.h): improves x towards A x = b. The operator's
   // coefficients are host data (assembled by the stage; host_wrote(op) after a change).
@@ -249,6 +257,8 @@ class CpuDevice final : public Device {
                           std::span<FieldF* const> q, const AdvectParams& p, bool mac) override;
   FieldRange range(const FieldF& f) override;
   void restore_mass(FieldF& f, double missing, float lo, float hi) override;
+  void stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
+                          const StamSweepParams& p, const BoundaryFill& fill) override;
 
   SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                     FieldF& x) override;

@@ -67,14 +67,8 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
       for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF(config_.size, 1);
     PlanOptions plan = options.plan;
     if (options.backend == EngineOptions::Backend::kSerial) plan.schedule = PlanSchedule::kSerial;
-      // Throws std::invalid_argument with one line naming a setting the plan cannot run.
-#if defined(ARDCELL_WITH_OPENCL)
-    if (options.backend == EngineOptions::Backend::kOpenCl)
-      solvers_->table1 = std::make_unique<Table1Plan>(
-          config_, state_, static_cast<OpenClDevice&>(*device_).kernels(), plan);
-#endif
-    if (!solvers_->table1)
-      solvers_->table1 = std::make_unique<Table1Plan>(config_, state_, *backend_, plan);
+    // Throws std::invalid_argument with one line naming a setting the plan cannot run.
+    solvers_->table1 = std::make_unique<Table1Plan>(config_, state_, *backend_, *device_, plan);
     reset();
     return;
   }
@@ -95,6 +89,7 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
 Engine::~Engine() = default;
 
 const char* Engine::backend_name() const {
+  // A plan's serial schedule runs on a serial back end of its own.
   if (solvers_->table1 && solvers_->table1->backend()) return solvers_->table1->backend()->name();
   return device_->fields_on_host() ? backend_->name() : device_->name();
 }
@@ -127,34 +122,23 @@ auto among(std::span<const std::string_view> fields) {
 // The non-const forms hand the fields to a caller that may write them (painting, a loaded
 // state): a multistep RD scheme then starts again from A and B as they will be.
 SimState& Engine::state() {
-  if (Table1Plan* t = solvers_->table1.get()) {
-    t->download();
-    t->host_wrote();
-    return state_;
-  }
   sync_fields(*device_, state_, kEveryField, true);
   if (solvers_->rd) solvers_->rd->restart();
   return state_;
 }
 
 const SimState& Engine::state() const {
-  if (solvers_->table1) {
-    solvers_->table1->download();
-    return state_;
-  }
   sync_fields(*device_, state_, kEveryField, false);
   return state_;
 }
 
 SimState& Engine::state(std::span<const std::string_view> fields) {
-  if (solvers_->table1) return state();  // the plan's fields move together
   sync_fields(*device_, state_, among(fields), true);
   if (solvers_->rd && (among(fields)("A") || among(fields)("B"))) solvers_->rd->restart();
   return state_;
 }
 
 const SimState& Engine::state(std::span<const std::string_view> fields) const {
-  if (solvers_->table1) return state();
   sync_fields(*device_, state_, among(fields), false);
   return state_;
 }
@@ -282,10 +266,7 @@ void Engine::step() {
   ++state_.step;
 }
 
-void Engine::finish() {
-  if (solvers_->table1) solvers_->table1->finish();
-  device_->finish();
-}
+void Engine::finish() { device_->finish(); }
 
 void Engine::step_without_rd() {
   // A plan's RD rides in its fluid passes: the whole frame.

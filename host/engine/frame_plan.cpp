@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "host/engine/device.h"
 #include "runtime/check.h"
 #include "runtime/dma.h"
 #include "runtime/local_store.h"
@@ -33,6 +34,8 @@ struct FramePlan::PassProgram {
   std::array<FieldF*, kMaxBuffers> whole{};
   std::array<const FieldF*, kMaxBuffers> copy_from{};
   std::vector<std::unique_ptr<FieldF>> scratch;
+  // run(Device&): ops without a device twin that said so already.
+  mutable std::array<bool, 16> said_cpu{};
 
   Box2 buffer_box(const Tile& t, int i) const {
     return TilePlan::written_box(t, grid, field_halo)
@@ -56,26 +59,27 @@ struct FramePlan::PassProgram {
   }
 
   void run_ops(std::span<const View<float>> views, const Tile* tile) const {
-    for (const PassOpDesc& op : desc.ops) {
-      if (op.kind == PassOpDesc::Kind::kMap) {
-        const Box2 region = tile ? grow_clip(tile->core, op.reach, grid) : box_of_size(grid);
-        op.map(op.params, views, region);
-        for (int j = 0; j < 4 && op.fill_buffers[std::size_t(j)] >= 0; ++j) {
-          const View<float>& v = views[std::size_t(op.fill_buffers[std::size_t(j)])];
-          fill_boundary(v.crop(region.grown(1).intersected(v.box())), grid,
-                        op.fills[std::size_t(j)]);
-        }
-      } else {
-        int cur = op.a, other = op.b;
-        for (int s = 1; s <= op.sweeps; ++s) {
-          const Box2 region =
-              tile ? TilePlan::sweep_region(*tile, grid, op.sweeps + op.extra_reach, s)
-                   : box_of_size(grid);
-          const View<float>& out = views[std::size_t(other)];
-          op.sweep(op.params, views[std::size_t(cur)], views[std::size_t(op.rhs)], out, region);
-          fill_boundary(out.crop(region.grown(1).intersected(out.box())), grid, op.fill);
-          std::swap(cur, other);
-        }
+    for (const PassOpDesc& op : desc.ops) run_op(op, views, tile);
+  }
+
+  void run_op(const PassOpDesc& op, std::span<const View<float>> views, const Tile* tile) const {
+    if (op.kind == PassOpDesc::Kind::kMap) {
+      const Box2 region = tile ? grow_clip(tile->core, op.reach, grid) : box_of_size(grid);
+      op.map(op.params, views, region);
+      for (int j = 0; j < 4 && op.fill_buffers[std::size_t(j)] >= 0; ++j) {
+        const View<float>& v = views[std::size_t(op.fill_buffers[std::size_t(j)])];
+        fill_boundary(v.crop(region.grown(1).intersected(v.box())), grid, op.fills[std::size_t(j)]);
+      }
+    } else {
+      int cur = op.a, other = op.b;
+      for (int s = 1; s <= op.sweeps; ++s) {
+        const Box2 region = tile
+                                ? TilePlan::sweep_region(*tile, grid, op.sweeps + op.extra_reach, s)
+                                : box_of_size(grid);
+        const View<float>& out = views[std::size_t(other)];
+        op.sweep(op.params, views[std::size_t(cur)], views[std::size_t(op.rhs)], out, region);
+        fill_boundary(out.crop(region.grown(1).intersected(out.box())), grid, op.fill);
+        std::swap(cur, other);
       }
     }
   }
@@ -90,6 +94,43 @@ struct FramePlan::PassProgram {
       views[std::size_t(i)] = p.whole[std::size_t(i)]->view();
     }
     p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), nullptr);
+  }
+
+  // The whole-field form on a Device: each op's twin, or the CPU op with the pass's fields
+  // brought to the host and handed back.
+  void run_on(Device& device) const {
+    std::span<FieldF* const> fields(whole.data(), std::size_t(nbuf));
+    for (int i = 0; i < nbuf; ++i)
+      if (copy_from[std::size_t(i)])
+        device.copy(*copy_from[std::size_t(i)], *whole[std::size_t(i)]);
+    for (std::size_t o = 0; o < desc.ops.size(); ++o) {
+      const PassOpDesc& op = desc.ops[o];
+      const bool twin =
+          op.kind == PassOpDesc::Kind::kMap ? op.device != nullptr : op.device_sweeps != nullptr;
+      if (!twin) {
+        if (o < said_cpu.size() && !said_cpu[o]) {
+          said_cpu[o] = true;
+          std::fprintf(stderr,
+                       "ardcell: %s: frame plan pass '%s' op %zu runs on the CPU (no %s twin)\n",
+                       device.name(), desc.name.c_str(), o, device.name());
+        }
+        for (FieldF* f : fields) device.sync_to_host(*f);
+        std::array<View<float>, kMaxBuffers> views;
+        for (int i = 0; i < nbuf; ++i) views[std::size_t(i)] = whole[std::size_t(i)]->view();
+        run_op(op, std::span<const View<float>>(views.data(), std::size_t(nbuf)), nullptr);
+        for (FieldF* f : fields) device.host_wrote(*f);
+        continue;
+      }
+      if (op.kind == PassOpDesc::Kind::kMap) {
+        op.device(op.params, device, fields);
+        for (int j = 0; j < 4 && op.fill_buffers[std::size_t(j)] >= 0; ++j)
+          device.fill_boundary(*whole[std::size_t(op.fill_buffers[std::size_t(j)])],
+                               op.fills[std::size_t(j)]);
+      } else {
+        op.device_sweeps(op.params, device, *whole[std::size_t(op.rhs)], *whole[std::size_t(op.a)],
+                         *whole[std::size_t(op.b)], op.sweeps, op.fill);
+      }
+    }
   }
 
   static void fetch(const void* self, const Tile& t, int slot, WorkerContext& ctx) {
@@ -144,7 +185,9 @@ int FramePlan::add_pass(PassDesc desc) {
       const int k = op.sweeps + op.extra_reach;
       if (ba.halo < k || bb.halo < k || br.halo < k - 1)
         bad_pass(desc.name, "Jacobi buffers need halo >= sweeps (rhs: sweeps - 1)");
-      p->written[std::size_t(op.a)] = p->written[std::size_t(op.b)] = true;
+      // One sweep only reads a: the whole-field form can then read its field in place.
+      if (op.sweeps >= 2) p->written[std::size_t(op.a)] = true;
+      p->written[std::size_t(op.b)] = true;
       max_sweeps = std::max(max_sweeps, op.sweeps);
     }
   }
@@ -219,6 +262,11 @@ void FramePlan::run(Backend& backend) {
       start = now;
     }
   }
+  ++runs_;
+}
+
+void FramePlan::run(Device& device) {
+  for (const auto& p : passes_) p->run_on(device);
   ++runs_;
 }
 

@@ -19,6 +19,10 @@
 //            a (sweeps even) or b.
 // On the serial back end the same ops run once over whole fields (the reference): each buffer
 // is then a whole field (its dst, or its src when read only, or a scratch field of the plan).
+// On a Device that keeps its own fields (OpenCL), run(Device&) replays that whole-field form
+// with each op's device twin (`device` / `device_sweeps`: the op as Device ops,
+// host/engine/device.h); an op without one runs on the CPU on whole fields, its pass's fields
+// moving to the host and back, and says so once on stderr.
 //
 // Per-pass timings accumulate in fixed arrays (no allocation), printable with print_stats.
 #include <array>
@@ -45,6 +49,15 @@ using MapKernel = void (*)(const void* params, std::span<const View<float>> buff
 using SweepKernel = void (*)(const void* params, View<const float> x, View<const float> rhs,
                              View<float> out, Box2 region);
 
+class Device;
+// The op's twin on a Device, over whole fields: fields[i] is the i-th buffer's whole field; a
+// map twin covers the interior (its fills follow), a sweep twin runs `sweeps` sweeps with their
+// fills, the result in a (sweeps even) or b.
+using DeviceMapKernel = void (*)(const void* params, Device& device,
+                                 std::span<FieldF* const> fields);
+using DeviceSweepKernel = void (*)(const void* params, Device& device, const FieldF& rhs, FieldF& a,
+                                   FieldF& b, int sweeps, const BoundaryFill& fill);
+
 struct PassBufferDesc {
   const FieldF* src = nullptr;  // fetched from here (null: not fetched)
   FieldF* dst = nullptr;        // written box put here (null: not written back)
@@ -58,12 +71,14 @@ struct PassOpDesc {
   const void* params = nullptr;
   // kMap
   MapKernel map = nullptr;
+  DeviceMapKernel device = nullptr;  // null: runs on the CPU under run(Device&)
   int reach = 0;
   std::array<int8_t, 4> writes{-1, -1, -1, -1};        // buffers the kernel writes
   std::array<int8_t, 4> fill_buffers{-1, -1, -1, -1};  // buffers refilled after the op
   std::array<BoundaryFill, 4> fills{};
   // kJacobi
   SweepKernel sweep = nullptr;
+  DeviceSweepKernel device_sweeps = nullptr;
   int8_t a = -1, b = -1, rhs = -1;
   int sweeps = 1;
   int extra_reach =
@@ -121,6 +136,9 @@ class FramePlan {
   int add_pass(PassDesc desc);
   // Runs every pass in order on `backend` (one frame). No allocation.
   void run(Backend& backend);
+  // The same frame on `device`'s own fields, whole-field, op by op (queued on a device that
+  // queues). No allocation once every field has its device copy.
+  void run(Device& device);
 
   int pass_count() const { return int(passes_.size()); }
   const Pass& pass(int i) const;

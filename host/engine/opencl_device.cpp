@@ -234,6 +234,35 @@ void OpenClDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
   cl_->subtract_gradient(dp, du, out(v), box_of_size(p.size()), params);
 }
 
+void OpenClDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
+                                      const StamSweepParams& p, const BoundaryFill& fill) {
+  const DeviceField& r = in(rhs);
+  DeviceField* cur = &out(a);  // uploaded if the host wrote it; its ghosts are rewritten below
+  DeviceField* next = &out(b);
+  bool periodic = false;
+  for (const EdgeFill& e : {fill.left, fill.right, fill.bottom, fill.top})
+    periodic = periodic || e.rule == EdgeRule::kPeriodic;
+  const bool blocked = sweeps > 1 && !periodic;
+  const int per_launch = blocked ? cl_->blocked_sweeps(sweeps) : 1;
+  const Int2 tile = blocked ? cl_->blocked_tile(per_launch) : Int2{};
+  if (!blocked || tile.x == 0) {
+    for (int s = 0; s < sweeps; ++s) {
+      cl_->stam_jacobi_sweep(r, *cur, *next, box_of_size(a.size()), p);
+      cl_->fill_boundary(*next, fill);
+      std::swap(cur, next);
+    }
+    return;
+  }
+  int launches = 0;
+  for (int done = 0; done < sweeps; done += per_launch, ++launches) {
+    cl_->stam_jacobi_blocked(r, *cur, *next, std::min(per_launch, sweeps - done), p, fill, tile);
+    std::swap(cur, next);
+  }
+  // The result is in `cur`; the op's contract puts it in a (sweeps even) or b (odd).
+  DeviceField& want = sweeps % 2 == 0 ? out(a) : out(b);
+  if (cur != &want) cl_->copy_field(*cur, want);
+}
+
 void OpenClDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                                    const AdvectParams& p) {
   const DeviceField& du0 = in(u0);
@@ -247,6 +276,12 @@ void OpenClDevice::advect_scalars(std::span<const FieldF* const> q0, const Field
                                   const AdvectParams& p) {
   const DeviceField& du = in(u);
   const DeviceField& dv = in(v);
+  if (q.size() == 3) {  // the dye, A and B: one back-trace, as the CPU's advect_fields
+    const DeviceField &a = in(*q0[0]), &b = in(*q0[1]), &c = in(*q0[2]);
+    DeviceField &oa = out(*q[0]), &ob = out(*q[1]);
+    cl_->advect_scalar3(a, b, c, du, dv, oa, ob, out(*q[2]), box_of_size(q[0]->size()), p);
+    return;
+  }
   // One kernel per field: each recomputes the back-trace, which is cheap beside the gathers.
   for (std::size_t i = 0; i < q.size(); ++i) {
     const DeviceField& dq0 = in(*q0[i]);

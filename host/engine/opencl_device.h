@@ -74,6 +74,10 @@ class OpenClDevice final : public Device {
                           std::span<FieldF* const> q, const AdvectParams& p, bool mac) override;
   FieldRange range(const FieldF& f) override;
   void restore_mass(FieldF& f, double missing, float lo, float hi) override;
+  // One launch a sweep, or (sweeps > 1, a fill that is not periodic) ghost-zone temporal
+  // blocking in __local memory, as many sweeps a launch as the local memory holds.
+  void stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
+                          const StamSweepParams& p, const BoundaryFill& fill) override;
 
   SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                     FieldF& x) override;

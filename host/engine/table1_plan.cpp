@@ -5,20 +5,19 @@
 #include <span>
 #include <stdexcept>
 
+#include "host/engine/device.h"
 #include "kernels/advect.h"
 #include "kernels/project.h"
 #include "kernels/reaction.h"
 #include "kernels/sources.h"
 #include "kernels/stam_sweeps.h"
 #include "runtime/check.h"
-#if defined(ARDCELL_WITH_OPENCL)
-#include "kernels/cl/opencl_stam_frame.h"
-#endif
 
 namespace ardcell {
 namespace {
 
 using Bufs = std::span<const View<float>>;
+using WholeFields = std::span<FieldF* const>;  // a device twin's fields
 // Stream: sweeps of A's (B's) diffusion per residency riding on a projection pass.
 constexpr int kRiderSweeps = 5;
 constexpr float kPi = 3.14159265358979f;
@@ -53,6 +52,11 @@ void sources_kernel(const void* params, Bufs b, Box2 region) {
   for (int i = 0; i < Table1Constants::kSplats; ++i)
     add_splat(b[std::size_t(p.buf)], region, table1_splat(p.grid, p.component, i, *p.frame));
 }
+void sources_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const SourceParams*>(params);
+  for (int i = 0; i < Table1Constants::kSplats; ++i)
+    dev.add_splat(*f[std::size_t(p.buf)], table1_splat(p.grid, p.component, i, *p.frame));
+}
 
 struct ReactParams {
   GrayScottImplicitParams gs;
@@ -62,6 +66,14 @@ void reaction_kernel(const void* params, Bufs b, Box2 region) {
   const auto& p = *static_cast<const ReactParams*>(params);
   gray_scott_implicit_tile(b[std::size_t(p.a)], b[std::size_t(p.b)], b[std::size_t(p.a)],
                            b[std::size_t(p.b)], region, p.gs);
+}
+void reaction_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const ReactParams*>(params);
+  ReactionParams rp;
+  rp.model = ReactionModel::kGrayScott;
+  rp.F = p.gs.F;
+  rp.k = p.gs.k;
+  dev.reaction_implicit(*f[std::size_t(p.a)], *f[std::size_t(p.b)], rp, p.gs.dt);
 }
 
 struct CopyParams {
@@ -73,28 +85,36 @@ void copy_kernel(const void* params, Bufs b, Box2 /*region*/) {
   const View<float>& to = b[std::size_t(p.to)];
   copy_box<float>(b[std::size_t(p.from)], to, to.box());
 }
+void copy_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const CopyParams*>(params);
+  dev.copy(*f[std::size_t(p.from)], *f[std::size_t(p.to)]);
+}
 
 struct ZeroParams {
   int8_t buf = 0;
+  const FieldF* zeros = nullptr;  // the device twin copies it (a field of zeros)
 };
 void zero_kernel(const void* params, Bufs b, Box2 /*region*/) {
   const View<float>& v = b[std::size_t(static_cast<const ZeroParams*>(params)->buf)];
   for (int y = v.box().min.y; y < v.box().max.y; ++y)
     for (int x = v.box().min.x; x < v.box().max.x; ++x) v(x, y) = 0.0f;
 }
+void zero_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const ZeroParams*>(params);
+  dev.copy(*p.zeros, *f[std::size_t(p.buf)]);
+}
 
 struct DivParams {
   ProjectParams pp;
-  int8_t u = 0, v = 1, div = 2, p = -1;  // p >= 0: zeroed over region too (stream)
+  int8_t u = 0, v = 1, div = 2;
 };
 void divergence_kernel(const void* params, Bufs b, Box2 region) {
   const auto& p = *static_cast<const DivParams*>(params);
   pressure_rhs(b[std::size_t(p.u)], b[std::size_t(p.v)], b[std::size_t(p.div)], region, p.pp);
-  if (p.p >= 0) {
-    const View<float>& pv = b[std::size_t(p.p)];
-    for (int y = region.min.y; y < region.max.y; ++y)
-      for (int x = region.min.x; x < region.max.x; ++x) pv(x, y) = 0.0f;
-  }
+}
+void divergence_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const DivParams*>(params);
+  dev.pressure_rhs(*f[std::size_t(p.u)], *f[std::size_t(p.v)], *f[std::size_t(p.div)], p.pp);
 }
 
 struct GradParams {
@@ -104,6 +124,10 @@ struct GradParams {
 void gradient_kernel(const void* params, Bufs b, Box2 region) {
   const auto& p = *static_cast<const GradParams*>(params);
   subtract_gradient(b[std::size_t(p.p)], b[std::size_t(p.u)], b[std::size_t(p.v)], region, p.pp);
+}
+void gradient_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const GradParams*>(params);
+  dev.subtract_gradient(*f[std::size_t(p.p)], *f[std::size_t(p.u)], *f[std::size_t(p.v)], p.pp);
 }
 
 // Semi-Lagrangian advection of up to kMaxAdvectFields fields by (u, v), one shared back-trace
@@ -126,10 +150,31 @@ void advect_many_kernel(const void* params, Bufs b, Box2 region) {
                 std::span<const View<const float>>(in.data(), std::size_t(p.count)),
                 std::span<const View<float>>(out.data(), std::size_t(p.count)), region, p.ap);
 }
+void advect_many_on_device(const void* params, Device& dev, WholeFields f) {
+  const auto& p = *static_cast<const AdvectManyParams*>(params);
+  if (p.count == 2 && p.q0[0] == p.u && p.q0[1] == p.v) {  // self-advection of the velocity
+    dev.advect_velocity(*f[std::size_t(p.u)], *f[std::size_t(p.v)], *f[std::size_t(p.q[0])],
+                        *f[std::size_t(p.q[1])], p.ap);
+    return;
+  }
+  std::array<const FieldF*, kMaxAdvectFields> in{};
+  std::array<FieldF*, kMaxAdvectFields> out{};
+  for (int i = 0; i < p.count; ++i) {
+    in[std::size_t(i)] = f[std::size_t(p.q0[std::size_t(i)])];
+    out[std::size_t(i)] = f[std::size_t(p.q[std::size_t(i)])];
+  }
+  dev.advect_scalars(std::span<const FieldF* const>(in.data(), std::size_t(p.count)),
+                     *f[std::size_t(p.u)], *f[std::size_t(p.v)],
+                     std::span<FieldF* const>(out.data(), std::size_t(p.count)), p.ap);
+}
 
 void jacobi_kernel(const void* params, View<const float> x, View<const float> rhs, View<float> out,
                    Box2 region) {
   stam_jacobi_sweep(rhs, x, out, region, *static_cast<const StamSweepParams*>(params));
+}
+void jacobi_on_device(const void* params, Device& dev, const FieldF& rhs, FieldF& a, FieldF& b,
+                      int sweeps, const BoundaryFill& fill) {
+  dev.stam_jacobi_sweeps(rhs, a, b, sweeps, *static_cast<const StamSweepParams*>(params), fill);
 }
 
 int8_t add_buffer(PassDesc& d, const FieldF* src, FieldF* dst, int halo, bool gather = false) {
@@ -140,11 +185,13 @@ int8_t add_buffer(PassDesc& d, const FieldF* src, FieldF* dst, int halo, bool ga
   return int8_t(d.buffers.size() - 1);
 }
 
-PassOpDesc map_op(MapKernel k, const void* params, int reach, std::initializer_list<int> writes,
+PassOpDesc map_op(MapKernel k, DeviceMapKernel twin, const void* params, int reach,
+                  std::initializer_list<int> writes,
                   std::initializer_list<std::pair<int, BoundaryFill>> fills) {
   PassOpDesc op;
   op.kind = PassOpDesc::Kind::kMap;
   op.map = k;
+  op.device = twin;
   op.params = params;
   op.reach = reach;
   int i = 0;
@@ -162,6 +209,7 @@ PassOpDesc jacobi_op(const StamSweepParams* p, int8_t a, int8_t b, int8_t rhs, i
   PassOpDesc op;
   op.kind = PassOpDesc::Kind::kJacobi;
   op.sweep = jacobi_kernel;
+  op.device_sweeps = jacobi_on_device;
   op.params = p;
   op.a = a;
   op.b = b;
@@ -220,13 +268,14 @@ std::string table1_config_problem(const SceneConfig& c) {
 struct Table1Plan::Fields {
   // u, v, dye, A, B are the scene's (SimState); the rest is the plan's scratch.
   Fields(SimState& s, Int2 g, bool rd) : u(s.u), v(s.v), dye(s.dye), A(s.A), B(s.B) {
-    for (FieldF* f : {&u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div})
+    for (FieldF* f : {&u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div, &zeros})
       *f = FieldF(g, 1);
     if (rd)
       for (FieldF* f : {&A0, &B0, &tA, &tB}) *f = FieldF(g, 1);
   }
   FieldF &u, &v, &dye, &A, &B;
   FieldF u0, v0, u1, v1, dye0, tu, tv, tdye, p0, p1, div;
+  FieldF zeros;  // never written: what a device twin zeroes a field from
   FieldF A0, B0, tA, tB;
 };
 
@@ -276,12 +325,15 @@ void Table1Plan::init(const SceneConfig& config) {
   }
 }
 
-Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& backend,
+Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
                        const PlanOptions& options)
     : state_(state), options_(options) {
   init(config);
   f_ = std::make_unique<Fields>(state_, grid_, rd_);
-  if (options_.schedule == PlanSchedule::kSerial) {
+  if (!device.fields_on_host()) {
+    device_ = &device;
+    backend_ = nullptr;
+  } else if (options_.schedule == PlanSchedule::kSerial) {
     serial_backend_ = std::make_unique<SerialBackend>();
     backend_ = serial_backend_.get();
   } else {
@@ -291,43 +343,13 @@ Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& back
   po.grid = grid_;
   po.field_halo = 1;
   po.local_store_bytes = options_.local_store_bytes;
-  po.workers = backend_->workers();
+  po.workers = backend_ ? backend_->workers() : 1;
   po.max_tile_width = options_.max_tile_width;
   po.max_tile_height = options_.max_tile_height;
   plan_ = std::make_unique<FramePlan>(po);
   build();
   reset();
 }
-
-#if defined(ARDCELL_WITH_OPENCL)
-Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, OpenClKernels& cl,
-                       const PlanOptions& options)
-    : state_(state), options_(options) {
-  if (options_.schedule == PlanSchedule::kSerial)
-    throw std::invalid_argument(
-        "schedule serial is the whole-grid CPU reference; expected stream or blocked on OpenCL");
-  init(config);
-  ClStamFrameParams c;
-  c.grid = grid_;
-  c.rd = rd_;
-  c.sweeps = sweeps_;
-  c.viscosity = p_->viscosity;
-  c.dye_diffusion = p_->dye_diffusion;
-  c.pressure = p_->pressure;
-  c.rd_a = p_->rd_a;
-  c.rd_b = p_->rd_b;
-  c.project = p_->project;
-  c.advect = p_->advect;
-  c.reaction = p_->reaction;
-  c.splats = Table1Constants::kSplats;
-  c.splat = &table1_splat;
-  cl_frame_ = std::make_unique<OpenClStamFrame>(
-      cl, c,
-      options_.schedule == PlanSchedule::kStream ? ClSchedule::kStream : ClSchedule::kBlocked,
-      options_.sweeps_per_residency);
-  reset();
-}
-#endif
 
 Table1Plan::~Table1Plan() = default;
 
@@ -362,58 +384,21 @@ void Table1Plan::reset() {
     if (rd_)
       for (FieldF* x : {&f.A0, &f.B0, &f.tA, &f.tB}) x->fill(0.0f);
   }
-#if defined(ARDCELL_WITH_OPENCL)
-  if (cl_frame_) {
-    host_wrote();
-    cl_frame_->set_frame(s.step);
+  if (device_) {  // the device takes the new fields before the next frame
+    Fields& f = *f_;
+    for (FieldF* x : {&s.u, &s.v, &s.dye, &f.u0, &f.v0, &f.u1, &f.v1, &f.dye0, &f.tu, &f.tv,
+                      &f.tdye, &f.p0, &f.p1, &f.div})
+      device_->host_wrote(*x);
+    if (rd_)
+      for (FieldF* x : {&s.A, &s.B, &f.A0, &f.B0, &f.tA, &f.tB}) device_->host_wrote(*x);
   }
-#endif
 }
 
 void Table1Plan::step() {
-#if defined(ARDCELL_WITH_OPENCL)
-  if (cl_frame_) {
-    if (upload_) {
-      cl_frame_->upload(ClField::kU, state_.u);
-      cl_frame_->upload(ClField::kV, state_.v);
-      cl_frame_->upload(ClField::kDye, state_.dye);
-      if (rd_) {
-        cl_frame_->upload(ClField::kA, state_.A);
-        cl_frame_->upload(ClField::kB, state_.B);
-      }
-      upload_ = false;
-    }
-    cl_frame_->set_frame(state_.step);
-    cl_frame_->step();
-    return;
-  }
-#endif
-  plan_->run(*backend_);
-}
-
-void Table1Plan::finish() {
-#if defined(ARDCELL_WITH_OPENCL)
-  if (cl_frame_) cl_frame_->finish();
-#endif
-}
-
-void Table1Plan::download() {
-#if defined(ARDCELL_WITH_OPENCL)
-  if (!cl_frame_ || upload_) return;  // the host holds the current fields
-  cl_frame_->download(ClField::kU, state_.u);
-  cl_frame_->download(ClField::kV, state_.v);
-  cl_frame_->download(ClField::kDye, state_.dye);
-  if (rd_) {
-    cl_frame_->download(ClField::kA, state_.A);
-    cl_frame_->download(ClField::kB, state_.B);
-  }
-#endif
-}
-
-void Table1Plan::host_wrote() {
-#if defined(ARDCELL_WITH_OPENCL)
-  if (cl_frame_) upload_ = true;
-#endif
+  if (device_)
+    plan_->run(*device_);
+  else
+    plan_->run(*backend_);
 }
 
 // Sources (stream, serial, and blocked with several residencies per solve): u, v, dye in place,
@@ -427,14 +412,14 @@ void Table1Plan::add_sources_pass(bool with_reaction) {
   int comp = 0;
   for (int8_t buf : {bu, bv, bd}) {
     const auto* sp = p_->keep(SourceParams{comp, buf, grid_, &state_.step});
-    d.ops.push_back(map_op(sources_kernel, sp, 0, {buf},
+    d.ops.push_back(map_op(sources_kernel, sources_on_device, sp, 0, {buf},
                            {{buf, BoundaryFill::stam(comp == 2 ? 0 : comp + 1)}}));
     ++comp;
   }
   if (with_reaction) {
     const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
     const auto* rp = p_->keep(ReactParams{p_->reaction, ba, bb});
-    d.ops.push_back(map_op(reaction_kernel, rp, 0, {ba, bb},
+    d.ops.push_back(map_op(reaction_kernel, reaction_on_device, rp, 0, {ba, bb},
                            {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
   }
   plan_->add_pass(std::move(d));
@@ -479,9 +464,10 @@ void Table1Plan::append_residency(PassDesc& d, const DiffusionSpec& sv, const Fi
     if (with_sources) {
       const int comp = sv.b == 1 ? 0 : sv.b == 2 ? 1 : 2;
       const auto* sp = p_->keep(SourceParams{comp, rhs, grid_, &state_.step});
-      d.ops.push_back(map_op(sources_kernel, sp, sweeps, {rhs}, {{rhs, BoundaryFill::stam(sv.b)}}));
+      d.ops.push_back(map_op(sources_kernel, sources_on_device, sp, sweeps, {rhs},
+                             {{rhs, BoundaryFill::stam(sv.b)}}));
     }
-    d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    d.ops.push_back(map_op(copy_kernel, copy_on_device, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
     d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
   } else {
     const int8_t a = add_buffer(d, cur, sweeps % 2 == 0 ? next : nullptr, sweeps);
@@ -509,13 +495,16 @@ void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& 
     const int8_t bdiv = add_buffer(d, nullptr, nullptr, k);
     const int8_t pa = add_buffer(d, nullptr, nullptr, k + 1),
                  pb = add_buffer(d, nullptr, nullptr, k + 1);
-    d.ops.push_back(map_op(divergence_kernel, p_->keep(DivParams{p_->project, bu, bv, bdiv, -1}), k,
-                           {bdiv}, {{bdiv, BoundaryFill::stam(0)}}));
-    d.ops.push_back(map_op(zero_kernel, p_->keep(ZeroParams{pa}), 0, {pa}, {}));
+    d.ops.push_back(map_op(divergence_kernel, divergence_on_device,
+                           p_->keep(DivParams{p_->project, bu, bv, bdiv}), k, {bdiv},
+                           {{bdiv, BoundaryFill::stam(0)}}));
+    d.ops.push_back(
+        map_op(zero_kernel, zero_on_device, p_->keep(ZeroParams{pa, &f.zeros}), 0, {pa}, {}));
     d.ops.push_back(jacobi_op(&p_->pressure, pa, pb, bdiv, k, 1, 0));
     const int8_t pres = k % 2 == 0 ? pa : pb;
-    d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, pres, bu, bv}), 0,
-                           {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+    d.ops.push_back(map_op(gradient_kernel, gradient_on_device,
+                           p_->keep(GradParams{p_->project, pres, bu, bv}), 0, {bu, bv},
+                           {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
     plan_->add_pass(std::move(d));
     return;
   }
@@ -544,9 +533,11 @@ void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& 
       rhs = add_buffer(d, nullptr, &f.div, sweeps + reach);
       a = add_buffer(d, nullptr, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
       b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
-      d.ops.push_back(map_op(divergence_kernel, p_->keep(DivParams{p_->project, bu, bv, rhs, -1}),
-                             sweeps + reach, {rhs}, {{rhs, BoundaryFill::stam(0)}}));
-      d.ops.push_back(map_op(zero_kernel, p_->keep(ZeroParams{a}), 0, {a}, {}));
+      d.ops.push_back(map_op(divergence_kernel, divergence_on_device,
+                             p_->keep(DivParams{p_->project, bu, bv, rhs}), sweeps + reach, {rhs},
+                             {{rhs, BoundaryFill::stam(0)}}));
+      d.ops.push_back(
+          map_op(zero_kernel, zero_on_device, p_->keep(ZeroParams{a, &f.zeros}), 0, {a}, {}));
     } else {
       a = add_buffer(d, cur, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
       b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
@@ -556,8 +547,9 @@ void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& 
     if (last) {
       const int8_t bu = add_buffer(d, &u, &u_out, 0), bv = add_buffer(d, &v, &v_out, 0);
       const int8_t pres = sweeps % 2 == 0 ? a : b;
-      d.ops.push_back(map_op(gradient_kernel, p_->keep(GradParams{p_->project, pres, bu, bv}), 0,
-                             {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
+      d.ops.push_back(map_op(gradient_kernel, gradient_on_device,
+                             p_->keep(GradParams{p_->project, pres, bu, bv}), 0, {bu, bv},
+                             {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
     }
     // The RD rider: the chemical's 20 sweeps in residencies of kRiderSweeps on every
     // (kRiderSweeps)-th pass (a small halo keeps the ghost zone of a 256 KiB store's tiles
@@ -590,7 +582,7 @@ void Table1Plan::add_rd_diffusion_pass() {
     const int8_t rhs = which == 0 ? ra : rb;
     const int8_t a = add_buffer(d, nullptr, which == 0 ? &f.A0 : &f.B0, k);
     const int8_t b = add_buffer(d, nullptr, nullptr, k);
-    d.ops.push_back(map_op(copy_kernel, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    d.ops.push_back(map_op(copy_kernel, copy_on_device, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
     d.ops.push_back(jacobi_op(which == 0 ? &p_->rd_a : &p_->rd_b, a, b, rhs, k, 0, 0));
   }
   plan_->add_pass(std::move(d));
@@ -625,14 +617,15 @@ void Table1Plan::build() {
     const int8_t u1 = add_buffer(d, &f.u1, nullptr, 0, true),
                  v1 = add_buffer(d, &f.v1, nullptr, 0, true);
     const int8_t bu = add_buffer(d, nullptr, &f.u0, 0), bv = add_buffer(d, nullptr, &f.v0, 0);
-    d.ops.push_back(map_op(advect_many_kernel,
+    d.ops.push_back(map_op(advect_many_kernel, advect_many_on_device,
                            p_->keep(AdvectManyParams{p_->advect, u1, v1, 2, {u1, v1}, {bu, bv}}), 0,
                            {bu, bv}, {{bu, BoundaryFill::stam(1)}, {bv, BoundaryFill::stam(2)}}));
     if (rd && one_residency) {
       // The reaction rides on this halo-0 pass (A and B in place).
       const int8_t ba = add_buffer(d, &f.A, &f.A, 0), bb = add_buffer(d, &f.B, &f.B, 0);
-      d.ops.push_back(map_op(reaction_kernel, p_->keep(ReactParams{p_->reaction, ba, bb}), 0,
-                             {ba, bb}, {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
+      d.ops.push_back(map_op(reaction_kernel, reaction_on_device,
+                             p_->keep(ReactParams{p_->reaction, ba, bb}), 0, {ba, bb},
+                             {{ba, BoundaryFill::stam(0)}, {bb, BoundaryFill::stam(0)}}));
       d.name += "+react";
     }
     plan_->add_pass(std::move(d));
@@ -666,7 +659,7 @@ void Table1Plan::build() {
       ap.q[2] = add_buffer(d, nullptr, &f.B, 0);
       ap.count = 3;
     }
-    d.ops.push_back(map_op(advect_many_kernel, p_->keep(ap), 0,
+    d.ops.push_back(map_op(advect_many_kernel, advect_many_on_device, p_->keep(ap), 0,
                            {ap.q[0], rd ? ap.q[1] : -1, rd ? ap.q[2] : -1},
                            {{ap.q[0], BoundaryFill::stam(0)},
                             {rd ? ap.q[1] : -1, BoundaryFill::stam(0)},

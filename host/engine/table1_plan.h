@@ -12,9 +12,10 @@
 //   blocked - ghost-zone temporal blocking: each solve loads its tile with a halo of its sweeps
 //             once, sweeps in store and writes the core once; the projection (divergence,
 //             solve, gradient) is one pass.
-// All three give the same fields bit for bit (tests/host/engine/tiling_parity_test.cpp). On an
-// OpenCL device the same frame runs as OpenClStamFrame's kernels (kernels/cl/
-// opencl_stam_frame.h), its stream or blocked schedule, fields resident on the device.
+// All three give the same fields bit for bit (tests/host/engine/tiling_parity_test.cpp). On a
+// device with fields of its own (OpenCL) the same plan runs whole-field, each op as its Device
+// twin (FramePlan::run(Device&)), the fields resident on the device; its Jacobi ops run one sweep
+// a launch (stream, serial) or as many as the local memory holds (blocked).
 //
 // The plan reads the scene's dt, fluid.viscosity, fluid.dye_diffusion, the Jacobi sweeps of its
 // solvers and, with RD, the Gray-Scott F and k, rd.dt and the diffusion rates;
@@ -32,8 +33,7 @@
 
 namespace ardcell {
 
-class OpenClKernels;
-class OpenClStamFrame;
+class Device;
 
 // The Table 1 workload's fixed parts (bench/README.md): its splats and the traffic figures.
 struct Table1Constants {
@@ -51,33 +51,24 @@ std::string table1_config_problem(const SceneConfig& config);
 
 class Table1Plan {
  public:
-  // Runs on `backend` (stream, blocked) or on its own serial back end (serial). The scene's
-  // fields u, v, dye (and A, B with RD) are `state`'s, allocated by the caller with halo 1 and
-  // kept at the same addresses; state.step turns the splats.
-  Table1Plan(const SceneConfig& config, SimState& state, Backend& backend,
+  // Runs on `backend` (stream, blocked) or on its own serial back end (serial), or on `device`
+  // when the device keeps fields of its own. The scene's fields u, v, dye (and A, B with RD) are
+  // `state`'s, allocated by the caller with halo 1 and kept at the same addresses; state.step
+  // turns the splats.
+  Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
              const PlanOptions& options);
-#if defined(ARDCELL_WITH_OPENCL)
-  // The same frame on an OpenCL device (schedule stream or blocked), fields resident there.
-  Table1Plan(const SceneConfig& config, SimState& state, OpenClKernels& cl,
-             const PlanOptions& options);
-#endif
   ~Table1Plan();
   Table1Plan(const Table1Plan&) = delete;
   Table1Plan& operator=(const Table1Plan&) = delete;
 
-  // The initial conditions in state's fields (and on the device).
+  // The initial conditions in state's fields (handed to the device).
   void reset();
-  // One frame (no heap allocation); on OpenCL, queued.
+  // One frame (no heap allocation); on a device, queued.
   void step();
-  // OpenCL: waits for the queued frames; downloads state's fields / uploads them before the
-  // next frame. No-ops on the CPU, where the plan works on state's fields themselves.
-  void finish();
-  void download();
-  void host_wrote();
 
   PlanSchedule schedule() const { return options_.schedule; }
-  // The CPU plan and the back end it runs on; null on OpenCL.
   FramePlan* plan() { return plan_.get(); }
+  // The back end the plan runs on; null when it runs on a device's own fields.
   Backend* backend() { return backend_; }
   std::size_t local_store_bytes() const { return options_.local_store_bytes; }
   // The sweep-by-sweep minimum traffic of one frame (bench/README.md).
@@ -113,10 +104,7 @@ class Table1Plan {
   std::unique_ptr<FramePlan> plan_;
   std::unique_ptr<Backend> serial_backend_;
   Backend* backend_ = nullptr;
-#if defined(ARDCELL_WITH_OPENCL)
-  std::unique_ptr<OpenClStamFrame> cl_frame_;
-  bool upload_ = false;
-#endif
+  Device* device_ = nullptr;
 };
 
 }  // namespace ardcell

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "runtime/tile_plan.h"
+#include "tests/support/field_compare.h"
 
 namespace ardcell {
 namespace {
@@ -52,15 +53,6 @@ Pass blur_pass(const BlurProgram& p) {
 }
 
 // Cells of interior + halo equal bit for bit (row padding is not part of a field's value).
-bool same_cells(const FieldF& a, const FieldF& b) {
-  const Box2 box = a.with_halo();
-  for (int y = box.min.y; y < box.max.y; ++y)
-    if (std::memcmp(a.row(y) + box.min.x, b.row(y) + box.min.x,
-                    std::size_t(box.width()) * sizeof(float)) != 0)
-      return false;
-  return true;
-}
-
 FieldF pattern(Int2 size) {
   FieldF f(size, 1);
   for (int y = -1; y <= size.y; ++y)

@@ -3,6 +3,7 @@
 // the norm the OpenCL parity tests state their 1e-5 bound in.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "runtime/field.h"
@@ -25,6 +26,16 @@ inline double interior_sum(const FieldF& f) {
   for (int y = 0; y < f.ny(); ++y)
     for (int x = 0; x < f.nx(); ++x) s += f(x, y);
   return s;
+}
+
+// Bit for bit the same cells, the halo included (same layouts).
+inline bool same_cells(const FieldF& a, const FieldF& b) {
+  const Box2 box = a.with_halo();
+  for (int y = box.min.y; y < box.max.y; ++y)
+    if (std::memcmp(a.row(y) + box.min.x, b.row(y) + box.min.x,
+                    std::size_t(box.width()) * sizeof(float)) != 0)
+      return false;
+  return true;
 }
 
 inline double max_relative_error(const FieldF& got, const FieldF& ref) {

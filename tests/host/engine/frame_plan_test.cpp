@@ -7,6 +7,7 @@
 #include "runtime/dma.h"
 #include "runtime/local_store.h"
 #include "runtime/thread/thread_backend.h"
+#include "tests/support/field_compare.h"
 
 namespace ardcell {
 namespace {
@@ -45,15 +46,6 @@ FieldF pattern(Int2 size, int seed) {
     for (int x = -1; x <= size.x; ++x)
       f(x, y) = float(((x + 3) * 37 + (y + 5) * 91 + seed * 13) % 101) / 101.0f;
   return f;
-}
-
-bool same_cells(const FieldF& a, const FieldF& b) {
-  const Box2 box = a.with_halo();
-  for (int y = box.min.y; y < box.max.y; ++y)
-    if (std::memcmp(a.row(y) + box.min.x, b.row(y) + box.min.x,
-                    std::size_t(box.width()) * sizeof(float)) != 0)
-      return false;
-  return true;
 }
 
 const SweepParams kParams{0.7f, 1.0f + 4 * 0.7f};

@@ -11,18 +11,10 @@
 
 #include "host/engine/engine.h"
 #include "host/scenes/scene_registry.h"
+#include "tests/support/field_compare.h"
 
 namespace ardcell {
 namespace {
-
-bool same_cells(const FieldF& a, const FieldF& b) {
-  const Box2 box = a.with_halo();
-  for (int y = box.min.y; y < box.max.y; ++y)
-    if (std::memcmp(a.row(y) + box.min.x, b.row(y) + box.min.x,
-                    std::size_t(box.width()) * sizeof(float)) != 0)
-      return false;
-  return true;
-}
 
 SceneConfig table1_scene(bool rd, int n = 32) {
   SceneConfig scene = builtin_scenes().find(rd ? "table1-ard" : "table1")->make();

@@ -16,18 +16,10 @@
 #include "host/scenes/scene_registry.h"
 #include "kernels/stam_sweeps.h"
 #include "runtime/thread/thread_backend.h"
+#include "tests/support/field_compare.h"
 
 namespace ardcell {
 namespace {
-
-bool same_cells(const FieldF& a, const FieldF& b) {
-  const Box2 box = a.with_halo();
-  for (int y = box.min.y; y < box.max.y; ++y)
-    if (std::memcmp(a.row(y) + box.min.x, b.row(y) + box.min.x,
-                    std::size_t(box.width()) * sizeof(float)) != 0)
-      return false;
-  return true;
-}
 
 std::unique_ptr<Engine> awkward(PlanSchedule s, int workers, int k = 0) {
   SceneConfig scene = builtin_scenes().find("table1-ard")->make();
