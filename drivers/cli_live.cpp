@@ -60,6 +60,7 @@ struct LiveArgs {
   int scale = 0;
   bool hud = false;
   bool no_adaptive = false;
+  bool pipeline = false;
   bool realtime_solvers = false;
   std::string record;
   std::string screenshot;
@@ -216,6 +217,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   o.max_frames = a.frames;
   o.hud = a.hud;
   o.adaptive = !a.no_adaptive;
+  o.pipeline = a.pipeline;
   o.realtime_solvers = a.realtime_solvers;
   o.crossfade_frames = a.crossfade;
   o.record_path = a.record;
@@ -375,6 +377,9 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
       ->check(CLI::Range(0, 64));
   live->add_flag("--hud", args->hud, "Start with the HUD shown (H toggles)");
   live->add_flag("--no-adaptive", args->no_adaptive, "Keep full quality even when frames miss");
+  live->add_flag("--pipeline", args->pipeline,
+                 "Step the next frame while presenting the last (one period more latency; for a "
+                 "simulation that leaves a core free: a GPU, or --workers below the cores)");
   live->add_flag("--realtime-solvers", args->realtime_solvers,
                  "Every solve quality.max_sweeps fixed Jacobi sweeps, the reaction tabulated "
                  "(60 FPS at 512^2 on two cores)");

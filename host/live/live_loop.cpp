@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstring>
 #include <ctime>
+#include <semaphore>
 #include <utility>
 
 #include "host/live/attract_mode.h"
@@ -174,7 +175,33 @@ LiveLoop::LiveLoop(LiveOptions options, SimulationFactory factory, LiveDisplay& 
   message_.reserve(256);
 }
 
+// The pipeline's stepping thread: step() on `go`, `done` after. Semaphores: no allocation.
+struct LiveLoop::Stepper {
+  std::binary_semaphore go{0}, done{0};
+  LiveSimulation* sim = nullptr;
+  bool quit = false;
+  std::thread thread{[this] {
+    for (;;) {
+      go.acquire();
+      if (quit) return;
+      sim->step();
+      done.release();
+    }
+  }};
+  ~Stepper() {
+    quit = true;
+    go.release();
+    thread.join();
+  }
+  void start(LiveSimulation& s) {
+    sim = &s;
+    go.release();
+  }
+  void wait() { done.acquire(); }
+};
+
 LiveLoop::~LiveLoop() {
+  stepper_.reset();
   if (recorder_) (void)recorder_->close();
   if (build_ && build_->thread.joinable()) build_->thread.join();
   build_.reset();
@@ -339,7 +366,8 @@ void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
     image_fade_ = false;
   } else {
     image_fade_ = fade_frames_ > 0;
-    fade_image_ = image_;  // frozen last image of the old preset
+    if (!presented_) present_and_record(image_);  // the pipeline's last frame of the old preset
+    fade_image_ = image_;                         // frozen last image of the old preset
     sim_ = std::move(sim);
     preset_ = next;
     image_.resize(sim_->state({}).size.x, sim_->state({}).size.y);
@@ -560,7 +588,17 @@ bool LiveLoop::run_frame() {
     applied_ = preset_.scene;
     apply_level();
   }
-  if (!paused_) sim_->step();
+  if (options_.pipeline) {
+    // The step on its thread; meanwhile the frame rendered before goes to the display.
+    if (!paused_) {
+      if (!stepper_) stepper_ = std::make_unique<Stepper>();
+      stepper_->start(*sim_);
+    }
+    if (!presented_) present_and_record(image_);
+    if (!paused_) stepper_->wait();
+  } else if (!paused_) {
+    sim_->step();
+  }
   clock_.mark(FrameStage::kSimulate);
 
   // Only what the shown field is drawn from comes to the host (on OpenCL: one or two fields a
@@ -572,23 +610,8 @@ bool LiveLoop::run_frame() {
     crossfade_images(fade_image_, double(fade_frame_) / fade_frames_, image_);
   }
   clock_.mark(FrameStage::kRender);
-
-  hud_.fps = clock_.recent_fps();
-  hud_.p50_ms = double(clock_.recent_percentile_ns(0.5)) * 1e-6;
-  hud_.p99_ms = double(clock_.recent_percentile_ns(0.99)) * 1e-6;
-  hud_.misses = clock_.misses();
-  hud_.frame = frame_;
-  hud_.sweeps = quality_.level().sweeps;
-  hud_.rd_scale = quality_.level().rd_scale;
-  hud_.paused = paused_;
-  if (frame_ > hud_.message_until_frame) hud_.message[0] = '\0';
-  display_.present(image_, options_.hud ? &hud_ : nullptr);
-  clock_.mark(FrameStage::kPresent);
-
-  if (recorder_) {
-    if (recorder_->push(image_)) ++record_stalls_;
-  }
-  clock_.mark(FrameStage::kRecord);
+  presented_ = false;
+  if (!options_.pipeline) present_and_record(image_);
 
   ++frame_;
   const int64_t work = clock_.elapsed_in_frame_ns();
@@ -599,11 +622,32 @@ bool LiveLoop::run_frame() {
   return !quit_;
 }
 
+void LiveLoop::present_and_record(const ImageRgb8& image) {
+  hud_.fps = clock_.recent_fps();
+  hud_.p50_ms = double(clock_.recent_percentile_ns(0.5)) * 1e-6;
+  hud_.p99_ms = double(clock_.recent_percentile_ns(0.99)) * 1e-6;
+  hud_.misses = clock_.misses();
+  hud_.frame = frame_;
+  hud_.sweeps = quality_.level().sweeps;
+  hud_.rd_scale = quality_.level().rd_scale;
+  hud_.paused = paused_;
+  if (frame_ > hud_.message_until_frame) hud_.message[0] = '\0';
+  display_.present(image, options_.hud ? &hud_ : nullptr);
+  clock_.mark(FrameStage::kPresent);
+  // The recorder's slots have the size of the running preset's image.
+  if (recorder_ && image.width == image_.width && image.height == image_.height) {
+    if (recorder_->push(image)) ++record_stalls_;
+  }
+  clock_.mark(FrameStage::kRecord);
+  presented_ = true;
+}
+
 Status LiveLoop::run() {
   if (!sim_) return Status::error("live: no preset started");
   while (run_frame()) {
   }
-  abandon_switch();  // quitting never waits for a preset still loading
+  if (!presented_) present_and_record(image_);  // the pipeline's last frame
+  abandon_switch();                             // quitting never waits for a preset still loading
   if (!options_.exit_screenshot.empty()) {
     ImageRgb8 shot;
     if (!display_.read_back(shot)) shot = image_;

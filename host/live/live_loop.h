@@ -1,7 +1,10 @@
 #pragma once
 // LiveLoop: the real-time loop of `ardcell live`. Each frame: input (display events, pen/touch
 // strokes, OSC and GPIO commands, the attract mode) -> simulate -> render through the colormap
-// -> present -> record, paced by a FrameClock with absolute deadlines. Adaptive quality lowers
+// -> present -> record, paced by a FrameClock with absolute deadlines. Pipelined (`ardcell live
+// --pipeline`), the step runs on a thread of its own while the main thread presents and records
+// the frame rendered before: a frame's work is input + max(simulate, present + record) + render,
+// and the window shows each frame one period later. Adaptive quality lowers
 // the solver sweeps, then the RD resolution, when a frame would miss and raises them with
 // slack; a parameter change
 // applies on the next frame; a preset switch loads and builds the new simulation on a worker
@@ -158,6 +161,7 @@ struct LiveOptions {
   bool hud = false;
   bool adaptive = true;           // and the preset's quality.adaptive
   bool realtime_solvers = false;  // every preset on its real-time settings (use_realtime_solvers)
+  bool pipeline = false;          // present the previous frame while the next one steps
   std::string record_path;        // --record: start recording at once
   std::string screenshot_dir = ".";
   std::string exit_screenshot;       // --screenshot PATH: the window's pixels after the last frame
@@ -223,6 +227,9 @@ class LiveLoop {
  private:
   struct Recorder;
   struct Build;
+  struct Stepper;
+  // The HUD's figures, then the display and the recorder take `image`.
+  void present_and_record(const ImageRgb8& image);
   void handle(const LiveCommand& c);
   void request_preset(std::string name);
   void poll_build();
@@ -278,6 +285,8 @@ class LiveLoop {
   std::string pending_preset_;   // the latest switch asked for while one was loading
   bool pending_remote_ = false;  // ... by a remote sender
   std::unique_ptr<Recorder> recorder_;
+  std::unique_ptr<Stepper> stepper_;  // pipeline: the thread that steps
+  bool presented_ = true;             // pipeline: image_ is on the display
   mutable std::mutex message_mutex_;
   std::string message_;
 };

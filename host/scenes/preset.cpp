@@ -823,10 +823,16 @@ Status load_builtin_preset(std::string_view name, Preset& out) {
     }
   }
   if (const SceneEntry* entry = builtin_scenes().find(name)) {
-    out = preset_from_scene(entry->make());
+    out = preset_from_entry(*entry);
     return Status::ok();
   }
   return Status::error("'" + std::string(name) + "' is not a built-in preset or scene");
+}
+
+Preset preset_from_entry(const SceneEntry& entry) {
+  Preset p = preset_from_scene(entry.make());
+  p.quality = entry.quality;
+  return p;
 }
 
 Preset preset_from_scene(const SceneConfig& scene) {

@@ -104,6 +104,9 @@ Status load_builtin_preset(std::string_view name, Preset& out);
 std::string preset_to_toml(const Preset& preset);
 // A preset for a built-in scene's SceneConfig (default quality and input).
 Preset preset_from_scene(const SceneConfig& scene);
+// The same for a registered scene, with the entry's live quality bounds.
+struct SceneEntry;
+Preset preset_from_entry(const SceneEntry& entry);
 // Empty when every parameter is equal (exact), else "key: a vs b" for the first difference.
 std::string preset_difference(const Preset& a, const Preset& b);
 // True when b differs from a only in parameters that can change on a running simulation.

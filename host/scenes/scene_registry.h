@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/config/scene_config.h"
+#include "host/scenes/adaptive_quality.h"
 
 namespace ardcell {
 
@@ -15,6 +16,7 @@ struct SceneEntry {
   std::string name;
   std::string description;
   std::function<SceneConfig()> make;  // the scene at its default parameters
+  QualityBounds quality{};            // how far `ardcell live` may lower it (preset_from_entry)
 };
 
 class SceneRegistry {

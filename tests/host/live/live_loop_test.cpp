@@ -340,6 +340,52 @@ TEST(LiveLoop, RecordingKeepsEveryFrame) {
   EXPECT_NE(frames.front().rgb, frames.back().rgb);
 }
 
+// Pipelined (`ardcell live`'s default), the step overlaps the present of the frame before: the
+// same frames reach the display and the recording, in the same order, the last one at exit.
+TEST(LiveLoop, PipelineShowsAndRecordsTheSameFrames) {
+  std::vector<ImageRgb8> recorded[2];
+  for (int pipelined = 0; pipelined < 2; ++pipelined) {
+    Fixture fx;
+    std::vector<ImageRgb8>& frames = recorded[pipelined];
+    frames.reserve(64);
+    LiveOptions o = fx.options();
+    o.time = nullptr;  // the step runs on the pipeline's thread: no shared fake clock
+    o.fps = 0;
+    o.pipeline = pipelined == 1;
+    o.max_frames = 30;
+    o.record_path = "mem";
+    o.record_slots = 4;
+    o.recorder = [&](const std::string&, Int2, double, Status&) {
+      return std::make_unique<MemoryWriter>(&frames);
+    };
+    FakeSimulation* sim = nullptr;
+    LiveLoop loop(
+        o,
+        [&](const Preset& p) {
+          auto s = std::make_unique<FakeSimulation>(p, nullptr);
+          sim = s.get();
+          return s;
+        },
+        fx.display);
+    ASSERT_TRUE(loop.start(fx.path("small.toml")).is_ok());
+    StrokeSample dab{};
+    dab.x = 0.5f;
+    dab.y = 0.25f;
+    for (int i = 0; i < 30 && loop.run_frame(); ++i) {
+      if (i % 7 == 3) {
+        ASSERT_TRUE(loop.input().push(dab));  // painted between steps
+      }
+    }
+    ASSERT_TRUE(loop.run().is_ok());
+    EXPECT_EQ(sim->steps, 30);
+    EXPECT_EQ(fx.display.presents, 30) << "pipelined " << pipelined;
+    ASSERT_EQ(frames.size(), 30u) << "pipelined " << pipelined;
+    EXPECT_EQ(frames.back().rgb, loop.image().rgb);
+  }
+  for (std::size_t i = 0; i < recorded[0].size(); ++i)
+    EXPECT_EQ(recorded[0][i].rgb, recorded[1][i].rgb) << "frame " << i;
+}
+
 TEST(LiveLoop, PauseResetAndStrokes) {
   Fixture fx;
   LiveLoop loop(fx.options(), fx.factory(), fx.display);

@@ -22,11 +22,11 @@ namespace fs = std::filesystem;
 
 const fs::path kPresetDir = ARDCELL_SOURCE_DIR "/presets";
 
-std::string generated_text(const SceneConfig& scene) {
-  return "# Generated from the built-in scene '" + scene.name +
+std::string generated_text(const SceneEntry& entry) {
+  return "# Generated from the built-in scene '" + entry.name +
          "' (host/scenes/scene_registry.h); regenerate with\n"
          "#   ARDCELL_REGENERATE_PRESETS=1 build/<dir>/preset_files_test\n" +
-         preset_to_toml(preset_from_scene(scene));
+         preset_to_toml(preset_from_entry(entry));
 }
 
 std::string read_text(const fs::path& path) {
@@ -55,9 +55,8 @@ void write_atomically(const fs::path& path, const std::string& text) {
 
 TEST(PresetFiles, EveryBuiltinSceneHasItsGeneratedFile) {
   for (const SceneEntry& e : builtin_scenes().entries()) {
-    const SceneConfig scene = e.make();
     const fs::path path = kPresetDir / (e.name + ".toml");
-    const std::string expected = generated_text(scene);
+    const std::string expected = generated_text(e);
     if (regenerate()) {
       if (!fs::exists(path) || read_text(path) != expected) write_atomically(path, expected);
       continue;
@@ -68,7 +67,7 @@ TEST(PresetFiles, EveryBuiltinSceneHasItsGeneratedFile) {
     Preset file;
     const Status s = parse_preset(text, path.string(), file);
     ASSERT_TRUE(s.is_ok()) << s.message();
-    EXPECT_EQ(preset_difference(file, preset_from_scene(scene)), "") << path;
+    EXPECT_EQ(preset_difference(file, preset_from_entry(e)), "") << path;
     EXPECT_EQ(text, expected) << path << " differs from the built-in scene; regenerate it";
   }
 }
@@ -79,7 +78,7 @@ TEST(PresetFiles, NamesFindTheEmbeddedFileWithTheBuiltinsValues) {
     const Status s = load_preset(e.name, p);
     ASSERT_TRUE(s.is_ok()) << s.message();
     EXPECT_EQ(p.source, "embedded:" + e.name) << "rebuild after adding presets/" << e.name;
-    EXPECT_EQ(preset_difference(p, preset_from_scene(e.make())), "") << e.name;
+    EXPECT_EQ(preset_difference(p, preset_from_entry(e)), "") << e.name;
     // A path loads the same preset.
     Preset by_path;
     ASSERT_TRUE(load_preset((kPresetDir / (e.name + ".toml")).string(), by_path).is_ok());

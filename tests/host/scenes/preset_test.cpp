@@ -169,7 +169,7 @@ TEST(Preset, ReportsEveryProblemOnItsOwnLine) {
 TEST(Preset, EveryBuiltinSceneRoundTripsThroughToml) {
   int n = 0;
   for (const SceneEntry& e : builtin_scenes().entries()) {
-    const Preset original = preset_from_scene(e.make());
+    const Preset original = preset_from_entry(e);
     Preset back;
     const Status s = parse_preset(preset_to_toml(original), e.name + ".toml", back);
     ASSERT_TRUE(s.is_ok()) << e.name << ": " << s.message();
