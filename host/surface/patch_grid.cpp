@@ -48,8 +48,19 @@ PatchGrid::PatchGrid(const PatchTopology& topo, int n, CornerGhosts corners)
 }
 
 void PatchGrid::exchange(PatchField& f) const {
-  for (const Copy& c : copies_) f[c.dst] = f[c.src];
-  for (const Corner& c : corners_) f[c.dst] = c.wa * f[c.a] + c.wb * f[c.b] + c.wc * f[c.c];
+  for (int p = 0; p < patches_; ++p) exchange(f, p);
+}
+
+// The constructor lays the copies out patch by patch (4 edges of n ghosts) and the corners four
+// a patch; a corner reads its own patch's edge ghosts, filled just before.
+void PatchGrid::exchange(PatchField& f, int p) const {
+  const std::size_t per_patch = 4 * std::size_t(n_);
+  for (std::size_t k = p * per_patch; k < (p + 1) * per_patch; ++k)
+    f[copies_[k].dst] = f[copies_[k].src];
+  for (std::size_t k = 4 * std::size_t(p); k < 4 * std::size_t(p) + 4; ++k) {
+    const Corner& c = corners_[k];
+    f[c.dst] = c.wa * f[c.a] + c.wb * f[c.b] + c.wc * f[c.c];
+  }
 }
 
 }  // namespace ardcell

@@ -59,6 +59,9 @@ class PatchGrid {
 
   // Fills every ghost cell (edges, then corners).
   void exchange(PatchField& f) const;
+  // Fills patch p's ghost cells only: it reads the neighbours' interiors and its own ghosts, so
+  // the patches' exchanges can run side by side (while no interior is written).
+  void exchange(PatchField& f, int p) const;
 
   // The shared patch edges, each once: outward fluxes of the N faces of (p, e) and of (q, f)
   // (the same faces in reverse order). See SurfaceLaplacian.

@@ -104,9 +104,11 @@ void SurfaceLaplacian::stitch_fluxes() const {
 void SurfaceLaplacian::fluxes(PatchField& phi) const {
   const int n = grid_.n();
   const std::size_t faces = std::size_t(n + 1) * n;
-  grid_.exchange(phi);
   const Box2 xfaces{{0, 0}, {n + 1, n}}, yfaces{{0, 0}, {n, n + 1}};
+  // Per patch: its ghosts from the neighbours' interiors (which no one writes in this pass),
+  // then its face fluxes from its own cells and ghosts.
   executor_->for_rows(grid_.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p) grid_.exchange(phi, p);
     for (int p = p0; p < p1; ++p)
       surface_face_fluxes(grid_.view(std::as_const(phi), p), stencil(p),
                           View<double>(f1_.data() + p * faces, n + 1, xfaces),
