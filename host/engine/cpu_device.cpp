@@ -131,15 +131,17 @@ void CpuDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
 }
 
 void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
-                                   const StamSweepParams& p, const BoundaryFill& fill) {
-  FieldF* cur = &a;
+                                   const StamSweepParams& p, const BoundaryFill& fill,
+                                   const FieldF* start) {
+  const FieldF* cur = start ? start : &a;
   FieldF* next = &b;
   for (int s = 0; s < sweeps; ++s) {
     for_bands(a.size(), [&](Box2 rows) {
       ardcell::stam_jacobi_sweep(rhs.view(), cur->view(), next->view(), rows, p);
     });
     ardcell::fill_boundary(next->view(), next->size(), fill);
-    std::swap(cur, next);
+    cur = next;
+    next = next == &b ? &a : &b;
   }
 }
 

@@ -153,8 +153,10 @@ class Device {
   // Stam's constant-coefficient Jacobi sweeps (kernels/stam_sweeps.h; the Table 1 plan's
   // solves): `sweeps` sweeps from a with right-hand side rhs, ping-ponging between a and b,
   // each followed by `fill`; the result in a (sweeps even) or b (odd), as FramePlan's Jacobi op.
+  // With `start`, the first sweep reads it instead of a (as if it had been copied into a).
   virtual void stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
-                                  const StamSweepParams& p, const BoundaryFill& fill) = 0;
+                                  const StamSweepParams& p, const BoundaryFill& fill,
+                                  const FieldF* start = nullptr) = 0;
 
   // --- linear systems (kernels/linear_solver.h): improves x towards A x = b. The operator's
   // coefficients are host data (assembled by the stage; host_wrote(op) after a change).
@@ -258,7 +260,8 @@ class CpuDevice final : public Device {
   FieldRange range(const FieldF& f) override;
   void restore_mass(FieldF& f, double missing, float lo, float hi) override;
   void stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
-                          const StamSweepParams& p, const BoundaryFill& fill) override;
+                          const StamSweepParams& p, const BoundaryFill& fill,
+                          const FieldF* start) override;
 
   SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                     FieldF& x) override;

@@ -235,32 +235,42 @@ void OpenClDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
 }
 
 void OpenClDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
-                                      const StamSweepParams& p, const BoundaryFill& fill) {
+                                      const StamSweepParams& p, const BoundaryFill& fill,
+                                      const FieldF* start) {
   const DeviceField& r = in(rhs);
-  DeviceField* cur = &out(a);  // uploaded if the host wrote it; its ghosts are rewritten below
-  DeviceField* next = &out(b);
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  const DeviceField* from = start ? &in(*start) : &da;
+  DeviceField& want = sweeps % 2 == 0 ? da : db;
+  DeviceField& other = sweeps % 2 == 0 ? db : da;
   bool periodic = false;
   for (const EdgeFill& e : {fill.left, fill.right, fill.bottom, fill.top})
     periodic = periodic || e.rule == EdgeRule::kPeriodic;
   const bool blocked = sweeps > 1 && !periodic;
   const int per_launch = blocked ? cl_->blocked_sweeps(sweeps) : 1;
   const Int2 tile = blocked ? cl_->blocked_tile(per_launch) : Int2{};
-  if (!blocked || tile.x == 0) {
-    for (int s = 0; s < sweeps; ++s) {
-      cl_->stam_jacobi_sweep(r, *cur, *next, box_of_size(a.size()), p);
-      cl_->fill_boundary(*next, fill);
-      std::swap(cur, next);
+  // Each launch goes from one buffer into another and the last must write `want`: launch l of
+  // L writes want when L - 1 - l is even, else the other buffer. From a or b that takes L of
+  // the sweeps' parity (one launch more than the local memory asks for when it differs, the
+  // sweeps spread evenly); from `start` any L. One sweep a launch when not blocked.
+  int launches = sweeps;
+  if (blocked && tile.x > 0) {
+    launches = (sweeps + per_launch - 1) / per_launch;
+    if (!start && launches % 2 != sweeps % 2) ++launches;
+  }
+  const DeviceField* cur = from;
+  for (int l = 0, done = 0; l < launches; ++l) {
+    DeviceField& next = (launches - 1 - l) % 2 == 0 ? want : other;
+    const int s = (sweeps - done) / (launches - l);
+    if (launches == sweeps) {
+      cl_->stam_jacobi_sweep(r, *cur, next, box_of_size(a.size()), p);
+      cl_->fill_boundary(next, fill);
+    } else {
+      cl_->stam_jacobi_blocked(r, *cur, next, s, p, fill, tile);
     }
-    return;
+    cur = &next;
+    done += s;
   }
-  int launches = 0;
-  for (int done = 0; done < sweeps; done += per_launch, ++launches) {
-    cl_->stam_jacobi_blocked(r, *cur, *next, std::min(per_launch, sweeps - done), p, fill, tile);
-    std::swap(cur, next);
-  }
-  // The result is in `cur`; the op's contract puts it in a (sweeps even) or b (odd).
-  DeviceField& want = sweeps % 2 == 0 ? out(a) : out(b);
-  if (cur != &want) cl_->copy_field(*cur, want);
 }
 
 void OpenClDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,

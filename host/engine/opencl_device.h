@@ -77,7 +77,8 @@ class OpenClDevice final : public Device {
   // One launch a sweep, or (sweeps > 1, a fill that is not periodic) ghost-zone temporal
   // blocking in __local memory, as many sweeps a launch as the local memory holds.
   void stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
-                          const StamSweepParams& p, const BoundaryFill& fill) override;
+                          const StamSweepParams& p, const BoundaryFill& fill,
+                          const FieldF* start) override;
 
   SolveReport solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                     FieldF& x) override;

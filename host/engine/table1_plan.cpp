@@ -85,24 +85,18 @@ void copy_kernel(const void* params, Bufs b, Box2 /*region*/) {
   const View<float>& to = b[std::size_t(p.to)];
   copy_box<float>(b[std::size_t(p.from)], to, to.box());
 }
-void copy_on_device(const void* params, Device& dev, WholeFields f) {
-  const auto& p = *static_cast<const CopyParams*>(params);
-  dev.copy(*f[std::size_t(p.from)], *f[std::size_t(p.to)]);
-}
 
 struct ZeroParams {
   int8_t buf = 0;
-  const FieldF* zeros = nullptr;  // the device twin copies it (a field of zeros)
 };
 void zero_kernel(const void* params, Bufs b, Box2 /*region*/) {
   const View<float>& v = b[std::size_t(static_cast<const ZeroParams*>(params)->buf)];
   for (int y = v.box().min.y; y < v.box().max.y; ++y)
     for (int x = v.box().min.x; x < v.box().max.x; ++x) v(x, y) = 0.0f;
 }
-void zero_on_device(const void* params, Device& dev, WholeFields f) {
-  const auto& p = *static_cast<const ZeroParams*>(params);
-  dev.copy(*p.zeros, *f[std::size_t(p.buf)]);
-}
+// A pressure solve zeroes its first iterate and sweeps from it; on a device the sweeps start
+// from a field of zeros instead (jacobi_from_zeros_on_device) and the zeroing is skipped.
+void zero_skipped_on_device(const void*, Device&, WholeFields) {}
 
 struct DivParams {
   ProjectParams pp;
@@ -175,6 +169,31 @@ void jacobi_kernel(const void* params, View<const float> x, View<const float> rh
 void jacobi_on_device(const void* params, Device& dev, const FieldF& rhs, FieldF& a, FieldF& b,
                       int sweeps, const BoundaryFill& fill) {
   dev.stam_jacobi_sweeps(rhs, a, b, sweeps, *static_cast<const StamSweepParams*>(params), fill);
+}
+// A solve's only residency copies its right-hand side (the initial guess) into a and sweeps
+// from there; on a device the sweeps start from the right-hand side itself and the copy is
+// skipped (its twin does nothing): one pass over the field less.
+void jacobi_from_rhs_on_device(const void* params, Device& dev, const FieldF& rhs, FieldF& a,
+                               FieldF& b, int sweeps, const BoundaryFill& fill) {
+  dev.stam_jacobi_sweeps(rhs, a, b, sweeps, *static_cast<const StamSweepParams*>(params), fill,
+                         &rhs);
+}
+void copy_skipped_on_device(const void*, Device&, WholeFields) {}
+
+// The pressure's sweeps when the first iterate is zero: the same sweep on the CPU, and on a
+// device sweeps that start from `zeros`.
+struct ZeroStartSweep {
+  StamSweepParams sweep;
+  const FieldF* zeros = nullptr;  // never written
+};
+void jacobi_zero_start_kernel(const void* params, View<const float> x, View<const float> rhs,
+                              View<float> out, Box2 region) {
+  stam_jacobi_sweep(rhs, x, out, region, static_cast<const ZeroStartSweep*>(params)->sweep);
+}
+void jacobi_from_zeros_on_device(const void* params, Device& dev, const FieldF& rhs, FieldF& a,
+                                 FieldF& b, int sweeps, const BoundaryFill& fill) {
+  const auto& p = *static_cast<const ZeroStartSweep*>(params);
+  dev.stam_jacobi_sweeps(rhs, a, b, sweeps, p.sweep, fill, p.zeros);
 }
 
 int8_t add_buffer(PassDesc& d, const FieldF* src, FieldF* dst, int halo, bool gather = false) {
@@ -467,8 +486,10 @@ void Table1Plan::append_residency(PassDesc& d, const DiffusionSpec& sv, const Fi
       d.ops.push_back(map_op(sources_kernel, sources_on_device, sp, sweeps, {rhs},
                              {{rhs, BoundaryFill::stam(sv.b)}}));
     }
-    d.ops.push_back(map_op(copy_kernel, copy_on_device, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    d.ops.push_back(
+        map_op(copy_kernel, copy_skipped_on_device, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
     d.ops.push_back(jacobi_op(sv.params, a, bb, rhs, sweeps, 0, sv.b));
+    d.ops.back().device_sweeps = jacobi_from_rhs_on_device;
   } else {
     const int8_t a = add_buffer(d, cur, sweeps % 2 == 0 ? next : nullptr, sweeps);
     const int8_t bb = add_buffer(d, nullptr, sweeps % 2 == 1 ? next : nullptr, sweeps);
@@ -499,8 +520,9 @@ void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& 
                            p_->keep(DivParams{p_->project, bu, bv, bdiv}), k, {bdiv},
                            {{bdiv, BoundaryFill::stam(0)}}));
     d.ops.push_back(
-        map_op(zero_kernel, zero_on_device, p_->keep(ZeroParams{pa, &f.zeros}), 0, {pa}, {}));
+        map_op(zero_kernel, zero_skipped_on_device, p_->keep(ZeroParams{pa}), 0, {pa}, {}));
     d.ops.push_back(jacobi_op(&p_->pressure, pa, pb, bdiv, k, 1, 0));
+    start_from_zeros(d.ops.back());
     const int8_t pres = k % 2 == 0 ? pa : pb;
     d.ops.push_back(map_op(gradient_kernel, gradient_on_device,
                            p_->keep(GradParams{p_->project, pres, bu, bv}), 0, {bu, bv},
@@ -537,13 +559,14 @@ void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& 
                              p_->keep(DivParams{p_->project, bu, bv, rhs}), sweeps + reach, {rhs},
                              {{rhs, BoundaryFill::stam(0)}}));
       d.ops.push_back(
-          map_op(zero_kernel, zero_on_device, p_->keep(ZeroParams{a, &f.zeros}), 0, {a}, {}));
+          map_op(zero_kernel, zero_skipped_on_device, p_->keep(ZeroParams{a}), 0, {a}, {}));
     } else {
       a = add_buffer(d, cur, !last && sweeps % 2 == 0 ? next : nullptr, sweeps + reach);
       b = add_buffer(d, nullptr, !last && sweeps % 2 == 1 ? next : nullptr, sweeps + reach);
       rhs = add_buffer(d, &f.div, nullptr, sweeps + reach - 1);
     }
     d.ops.push_back(jacobi_op(&p_->pressure, a, b, rhs, sweeps, reach, 0));
+    if (first) start_from_zeros(d.ops.back());
     if (last) {
       const int8_t bu = add_buffer(d, &u, &u_out, 0), bv = add_buffer(d, &v, &v_out, 0);
       const int8_t pres = sweeps % 2 == 0 ? a : b;
@@ -569,6 +592,12 @@ void Table1Plan::add_projection(const char* name, FieldF& u, FieldF& v, FieldF& 
   ARDCELL_CHECK(rd_rider == 0 || rider_done == total, "RD rider needs a pass per residency");
 }
 
+void Table1Plan::start_from_zeros(PassOpDesc& op) {
+  op.params = p_->keep(ZeroStartSweep{*static_cast<const StamSweepParams*>(op.params), &f_->zeros});
+  op.sweep = jacobi_zero_start_kernel;
+  op.device_sweeps = jacobi_from_zeros_on_device;
+}
+
 // Blocked schedule: both RD diffusions in one residency of A and B (reacted earlier, in the
 // velocity advection pass: the reaction is per cell, so in a halo-20 pass it would be computed
 // again on every halo cell).
@@ -580,10 +609,14 @@ void Table1Plan::add_rd_diffusion_pass() {
   const int8_t ra = add_buffer(d, &f.A, nullptr, k), rb = add_buffer(d, &f.B, nullptr, k);
   for (int which = 0; which < 2; ++which) {
     const int8_t rhs = which == 0 ? ra : rb;
-    const int8_t a = add_buffer(d, nullptr, which == 0 ? &f.A0 : &f.B0, k);
-    const int8_t b = add_buffer(d, nullptr, nullptr, k);
-    d.ops.push_back(map_op(copy_kernel, copy_on_device, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
+    // The result is in a after an even number of sweeps, else in b: that one goes to A0 / B0.
+    FieldF* out = which == 0 ? &f.A0 : &f.B0;
+    const int8_t a = add_buffer(d, nullptr, k % 2 == 0 ? out : nullptr, k);
+    const int8_t b = add_buffer(d, nullptr, k % 2 == 1 ? out : nullptr, k);
+    d.ops.push_back(
+        map_op(copy_kernel, copy_skipped_on_device, p_->keep(CopyParams{rhs, a}), 0, {a}, {}));
     d.ops.push_back(jacobi_op(which == 0 ? &p_->rd_a : &p_->rd_b, a, b, rhs, k, 0, 0));
+    d.ops.back().device_sweeps = jacobi_from_rhs_on_device;
   }
   plan_->add_pass(std::move(d));
 }

@@ -93,6 +93,9 @@ class Table1Plan {
   void add_projection(const char* name, FieldF& u, FieldF& v, FieldF& u_out, FieldF& v_out,
                       int pressure_pass_with_rider);
   void add_rd_diffusion_pass();
+  // A pressure Jacobi op whose first iterate the pass zeroes: on a device, it sweeps from the
+  // plan's field of zeros instead.
+  void start_from_zeros(PassOpDesc& op);
 
   SimState& state_;
   PlanOptions options_;
