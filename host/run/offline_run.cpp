@@ -118,6 +118,9 @@ Status apply_overrides(const SceneOverrides& o, SceneConfig& scene) {
     const SolverKind kind = o.solver ? *o.solver : p.scene.fluid.pressure_solver.kind;
     const int sweeps = o.sweeps ? *o.sweeps : p.scene.fluid.pressure_solver.max_iterations;
     set_fluid_solver(p.scene.fluid, kind, sweeps);
+    // The Table 1 plan runs one sweep count for every solve, the RD's included.
+    if (p.scene.fluid.kind == FluidSceneKind::kTable1 && p.scene.rd.enabled)
+      p.scene.rd.diffusion_solver.max_iterations = sweeps;
   }
   scene = std::move(p.scene);
   return Status::ok();

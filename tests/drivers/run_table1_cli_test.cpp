@@ -157,6 +157,10 @@ TEST_F(RunTable1Test, SavedStatesResumeAndTheScenesParametersApply) {
     EXPECT_EQ(slurp(work() / "ten" / field), slurp(work() / "resumed" / field)) << field;
   ASSERT_EQ(run(base + "--steps 10 --dt 0.05 --save-state half-dt").code, 0);
   EXPECT_NE(slurp(work() / "ten" / "u.npy"), slurp(work() / "half-dt" / "u.npy"));
+  // --sweeps sets every solve's, the RD's too (the plan runs one count).
+  const Result sweeps = run(base + "--steps 10 --sweeps 9 --save-state nine");
+  ASSERT_EQ(sweeps.code, 0) << sweeps.err;
+  EXPECT_NE(slurp(work() / "ten" / "B.npy"), slurp(work() / "nine" / "B.npy"));
 }
 
 TEST_F(RunTable1Test, GeneralSceneStatsPrintFrameTimes) {
