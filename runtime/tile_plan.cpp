@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "runtime/check.h"
 #include "runtime/dma.h"
@@ -72,11 +73,12 @@ TilePlan TilePlan::make(const TilePlanRequest& r) {
     }
   }
   if (best_w == 0) {
-    std::fprintf(stderr,
-                 "ardcell: no tile fits a %zu-byte local store slot for a pass with halo %d, %d "
-                 "halo buffers and %d core buffers\n",
-                 slot, r.halo, r.fields_with_halo, r.fields_core);
-    std::exit(2);
+    char why[224];
+    std::snprintf(why, sizeof why,
+                  "local store of %zu KiB a worker: no tile fits its %zu-byte slot for a pass "
+                  "with halo %d, %d halo buffers and %d core buffers (expected a larger store)",
+                  r.store_bytes / 1024, slot, r.halo, r.fields_with_halo, r.fields_core);
+    throw std::invalid_argument(why);
   }
   // Load balance: shorter tiles until there are min_tiles, where the grid allows.
   auto count = [&](int w, int h) {

@@ -36,7 +36,8 @@ struct TilePlanRequest {
 class TilePlan {
  public:
   TilePlan() = default;
-  // Fails (one line naming the sizes) when not even one 32-cell-wide row fits.
+  // Throws std::invalid_argument (one line naming the sizes) when not even one 32-cell-wide row
+  // fits the store.
   static TilePlan make(const TilePlanRequest& request);
 
   Int2 grid() const { return grid_; }

@@ -133,6 +133,7 @@ TEST_F(RunTable1Test, BadFlagsExitTwoWithOneLine) {
       std::string("run cavity --size 16 --steps 1 --schedule bogus"),
       std::string("run cavity --size 16 --steps 1 --workers 0"),
       std::string(kSmall) + "--store-kib 100",
+      std::string(kSmall) + "--store-kib 16",  // no blocked tile fits 8 KiB a slot
       std::string(kSmall) + "--store-kib big",
       std::string("run cavity --size 16 --steps 1 --store-kib spe"),
       std::string("run cavity --size 16 --steps 1 --backend serial --workers 2")};
