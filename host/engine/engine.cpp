@@ -62,9 +62,6 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
   if (config_.fluid.kind == FluidSceneKind::kTable1) {
-    for (FieldF* f : {&state_.u, &state_.v, &state_.dye}) *f = FieldF(config_.size, 1);
-    if (config_.rd.enabled)
-      for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF(config_.size, 1);
     PlanOptions plan = options.plan;
     if (options.backend == EngineOptions::Backend::kSerial) plan.schedule = PlanSchedule::kSerial;
     // Throws std::invalid_argument with one line naming a setting the plan cannot run.
@@ -177,13 +174,7 @@ const char* structural_change(const SceneConfig& a, const SceneConfig& b) {
   if (fa.emitters.size() != fb.emitters.size()) return "fluid.emitters (their number)";
   if (fa.viscosity_solver.kind != fb.viscosity_solver.kind) return "fluid.viscosity_solver.kind";
   if (fa.pressure_solver.kind != fb.pressure_solver.kind) return "fluid.pressure_solver.kind";
-  if (fa.kind == FluidSceneKind::kTable1 &&
-      (a.dt != b.dt || fa.viscosity != fb.viscosity || fa.dye_diffusion != fb.dye_diffusion ||
-       fa.pressure_solver.max_iterations != fb.pressure_solver.max_iterations ||
-       fa.viscosity_solver.max_iterations != fb.viscosity_solver.max_iterations || ra.dt != rb.dt ||
-       ra.diffusion_a != rb.diffusion_a || ra.diffusion_b != rb.diffusion_b ||
-       ra.reaction.F != rb.reaction.F || ra.reaction.k != rb.reaction.k ||
-       ra.diffusion_solver.max_iterations != rb.diffusion_solver.max_iterations))
+  if (fa.kind == FluidSceneKind::kTable1 && !(table1_coefficients(a) == table1_coefficients(b)))
     return "fluid.scene table1 (its dt, rates and sweeps are built into its frame plan)";
   if (ra.enabled != rb.enabled) return "rd.enabled";
   if (!ra.enabled) return nullptr;

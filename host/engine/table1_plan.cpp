@@ -286,20 +286,59 @@ std::string table1_config_problem(const SceneConfig& c) {
 
 struct Table1Plan::Fields {
   // u, v, dye, A, B are the scene's (SimState); the rest is the plan's scratch.
-  Fields(SimState& s, Int2 g, bool rd) : u(s.u), v(s.v), dye(s.dye), A(s.A), B(s.B) {
-    for (FieldF* f : {&u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div, &zeros})
-      *f = FieldF(g, 1);
-    if (rd)
-      for (FieldF* f : {&A0, &B0, &tA, &tB}) *f = FieldF(g, 1);
+  Fields(SimState& s, Int2 g, bool rd) : u(s.u), v(s.v), dye(s.dye), A(s.A), B(s.B), rd_(rd) {
+    zeros = FieldF(g, 1);
+    for_each_scratch([g](FieldF& f) { f = FieldF(g, 1); });
+  }
+  // The plan's scratch fields (zeros aside, which is never written).
+  template <class F>
+  void for_each_scratch(const F& f) {
+    for (FieldF* x : {&u0, &v0, &u1, &v1, &dye0, &tu, &tv, &tdye, &p0, &p1, &div}) f(*x);
+    if (rd_)
+      for (FieldF* x : {&A0, &B0, &tA, &tB}) f(*x);
   }
   FieldF &u, &v, &dye, &A, &B;
   FieldF u0, v0, u1, v1, dye0, tu, tv, tdye, p0, p1, div;
   FieldF zeros;  // never written: what a device twin zeroes a field from
   FieldF A0, B0, tA, tB;
+  bool rd_;
 };
 
+Table1Coefficients table1_coefficients(const SceneConfig& config) {
+  Table1Coefficients c;
+  c.sweeps = config.fluid.pressure_solver.max_iterations;
+  // Stam's solver in cell units: h = domain width / grid.x (square cells).
+  const float h = float(config.domain_width / double(config.size.x));
+  const float dt = float(config.dt);
+  const auto diffusion = [](float a) { return StamSweepParams{a, 1.0f / (1.0f + 4.0f * a)}; };
+  c.viscosity = diffusion(dt * float(config.fluid.viscosity) / (h * h));
+  c.dye_diffusion = diffusion(dt * float(config.fluid.dye_diffusion) / (h * h));
+  c.pressure = StamSweepParams{1.0f, 0.25f};
+  c.project = ProjectParams{h};
+  c.advect = AdvectParams{dt / h, config.size, false};
+  if (config.rd.enabled) {
+    // D_A, D_B in cells^2 per unit of rd.dt.
+    const float rd_dt = float(config.rd.dt > 0.0 ? config.rd.dt : config.dt);
+    c.rd_a = diffusion(rd_dt * float(config.rd.diffusion_a));
+    c.rd_b = diffusion(rd_dt * float(config.rd.diffusion_b));
+    c.reaction = GrayScottImplicitParams{config.rd.reaction.F, config.rd.reaction.k, rd_dt};
+  }
+  return c;
+}
+
+bool operator==(const Table1Coefficients& a, const Table1Coefficients& b) {
+  const auto same = [](const StamSweepParams& x, const StamSweepParams& y) {
+    return x.a == y.a && x.inv_c == y.inv_c;
+  };
+  return a.sweeps == b.sweeps && same(a.viscosity, b.viscosity) &&
+         same(a.dye_diffusion, b.dye_diffusion) && same(a.pressure, b.pressure) &&
+         same(a.rd_a, b.rd_a) && same(a.rd_b, b.rd_b) && a.project.h == b.project.h &&
+         a.advect.dt_over_h == b.advect.dt_over_h && a.reaction.F == b.reaction.F &&
+         a.reaction.k == b.reaction.k && a.reaction.dt == b.reaction.dt;
+}
+
 // Parameters the passes point at: kept at stable addresses for the plan's lifetime.
-struct Table1Plan::Params {
+struct Table1Plan::Params : Table1Coefficients {
   std::deque<std::shared_ptr<void>> keep_alive;
   template <class T>
   const T* keep(const T& value) {
@@ -307,10 +346,6 @@ struct Table1Plan::Params {
     keep_alive.push_back(owned);
     return owned.get();
   }
-  StamSweepParams viscosity, dye_diffusion, pressure, rd_a, rd_b;
-  ProjectParams project;
-  AdvectParams advect;
-  GrayScottImplicitParams reaction;
 };
 
 void Table1Plan::init(const SceneConfig& config) {
@@ -318,30 +353,16 @@ void Table1Plan::init(const SceneConfig& config) {
     throw std::invalid_argument(why);
   grid_ = config.size;
   rd_ = config.rd.enabled;
-  sweeps_ = config.fluid.pressure_solver.max_iterations;
+  p_ = std::make_unique<Params>();
+  static_cast<Table1Coefficients&>(*p_) = table1_coefficients(config);
+  sweeps_ = p_->sweeps;
   if (options_.sweeps_per_residency == 0) options_.sweeps_per_residency = sweeps_;
   ARDCELL_CHECK(options_.sweeps_per_residency >= 1 && options_.sweeps_per_residency <= sweeps_,
                 "Table1Plan: sweeps per residency must be 1 .. the sweeps of a solve");
-  ARDCELL_CHECK(
-      state_.u.size() == grid_ && state_.dye.size() == grid_ && (!rd_ || state_.A.size() == grid_),
-      "Table1Plan: the scene's fields must be allocated");
-  p_ = std::make_unique<Params>();
-  // Stam's solver in cell units: h = domain width / grid.x (square cells).
-  const float h = float(config.domain_width / double(grid_.x));
-  const float dt = float(config.dt);
-  const auto diffusion = [](float a) { return StamSweepParams{a, 1.0f / (1.0f + 4.0f * a)}; };
-  p_->viscosity = diffusion(dt * float(config.fluid.viscosity) / (h * h));
-  p_->dye_diffusion = diffusion(dt * float(config.fluid.dye_diffusion) / (h * h));
-  p_->pressure = StamSweepParams{1.0f, 0.25f};
-  p_->project = ProjectParams{h};
-  p_->advect = AdvectParams{dt / h, grid_, false};
-  if (rd_) {
-    // D_A, D_B in cells^2 per unit of rd.dt.
-    const float rd_dt = float(config.rd.dt > 0.0 ? config.rd.dt : config.dt);
-    p_->rd_a = diffusion(rd_dt * float(config.rd.diffusion_a));
-    p_->rd_b = diffusion(rd_dt * float(config.rd.diffusion_b));
-    p_->reaction = GrayScottImplicitParams{config.rd.reaction.F, config.rd.reaction.k, rd_dt};
-  }
+  // The scene's fields, on the state (halo 1): the plan's passes hold their addresses.
+  for (FieldF* f : {&state_.u, &state_.v, &state_.dye}) *f = FieldF(grid_, 1);
+  if (rd_)
+    for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF(grid_, 1);
 }
 
 Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
@@ -395,21 +416,13 @@ void Table1Plan::reset() {
         }
     }
   }
-  if (f_) {
-    Fields& f = *f_;
-    for (FieldF* x :
-         {&f.u0, &f.v0, &f.u1, &f.v1, &f.dye0, &f.tu, &f.tv, &f.tdye, &f.p0, &f.p1, &f.div})
-      x->fill(0.0f);
-    if (rd_)
-      for (FieldF* x : {&f.A0, &f.B0, &f.tA, &f.tB}) x->fill(0.0f);
-  }
+  Fields& f = *f_;
+  f.for_each_scratch([](FieldF& x) { x.fill(0.0f); });
   if (device_) {  // the device takes the new fields before the next frame
-    Fields& f = *f_;
-    for (FieldF* x : {&s.u, &s.v, &s.dye, &f.u0, &f.v0, &f.u1, &f.v1, &f.dye0, &f.tu, &f.tv,
-                      &f.tdye, &f.p0, &f.p1, &f.div})
-      device_->host_wrote(*x);
+    for (FieldF* x : {&s.u, &s.v, &s.dye}) device_->host_wrote(*x);
     if (rd_)
-      for (FieldF* x : {&s.A, &s.B, &f.A0, &f.B0, &f.tA, &f.tB}) device_->host_wrote(*x);
+      for (FieldF* x : {&s.A, &s.B}) device_->host_wrote(*x);
+    f.for_each_scratch([&](FieldF& x) { device_->host_wrote(x); });
   }
 }
 

@@ -28,6 +28,9 @@
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
 #include "host/engine/frame_plan.h"
+#include "kernels/advect.h"
+#include "kernels/project.h"
+#include "kernels/reaction.h"
 #include "kernels/stam_sweeps.h"
 #include "runtime/backend.h"
 
@@ -49,12 +52,24 @@ struct Table1Constants {
 // setting it cannot and what it expects.
 std::string table1_config_problem(const SceneConfig& config);
 
+// What the plan's passes compute with, derived from the scene (cell units): a change of any of
+// these needs the plan built again.
+struct Table1Coefficients {
+  int sweeps = 20;  // Jacobi sweeps of every solve
+  StamSweepParams viscosity, dye_diffusion, pressure, rd_a, rd_b;
+  ProjectParams project;
+  AdvectParams advect;
+  GrayScottImplicitParams reaction;
+};
+Table1Coefficients table1_coefficients(const SceneConfig& config);
+bool operator==(const Table1Coefficients& a, const Table1Coefficients& b);
+
 class Table1Plan {
  public:
   // Runs on `backend` (stream, blocked) or on its own serial back end (serial), or on `device`
-  // when the device keeps fields of its own. The scene's fields u, v, dye (and A, B with RD) are
-  // `state`'s, allocated by the caller with halo 1 and kept at the same addresses; state.step
-  // turns the splats.
+  // when the device keeps fields of its own. Allocates the scene's fields u, v, dye (and A, B
+  // with RD) on `state`, which must keep them at the same addresses; state.step turns the
+  // splats.
   Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
              const PlanOptions& options);
   ~Table1Plan();

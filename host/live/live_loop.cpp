@@ -366,8 +366,8 @@ void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
     image_fade_ = false;
   } else {
     image_fade_ = fade_frames_ > 0;
-    if (!presented_) present_and_record(image_);  // the pipeline's last frame of the old preset
-    fade_image_ = image_;                         // frozen last image of the old preset
+    if (!presented_) present_and_record();  // the pipeline's last frame of the old preset
+    fade_image_ = image_;                   // frozen last image of the old preset
     sim_ = std::move(sim);
     preset_ = next;
     image_.resize(sim_->state({}).size.x, sim_->state({}).size.y);
@@ -594,7 +594,7 @@ bool LiveLoop::run_frame() {
       if (!stepper_) stepper_ = std::make_unique<Stepper>();
       stepper_->start(*sim_);
     }
-    if (!presented_) present_and_record(image_);
+    if (!presented_) present_and_record();
     if (!paused_) stepper_->wait();
   } else if (!paused_) {
     sim_->step();
@@ -611,7 +611,7 @@ bool LiveLoop::run_frame() {
   }
   clock_.mark(FrameStage::kRender);
   presented_ = false;
-  if (!options_.pipeline) present_and_record(image_);
+  if (!options_.pipeline) present_and_record();
 
   ++frame_;
   const int64_t work = clock_.elapsed_in_frame_ns();
@@ -622,7 +622,7 @@ bool LiveLoop::run_frame() {
   return !quit_;
 }
 
-void LiveLoop::present_and_record(const ImageRgb8& image) {
+void LiveLoop::present_and_record() {
   hud_.fps = clock_.recent_fps();
   hud_.p50_ms = double(clock_.recent_percentile_ns(0.5)) * 1e-6;
   hud_.p99_ms = double(clock_.recent_percentile_ns(0.99)) * 1e-6;
@@ -632,11 +632,10 @@ void LiveLoop::present_and_record(const ImageRgb8& image) {
   hud_.rd_scale = quality_.level().rd_scale;
   hud_.paused = paused_;
   if (frame_ > hud_.message_until_frame) hud_.message[0] = '\0';
-  display_.present(image, options_.hud ? &hud_ : nullptr);
+  display_.present(image_, options_.hud ? &hud_ : nullptr);
   clock_.mark(FrameStage::kPresent);
-  // The recorder's slots have the size of the running preset's image.
-  if (recorder_ && image.width == image_.width && image.height == image_.height) {
-    if (recorder_->push(image)) ++record_stalls_;
+  if (recorder_) {
+    if (recorder_->push(image_)) ++record_stalls_;
   }
   clock_.mark(FrameStage::kRecord);
   presented_ = true;
@@ -646,8 +645,8 @@ Status LiveLoop::run() {
   if (!sim_) return Status::error("live: no preset started");
   while (run_frame()) {
   }
-  if (!presented_) present_and_record(image_);  // the pipeline's last frame
-  abandon_switch();                             // quitting never waits for a preset still loading
+  if (!presented_) present_and_record();  // the pipeline's last frame
+  abandon_switch();                       // quitting never waits for a preset still loading
   if (!options_.exit_screenshot.empty()) {
     ImageRgb8 shot;
     if (!display_.read_back(shot)) shot = image_;

@@ -228,8 +228,8 @@ class LiveLoop {
   struct Recorder;
   struct Build;
   struct Stepper;
-  // The HUD's figures, then the display and the recorder take `image`.
-  void present_and_record(const ImageRgb8& image);
+  // The HUD's figures, then the display and the recorder take image_.
+  void present_and_record();
   void handle(const LiveCommand& c);
   void request_preset(std::string name);
   void poll_build();
