@@ -49,8 +49,10 @@ inline void locate(const AxisLimits& a, float p, int& i0, float& s1) {
   // Written so that a NaN lands on lo (a broken velocity must not index out of the view).
   p = p > a.lo ? p : a.lo;
   p = p < a.hi ? p : a.hi;
-  // p >= view_min, so truncation after the shift is floor (and much cheaper than std::floor).
-  int i = int(p - float(a.view_min)) + a.view_min;
+  // floor is exact: the cell does not depend on where the view starts (a shift by view_min
+  // before truncating rounds p - view_min, so a block with a deep halo would pick another cell
+  // than the whole grid for p just below an integer).
+  int i = int(std::floor(p));
   i = std::min(std::max(i, a.view_min), a.view_max - 2);
   i0 = i;
   s1 = p - float(i);
@@ -83,14 +85,13 @@ namespace {
 
 #if defined(ARDCELL_ADVECT_AVX2)
 // locate() on 8 lanes. Each step is the scalar one: max_ps(p, lo) is p > lo ? p : lo (a NaN
-// lands on lo), min_ps(p, hi) is p < hi ? p : hi, cvtt is int() truncation.
+// lands on lo), min_ps(p, hi) is p < hi ? p : hi, floor_ps is std::floor.
 struct AxisLanes {
-  __m256 lo, hi, view_min_f;
+  __m256 lo, hi;
   __m256i view_min, view_max2;
   explicit AxisLanes(const AxisLimits& a)
       : lo(_mm256_set1_ps(a.lo)),
         hi(_mm256_set1_ps(a.hi)),
-        view_min_f(_mm256_set1_ps(float(a.view_min))),
         view_min(_mm256_set1_epi32(a.view_min)),
         view_max2(_mm256_set1_epi32(a.view_max - 2)) {}
 };
@@ -98,7 +99,7 @@ struct AxisLanes {
 inline void locate8(const AxisLanes& a, __m256 p, __m256i& i0, __m256& s1) {
   p = _mm256_max_ps(p, a.lo);
   p = _mm256_min_ps(p, a.hi);
-  __m256i i = _mm256_add_epi32(_mm256_cvttps_epi32(_mm256_sub_ps(p, a.view_min_f)), a.view_min);
+  __m256i i = _mm256_cvttps_epi32(_mm256_floor_ps(p));
   i = _mm256_min_epi32(_mm256_max_epi32(i, a.view_min), a.view_max2);
   i0 = i;
   s1 = _mm256_sub_ps(p, _mm256_cvtepi32_ps(i));

@@ -41,13 +41,13 @@ constexpr int kLine = int(Dma::kAlignBytes / sizeof(float));
 }
 
 // First and one-past-last x of the whole 128-byte lines covering [x0, x1) in a row whose
-// element -field_halo sits on a line boundary.
-inline void line_span(int x0, int x1, int field_halo, int& a0, int& a1) {
-  // Floor division: periodic boxes may reach past the stored halo (negative offsets).
-  const auto floor_div = [](int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
-  a0 = floor_div(x0 + field_halo, kLine) * kLine - field_halo;
-  a1 = floor_div(x1 + field_halo + kLine - 1, kLine) * kLine - field_halo;
+// element row_start (a field's origin.x - halo) sits on a line boundary.
+inline void line_span(int x0, int x1, int row_start, int& a0, int& a1) {
+  a0 = (x0 - row_start) / kLine * kLine + row_start;
+  a1 = (x1 - row_start + kLine - 1) / kLine * kLine + row_start;
 }
+
+int row_start(const FieldF& f) { return f.origin().x - f.halo(); }
 
 // The copy of one transfer. A put into a field too large to stay in the caches is written with
 // non-temporal stores: the field's lines are not read in first (no read-for-ownership), so a
@@ -136,9 +136,9 @@ void Dma::wait_all() {
   if (streamed) fence_streaming_stores();
 }
 
-View<float> Dma::local_box(int field_halo, const Box2& box, SlotArena& arena) const {
+View<float> Dma::local_box(int row_start, const Box2& box, SlotArena& arena) const {
   int a0, a1;
-  line_span(box.min.x, box.max.x, field_halo, a0, a1);
+  line_span(box.min.x, box.max.x, row_start, a0, a1);
   const std::ptrdiff_t stride = a1 - a0;
   auto* data = reinterpret_cast<float*>(
       arena.allocate(std::size_t(stride) * std::size_t(box.height()) * sizeof(float)));
@@ -151,42 +151,9 @@ View<float> Dma::get_box(const FieldF& field, const Box2& box, SlotArena& arena,
   View<float> local = local_box(field, box, arena);
   if (box.empty()) return local;
   int a0, a1;
-  line_span(box.min.x, box.max.x, field.halo(), a0, a1);
+  line_span(box.min.x, box.max.x, row_start(field), a0, a1);
   const std::size_t bytes = std::size_t(a1 - a0) * sizeof(float);
   for (int y = box.min.y; y < box.max.y; ++y) get(local.row(y) + a0, field.row(y) + a0, bytes, tag);
-  return local;
-}
-
-View<float> Dma::get_box_periodic(const FieldF& field, const Box2& box, SlotArena& arena, int tag) {
-  View<float> local = local_box(field, box, arena);
-  if (box.empty()) return local;
-  const int nx = field.nx(), ny = field.ny();
-  ARDCELL_CHECK(nx > 0 && ny > 0, "periodic fetch of an empty field");
-  // Rows wrap whole: each is one line-aligned transfer of the interior columns it needs;
-  // columns past the left or right edge are copied from the far side once the rows land.
-  const int x0 = std::max(box.min.x, 0), x1 = std::min(box.max.x, nx);
-  const bool wraps_x = box.min.x < 0 || box.max.x > nx;
-  if (x0 < x1) {
-    int a0, a1;
-    line_span(x0, x1, field.halo(), a0, a1);
-    const std::size_t bytes = std::size_t(a1 - a0) * sizeof(float);
-    for (int y = box.min.y; y < box.max.y; ++y) {
-      const int sy = ((y % ny) + ny) % ny;
-      get(local.row(y) + a0, field.row(sy) + a0, bytes, tag);
-    }
-  }
-  if (wraps_x) {
-    // The wrapped columns are a handful of cells per row: an element-wise copy (the DMA list's
-    // short elements) after the rows have landed, since the line-widened rows overlap them.
-    wait(tag);
-    for (int y = box.min.y; y < box.max.y; ++y) {
-      const int sy = ((y % ny) + ny) % ny;
-      const float* src = field.row(sy);
-      float* dst = local.row(y);
-      for (int x = box.min.x; x < box.max.x; ++x)
-        if (x < 0 || x >= nx) dst[x] = src[((x % nx) + nx) % nx];
-    }
-  }
   return local;
 }
 
@@ -194,10 +161,12 @@ void Dma::put_box(View<const float> local, FieldF& field, const Box2& box, int t
   ARDCELL_DCHECK(field.with_halo().contains(box), "Dma::put_box outside the field");
   if (box.empty()) return;
   int a0, a1;
-  line_span(box.min.x, box.max.x, field.halo(), a0, a1);
-  // A put writes whole lines: the box must begin on a line and end on one or at the row's end,
-  // or it would overwrite cells another tile owns.
-  ARDCELL_CHECK(a0 == box.min.x && (a1 == box.max.x || box.max.x == field.nx() + field.halo()),
+  line_span(box.min.x, box.max.x, row_start(field), a0, a1);
+  // A put writes whole lines: the box must begin on a line (or in the row's first line) and end
+  // on one (or in the row's last), or it would overwrite cells another tile owns. The cells a
+  // widened put writes past the box are halo cells nobody reads before they are filled again.
+  ARDCELL_CHECK((a0 == box.min.x || a0 == row_start(field)) &&
+                    (a1 == box.max.x || box.max.x >= field.interior().max.x),
                 "Dma::put_box: box must start and end on 128-byte lines (TilePlan's x cuts)");
   const std::size_t bytes = std::size_t(a1 - a0) * sizeof(float);
   const bool streaming = field.raw_size() * sizeof(float) >= kStreamingPutFieldBytes;

@@ -46,16 +46,13 @@ class Dma {
   // Fetches `box` of `field` (box inside field.with_halo()) into a fresh buffer of `arena`.
   // Returns the local copy, valid once wait(tag) has returned.
   View<float> get_box(const FieldF& field, const Box2& box, SlotArena& arena, int tag);
-  // As get_box, with periodic wrap: cells of `box` outside field.interior() come from the
-  // opposite side of the domain (the halo of a periodic domain is fetched, not stored). When
-  // the box wraps in x the wrapped columns are patched in at once, so this waits for `tag`.
-  View<float> get_box_periodic(const FieldF& field, const Box2& box, SlotArena& arena, int tag);
   // A local buffer laid out as get_box would, without fetching (outputs computed in store).
   View<float> local_box(const FieldF& field, const Box2& box, SlotArena& arena) const {
-    return local_box(field.halo(), box, arena);
+    return local_box(field.origin().x - field.halo(), box, arena);
   }
-  // The same, for a field of halo `field_halo` (scratch buffers that mirror no field).
-  View<float> local_box(int field_halo, const Box2& box, SlotArena& arena) const;
+  // The same, for rows whose first element is at x = row_start (scratch buffers that mirror no
+  // field: the origin.x - halo of the fields the pass puts into).
+  View<float> local_box(int row_start, const Box2& box, SlotArena& arena) const;
   // Writes `box` of the local copy `local` back into `field`.
   void put_box(View<const float> local, FieldF& field, const Box2& box, int tag);
 

@@ -4,9 +4,12 @@
 // coordinates, so a kernel written against a View runs unchanged on a whole field or on a tile
 // copied into a local store (the kernel never learns which).
 //
+// A field's interior is a box whose minimum may be negative or beyond 0 (a block of a larger
+// domain, runtime/block_layout.h): cells keep their global coordinates everywhere.
+//
 // Storage: row-major, each row padded to a multiple of 128 bytes and 128-byte aligned, so that
 // DMA transfers and SIMD loads of whole rows are aligned. Element (x, y) of a field with halo h
-// lives at data[(y + h) * stride + (x + h)].
+// over the interior [m, M) lives at data[(y - m.y + h) * stride + (x - m.x + h)].
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -69,23 +72,13 @@ class Field {
  public:
   Field() = default;
   // A field of size.x by size.y interior cells with `halo` cells on each side, zero-filled.
-  Field(Int2 size, int halo) : size_(size), halo_(halo) {
-    ARDCELL_CHECK(size.x >= 0 && size.y >= 0 && halo >= 0, "Field size and halo must be >= 0");
-    constexpr std::ptrdiff_t per_line = kRowAlignBytes / sizeof(T);
-    const std::ptrdiff_t row = std::ptrdiff_t(size.x) + 2 * halo;
-    stride_ = (row + per_line - 1) / per_line * per_line;
-    if (stride_ == 0) stride_ = per_line;
-    rows_ = std::ptrdiff_t(size.y) + 2 * halo;
-    const std::size_t bytes = std::size_t(stride_ * rows_) * sizeof(T);
-    void* p = bytes ? std::aligned_alloc(kRowAlignBytes, bytes) : nullptr;
-    if (bytes && !p) throw std::bad_alloc();
-    storage_.reset(static_cast<T*>(p));
-    if (bytes) std::memset(p, 0, bytes);
-  }
-  Field(const Field& o) : Field(o.size_, o.halo_) { copy_storage_from(o); }
+  Field(Int2 size, int halo) : Field(box_of_size(size), halo, 0) {}
+  // The same over the interior cells `interior` (global coordinates).
+  static Field over(Box2 interior, int halo) { return Field(interior, halo, 0); }
+  Field(const Field& o) : Field(o.interior_, o.halo_, 0) { copy_storage_from(o); }
   Field& operator=(const Field& o) {
     if (this == &o) return *this;
-    if (o.size_ != size_ || o.halo_ != halo_) *this = Field(o.size_, o.halo_);
+    if (o.interior_ != interior_ || o.halo_ != halo_) *this = Field(o.interior_, o.halo_, 0);
     copy_storage_from(o);
     return *this;
   }
@@ -99,18 +92,21 @@ class Field {
   std::ptrdiff_t stride() const { return stride_; }
   bool empty() const { return !storage_; }
 
-  Box2 interior() const { return box_of_size(size_); }
+  Box2 interior() const { return interior_; }
+  Int2 origin() const { return interior_.min; }
   Box2 with_halo() const { return interior().grown(halo_); }
 
   T& operator()(int x, int y) {
     ARDCELL_DCHECK(with_halo().contains(Int2{x, y}), "Field index outside interior + halo");
-    return storage_.get()[(y + halo_) * stride_ + (x + halo_)];
+    return storage_.get()[(y - interior_.min.y + halo_) * stride_ + (x - interior_.min.x + halo_)];
   }
   const T& operator()(int x, int y) const { return const_cast<Field&>(*this)(x, y); }
 
-  // Pointer r such that r[x] is cell (x, y), -halo <= x < nx + halo.
-  T* row(int y) { return storage_.get() + ((y + halo_) * stride_ + halo_); }
-  const T* row(int y) const { return storage_.get() + ((y + halo_) * stride_ + halo_); }
+  // Pointer r such that r[x] is cell (x, y), origin.x - halo <= x < origin.x + nx + halo.
+  T* row(int y) {
+    return storage_.get() + ((y - interior_.min.y + halo_) * stride_ + halo_ - interior_.min.x);
+  }
+  const T* row(int y) const { return const_cast<Field&>(*this).row(y); }
 
   // Views over interior + halo, or over a box inside it.
   View<T> view() { return View<T>(storage_.get(), stride_, with_halo()); }
@@ -129,6 +125,21 @@ class Field {
   }
 
  private:
+  Field(Box2 interior, int halo, int /*primary*/)
+      : interior_(interior), size_(interior.size()), halo_(halo) {
+    const Int2 size = size_;
+    ARDCELL_CHECK(size.x >= 0 && size.y >= 0 && halo >= 0, "Field size and halo must be >= 0");
+    constexpr std::ptrdiff_t per_line = kRowAlignBytes / sizeof(T);
+    const std::ptrdiff_t row = std::ptrdiff_t(size.x) + 2 * halo;
+    stride_ = (row + per_line - 1) / per_line * per_line;
+    if (stride_ == 0) stride_ = per_line;
+    rows_ = std::ptrdiff_t(size.y) + 2 * halo;
+    const std::size_t bytes = std::size_t(stride_ * rows_) * sizeof(T);
+    void* p = bytes ? std::aligned_alloc(kRowAlignBytes, bytes) : nullptr;
+    if (bytes && !p) throw std::bad_alloc();
+    storage_.reset(static_cast<T*>(p));
+    if (bytes) std::memset(p, 0, bytes);
+  }
   struct FreeDeleter {
     void operator()(T* p) const { std::free(p); }
   };
@@ -136,6 +147,7 @@ class Field {
     if (raw_size()) std::memcpy(storage_.get(), o.storage_.get(), raw_size() * sizeof(T));
   }
 
+  Box2 interior_{};
   Int2 size_{};
   int halo_ = 0;
   std::ptrdiff_t stride_ = 0;

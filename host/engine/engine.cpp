@@ -61,6 +61,10 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.size = config_.size;
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
+  if (!options.plan.block.empty() && config_.fluid.kind != FluidSceneKind::kTable1)
+    throw std::invalid_argument(
+        "blocks: only a scene built as a frame plan (fluid.scene table1) runs as one block of a "
+        "decomposed grid");
   if (config_.fluid.kind == FluidSceneKind::kTable1) {
     PlanOptions plan = options.plan;
     if (options.backend == EngineOptions::Backend::kSerial) plan.schedule = PlanSchedule::kSerial;

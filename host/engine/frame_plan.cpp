@@ -20,13 +20,20 @@ Box2 grow_clip(const Box2& core, int reach, Int2 grid) {
   return core.grown(reach).intersected(box_of_size(grid));
 }
 
+bool contains(std::span<const FieldF* const> list, const FieldF* f) {
+  return std::find(list.begin(), list.end(), f) != list.end();
+}
+
 }  // namespace
 
 struct FramePlan::PassProgram {
   PassDesc desc;
   Int2 grid;
   int field_halo = 1;
+  Tile block;  // the whole-field form's one tile: the plan's block
   TilePlan plan;
+  // Fields whose halos the plan's exchange step fills before the pass (block plans).
+  std::vector<FieldF*> exchange;
   Pass pass;
   int nbuf = 0;
   std::array<bool, kMaxBuffers> written{};
@@ -38,9 +45,9 @@ struct FramePlan::PassProgram {
   mutable std::array<bool, 16> said_cpu{};
 
   Box2 buffer_box(const Tile& t, int i) const {
-    return TilePlan::written_box(t, grid, field_halo)
+    return plan.written_box(t)
         .grown(desc.buffers[std::size_t(i)].halo)
-        .intersected(box_of_size(grid).grown(field_halo));
+        .intersected(plan.readable());
   }
 
   // Lays the buffers out in `slot` (the same layout every time for a tile), fetching when asked.
@@ -53,18 +60,19 @@ struct FramePlan::PassProgram {
       } else if (fetch && b.src) {
         views[i] = ctx.dma->get_box(*b.src, buffer_box(t, i), arena, slot);
       } else {
-        views[i] = ctx.dma->local_box(field_halo, buffer_box(t, i), arena);
+        views[i] = ctx.dma->local_box(plan.block().min.x - field_halo, buffer_box(t, i), arena);
       }
     }
   }
 
-  void run_ops(std::span<const View<float>> views, const Tile* tile) const {
+  // On a tile, or on the whole block (tile = block: the whole-field form).
+  void run_ops(std::span<const View<float>> views, const Tile& tile) const {
     for (const PassOpDesc& op : desc.ops) run_op(op, views, tile);
   }
 
-  void run_op(const PassOpDesc& op, std::span<const View<float>> views, const Tile* tile) const {
+  void run_op(const PassOpDesc& op, std::span<const View<float>> views, const Tile& tile) const {
     if (op.kind == PassOpDesc::Kind::kMap) {
-      const Box2 region = tile ? grow_clip(tile->core, op.reach, grid) : box_of_size(grid);
+      const Box2 region = grow_clip(tile.core, op.reach, grid);
       op.map(op.params, views, region);
       for (int j = 0; j < 4 && op.fill_buffers[std::size_t(j)] >= 0; ++j) {
         const View<float>& v = views[std::size_t(op.fill_buffers[std::size_t(j)])];
@@ -73,9 +81,7 @@ struct FramePlan::PassProgram {
     } else {
       int cur = op.a, other = op.b;
       for (int s = 1; s <= op.sweeps; ++s) {
-        const Box2 region = tile
-                                ? TilePlan::sweep_region(*tile, grid, op.sweeps + op.extra_reach, s)
-                                : box_of_size(grid);
+        const Box2 region = plan.sweep_region(tile, op.sweeps + op.extra_reach, s);
         const View<float>& out = views[std::size_t(other)];
         op.sweep(op.params, views[std::size_t(cur)], views[std::size_t(op.rhs)], out, region);
         fill_boundary(out.crop(region.grown(1).intersected(out.box())), grid, op.fill);
@@ -93,7 +99,7 @@ struct FramePlan::PassProgram {
                         p.whole[std::size_t(i)]->with_halo());
       views[std::size_t(i)] = p.whole[std::size_t(i)]->view();
     }
-    p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), nullptr);
+    p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), p.block);
   }
 
   // The whole-field form on a Device: each op's twin, or the CPU op with the pass's fields
@@ -117,7 +123,7 @@ struct FramePlan::PassProgram {
         for (FieldF* f : fields) device.sync_to_host(*f);
         std::array<View<float>, kMaxBuffers> views;
         for (int i = 0; i < nbuf; ++i) views[std::size_t(i)] = whole[std::size_t(i)]->view();
-        run_op(op, std::span<const View<float>>(views.data(), std::size_t(nbuf)), nullptr);
+        run_op(op, std::span<const View<float>>(views.data(), std::size_t(nbuf)), block);
         for (FieldF* f : fields) device.host_wrote(*f);
         continue;
       }
@@ -145,8 +151,8 @@ struct FramePlan::PassProgram {
     std::array<View<float>, kMaxBuffers> views;
     p.layout(t, slot, ctx, views.data(), false);
     ctx.dma->wait(slot);
-    p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), &t);
-    const Box2 written = TilePlan::written_box(t, p.grid, p.field_halo);
+    p.run_ops(std::span<const View<float>>(views.data(), std::size_t(p.nbuf)), t);
+    const Box2 written = p.plan.written_box(t);
     for (int i = 0; i < p.nbuf; ++i)
       if (FieldF* dst = p.desc.buffers[std::size_t(i)].dst)
         ctx.dma->put_box(views[std::size_t(i)], *dst, written, slot);
@@ -155,6 +161,11 @@ struct FramePlan::PassProgram {
 
 FramePlan::FramePlan(const FramePlanOptions& options) : options_(options) {
   ARDCELL_CHECK(options.grid.x > 0 && options.grid.y > 0, "FramePlan needs a non-empty grid");
+  if (options_.block.empty()) options_.block = box_of_size(options.grid);
+  ARDCELL_CHECK(box_of_size(options.grid).contains(options_.block),
+                "FramePlan: the block lies outside the grid");
+  ARDCELL_CHECK(!options_.halo || options_.halo->width() <= options_.field_halo,
+                "FramePlan: the halo exchange is wider than the fields' halo");
 }
 
 FramePlan::~FramePlan() = default;
@@ -164,6 +175,7 @@ int FramePlan::add_pass(PassDesc desc) {
   auto p = std::make_unique<PassProgram>();
   p->grid = options_.grid;
   p->field_halo = options_.field_halo;
+  p->block = Tile{options_.block, 0};
   p->nbuf = int(desc.buffers.size());
   if (p->nbuf > kMaxBuffers) bad_pass(desc.name, "more than 16 buffers");
   const auto valid = [&](int i) { return i >= 0 && i < p->nbuf; };
@@ -208,8 +220,15 @@ int FramePlan::add_pass(PassDesc desc) {
       max_halo = std::max(max_halo, b.halo);
     }
     for (const FieldF* f : {b.src, static_cast<const FieldF*>(b.dst)})
-      if (f && (f->size() != options_.grid || f->halo() != options_.field_halo))
-        bad_pass(desc.name, "buffer field size or halo differs from the plan's grid");
+      if (f && (f->interior() != options_.block || f->halo() != options_.field_halo))
+        bad_pass(desc.name, "buffer field box or halo differs from the plan's block");
+    // Across a block edge a buffer's halo comes from the exchange (a gather reads all of it).
+    if (options_.halo && b.src && (b.gather || b.halo > 0)) {
+      if (b.halo > options_.halo->width())
+        bad_pass(desc.name, "a buffer's halo is wider than the plan's halo exchange");
+      FieldF* src = const_cast<FieldF*>(b.src);
+      if (!contains(exchanged_, src) && !contains(p->exchange, src)) p->exchange.push_back(src);
+    }
     const bool written = p->written[std::size_t(i)] || b.dst;
     if (b.gather || (b.src && !written)) {
       p->whole[std::size_t(i)] = const_cast<FieldF*>(b.src);
@@ -217,13 +236,19 @@ int FramePlan::add_pass(PassDesc desc) {
       p->whole[std::size_t(i)] = b.dst;
       if (b.src && b.src != b.dst) p->copy_from[std::size_t(i)] = b.src;
     } else {
-      p->scratch.push_back(std::make_unique<FieldF>(options_.grid, options_.field_halo));
+      p->scratch.push_back(
+          std::make_unique<FieldF>(FieldF::over(options_.block, options_.field_halo)));
       p->whole[std::size_t(i)] = p->scratch.back().get();
       p->copy_from[std::size_t(i)] = b.src;
     }
   }
+  // Halos stay current until the field is written again.
+  for (FieldF* f : p->exchange) exchanged_.push_back(f);
+  for (const PassBufferDesc& b : desc.buffers)
+    if (b.dst) std::erase(exchanged_, b.dst);
   TilePlanRequest r;
   r.grid = options_.grid;
+  r.block = options_.block;
   r.field_halo = options_.field_halo;
   r.halo = max_halo;
   r.buffer_halos = halos;
@@ -248,15 +273,26 @@ int FramePlan::add_pass(PassDesc desc) {
 const Pass& FramePlan::pass(int i) const { return passes_.at(std::size_t(i))->pass; }
 const TilePlan& FramePlan::tiles(int i) const { return passes_.at(std::size_t(i))->plan; }
 std::string_view FramePlan::pass_name(int i) const { return passes_.at(std::size_t(i))->desc.name; }
+int FramePlan::exchanges_before(int i) const {
+  return int(passes_.at(std::size_t(i))->exchange.size());
+}
 
 void FramePlan::run(Backend& backend) {
   using Clock = std::chrono::steady_clock;
   auto start = Clock::now();
+  bool synced = true;
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     const PassProgram& p = *passes_[i];
+    if (!p.exchange.empty()) {
+      // The exchange step: the fields' cells are final (barrier), their halos filled.
+      if (!synced) backend.sync();
+      for (FieldF* f : p.exchange) options_.halo->exchange(*f);
+    }
     backend.dispatch(p.pass, p.plan.tiles());
+    synced = false;
     if (p.desc.barrier_after || i + 1 == passes_.size()) {
       backend.sync();
+      synced = true;
       const auto now = Clock::now();
       pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
       start = now;
@@ -266,6 +302,7 @@ void FramePlan::run(Backend& backend) {
 }
 
 void FramePlan::run(Device& device) {
+  ARDCELL_CHECK(!options_.halo, "FramePlan: a block plan runs on a back end, not a device");
   for (const auto& p : passes_) p->run_on(device);
   ++runs_;
 }
@@ -279,12 +316,12 @@ void FramePlan::print_stats(std::FILE* out) const {
   std::int64_t total = 0;
   for (std::size_t i = 0; i < passes_.size(); ++i) total += pass_ns_[i];
   const double runs = runs_ > 0 ? double(runs_) : 1.0;
-  std::fprintf(out, "%-28s %6s %5s %6s %10s %6s\n", "pass", "tiles", "halo", "sweeps", "ms/frame",
-               "share");
+  std::fprintf(out, "%-28s %6s %5s %6s %4s %10s %6s\n", "pass", "tiles", "halo", "sweeps", "xchg",
+               "ms/frame", "share");
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     const PassProgram& p = *passes_[i];
-    std::fprintf(out, "%-28s %6zu %5d %6d %10.3f %5.1f%%\n", p.desc.name.c_str(),
-                 p.plan.tiles().size(), p.pass.halo, p.pass.sweeps,
+    std::fprintf(out, "%-28s %6zu %5d %6d %4zu %10.3f %5.1f%%\n", p.desc.name.c_str(),
+                 p.plan.tiles().size(), p.pass.halo, p.pass.sweeps, p.exchange.size(),
                  double(pass_ns_[i]) * 1e-6 / runs,
                  total > 0 ? 100.0 * double(pass_ns_[i]) / double(total) : 0.0);
   }

@@ -24,6 +24,14 @@
 // host/engine/device.h); an op without one runs on the CPU on whole fields, its pass's fields
 // moving to the host and back, and says so once on stderr.
 //
+// A plan may run one BLOCK of a larger grid (runtime/block_layout.h: a block of a LocalBlockGroup
+// on its own thread, later an MPI rank): its fields cover the block with a halo deep enough for
+// the passes' halos, and the plan inserts the halo exchange as a step of its own before each
+// pass that reads a field's halo after the field was last written (a gather reads all of it).
+// Boundary conditions still apply on the domain's edges only; a block's other edges are like a
+// tile's: sweeps shrink there, so the blocks together give the bits one block gives. Advection
+// back-traces must stay inside the block's halo (the fields' halo bounds the CFL number).
+//
 // Per-pass timings accumulate in fixed arrays (no allocation), printable with print_stats.
 #include <array>
 #include <chrono>
@@ -36,6 +44,7 @@
 #include <vector>
 
 #include "runtime/backend.h"
+#include "runtime/block_layout.h"
 #include "runtime/boundary.h"
 #include "runtime/field.h"
 #include "runtime/tile_plan.h"
@@ -95,7 +104,9 @@ struct PassDesc {
 
 struct FramePlanOptions {
   Int2 grid{};
-  int field_halo = 1;
+  Box2 block{};                 // the cells this plan computes (empty: the whole grid)
+  HaloChannel* halo = nullptr;  // fills the block's halos from the other blocks (null: one block)
+  int field_halo = 1;           // of the block's fields: at least the passes' halos when exchanging
   std::size_t local_store_bytes = machine_local_store_bytes();
   int workers = 1;         // tiles are cut so that each worker gets several
   int max_tile_width = 0;  // caps for tests (0: as large as the store allows)
@@ -119,6 +130,9 @@ struct PlanOptions {
   int sweeps_per_residency = 0;  // blocked: sweeps per tile load (0: a whole solve)
   int max_tile_width = 0;        // test hooks: cap tile sizes to force awkward tilings
   int max_tile_height = 0;
+  // One block of a decomposed grid and the channel of its halo exchange (none: the whole grid).
+  Box2 block{};
+  HaloChannel* halo = nullptr;
 };
 
 class FramePlan {
@@ -144,6 +158,8 @@ class FramePlan {
   const Pass& pass(int i) const;
   const TilePlan& tiles(int i) const;
   std::string_view pass_name(int i) const;
+  // Fields whose halos the exchange step fills before pass i (block plans; 0 otherwise).
+  int exchanges_before(int i) const;
 
   // Timings: seconds spent in each pass over all run() calls, and the number of runs.
   double pass_seconds(int i) const { return double(pass_ns_[std::size_t(i)]) * 1e-9; }
@@ -156,6 +172,7 @@ class FramePlan {
   struct PassProgram;
   FramePlanOptions options_;
   std::vector<std::unique_ptr<PassProgram>> passes_;
+  std::vector<FieldF*> exchanged_;  // while building: fields whose halos are current
   std::array<std::int64_t, kMaxPasses> pass_ns_{};
   std::int64_t runs_ = 0;
 };

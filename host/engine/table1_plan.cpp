@@ -286,9 +286,10 @@ std::string table1_config_problem(const SceneConfig& c) {
 
 struct Table1Plan::Fields {
   // u, v, dye, A, B are the scene's (SimState); the rest is the plan's scratch.
-  Fields(SimState& s, Int2 g, bool rd) : u(s.u), v(s.v), dye(s.dye), A(s.A), B(s.B), rd_(rd) {
-    zeros = FieldF(g, 1);
-    for_each_scratch([g](FieldF& f) { f = FieldF(g, 1); });
+  Fields(SimState& s, Box2 block, int halo, bool rd)
+      : u(s.u), v(s.v), dye(s.dye), A(s.A), B(s.B), rd_(rd) {
+    zeros = FieldF::over(block, halo);
+    for_each_scratch([&](FieldF& f) { f = FieldF::over(block, halo); });
   }
   // The plan's scratch fields (zeros aside, which is never written).
   template <class F>
@@ -359,17 +360,25 @@ void Table1Plan::init(const SceneConfig& config) {
   if (options_.sweeps_per_residency == 0) options_.sweeps_per_residency = sweeps_;
   ARDCELL_CHECK(options_.sweeps_per_residency >= 1 && options_.sweeps_per_residency <= sweeps_,
                 "Table1Plan: sweeps per residency must be 1 .. the sweeps of a solve");
-  // The scene's fields, on the state (halo 1): the plan's passes hold their addresses.
-  for (FieldF* f : {&state_.u, &state_.v, &state_.dye}) *f = FieldF(grid_, 1);
+  // The scene's fields over the plan's block, on the state: the plan's passes hold their
+  // addresses. One block: halo 1 (the domain's ring); several: the exchange's width.
+  if (options_.block.empty()) options_.block = box_of_size(grid_);
+  field_halo_ = options_.halo ? options_.halo->width() : 1;
+  ARDCELL_CHECK(!options_.halo || field_halo_ >= sweeps_ + 2,
+                "Table1Plan: a block's halo must hold a solve's sweeps + 2 cells");
+  for (FieldF* f : {&state_.u, &state_.v, &state_.dye})
+    *f = FieldF::over(options_.block, field_halo_);
   if (rd_)
-    for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF(grid_, 1);
+    for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF::over(options_.block, field_halo_);
 }
 
 Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
                        const PlanOptions& options)
     : state_(state), options_(options) {
   init(config);
-  f_ = std::make_unique<Fields>(state_, grid_, rd_);
+  f_ = std::make_unique<Fields>(state_, options_.block, field_halo_, rd_);
+  ARDCELL_CHECK(!options_.halo || device.fields_on_host(),
+                "Table1Plan: a block of a decomposed grid runs on a CPU back end");
   if (!device.fields_on_host()) {
     device_ = &device;
     backend_ = nullptr;
@@ -381,7 +390,9 @@ Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& back
   }
   FramePlanOptions po;
   po.grid = grid_;
-  po.field_halo = 1;
+  po.block = options_.block;
+  po.halo = options_.halo;
+  po.field_halo = field_halo_;
   po.local_store_bytes = options_.local_store_bytes;
   po.workers = backend_ ? backend_->workers() : 1;
   po.max_tile_width = options_.max_tile_width;
@@ -409,8 +420,11 @@ void Table1Plan::reset() {
     const int side = std::max(2, grid_.x / 16);
     for (int q = 0; q < 4; ++q) {
       const int cx = grid_.x * (q % 2 == 0 ? 3 : 5) / 8, cy = grid_.y * (q < 2 ? 3 : 5) / 8;
-      for (int y = cy - side / 2; y < cy + side / 2; ++y)
-        for (int x = cx - side / 2; x < cx + side / 2; ++x) {
+      const Box2 seed =
+          Box2{{cx - side / 2, cy - side / 2}, {cx + side / 2, cy + side / 2}}.intersected(
+              options_.block);
+      for (int y = seed.min.y; y < seed.max.y; ++y)
+        for (int x = seed.min.x; x < seed.max.x; ++x) {
           s.A(x, y) = 0.5f;
           s.B(x, y) = 0.25f;
         }

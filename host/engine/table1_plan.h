@@ -12,7 +12,10 @@
 //   blocked - ghost-zone temporal blocking: each solve loads its tile with a halo of its sweeps
 //             once, sweeps in store and writes the core once; the projection (divergence,
 //             solve, gradient) is one pass.
-// All three give the same fields bit for bit (tests/host/engine/tiling_parity_test.cpp). On a
+// All three give the same fields bit for bit (tests/host/engine/tiling_parity_test.cpp), and so
+// does the grid cut into blocks (PlanOptions::block / halo, runtime/block_layout.h), each block a
+// plan of its own on its own thread exchanging halos with the others
+// (tests/host/engine/table1_blocks_test.cpp). On a
 // device with fields of its own (OpenCL) the same plan runs whole-field, each op as its Device
 // twin (FramePlan::run(Device&)), the fields resident on the device; its Jacobi ops run one sweep
 // a launch (stream, serial) or as many as the local memory holds (blocked).
@@ -115,6 +118,7 @@ class Table1Plan {
   SimState& state_;
   PlanOptions options_;
   Int2 grid_{};
+  int field_halo_ = 1;
   bool rd_ = false;
   int sweeps_ = 20;  // Jacobi sweeps of every solve
   std::unique_ptr<Fields> f_;

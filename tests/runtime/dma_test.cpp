@@ -62,19 +62,6 @@ TEST(Dma, PutBoxWritesOnlyTheBox) {
       ASSERT_EQ(f(x, y), box.contains(Int2{x, y}) ? -1.0f : before(x, y)) << x << "," << y;
 }
 
-TEST(Dma, PeriodicFetchWrapsBothAxes) {
-  const FieldF f = numbered({40, 30}, 1);
-  LocalStore store(64 * 1024);
-  Dma dma;
-  SlotArena arena(store, 0);
-  const Box2 box{{-3, -2}, {43, 32}};
-  View<float> local = dma.get_box_periodic(f, box, arena, 0);
-  dma.wait(0);
-  for (int y = box.min.y; y < box.max.y; ++y)
-    for (int x = box.min.x; x < box.max.x; ++x)
-      ASSERT_EQ(local(x, y), f((x + 40) % 40, (y + 30) % 30)) << x << "," << y;
-}
-
 #if defined(ARDCELL_CHECKS) && ARDCELL_CHECKS
 TEST(DmaDeathTest, RejectsTransfersOver16KiB) {
   alignas(128) static float local[8192];

@@ -81,15 +81,47 @@ TEST(TilePlan, MinTilesSplitsSmallGridsForLoadBalance) {
 }
 
 TEST(TilePlan, LoadBoxClipsToTheFieldAndSweepRegionShrinks) {
-  const Int2 g{100, 50};
+  TilePlanRequest r;
+  r.grid = {100, 50};
+  const TilePlan plan = TilePlan::make(r);
   const Tile corner{Box2{{0, 0}, {31, 20}}, 5};
-  EXPECT_EQ(TilePlan::load_box(corner, g, 1, 5), (Box2{{-1, -1}, {36, 25}}));
+  EXPECT_EQ(plan.load_box(corner, 5), (Box2{{-1, -1}, {36, 25}}));
   // Sweep 1 of 5 computes 4 cells beyond the core on inner sides, none past the domain.
-  EXPECT_EQ(TilePlan::sweep_region(corner, g, 5, 1), (Box2{{0, 0}, {35, 24}}));
-  EXPECT_EQ(TilePlan::sweep_region(corner, g, 5, 5), corner.core);
+  EXPECT_EQ(plan.sweep_region(corner, 5, 1), (Box2{{0, 0}, {35, 24}}));
+  EXPECT_EQ(plan.sweep_region(corner, 5, 5), corner.core);
   const Tile inner{Box2{{31, 20}, {63, 40}}, 2};
-  EXPECT_EQ(TilePlan::written_box(inner, g, 1), inner.core);
-  EXPECT_EQ(TilePlan::written_box(corner, g, 1), (Box2{{-1, -1}, {31, 20}}));
+  EXPECT_EQ(plan.written_box(inner), inner.core);
+  EXPECT_EQ(plan.written_box(corner), (Box2{{-1, -1}, {31, 20}}));
+}
+
+// A block of a larger domain: tiles cut the block only, on lines of the block's fields; the
+// sides it shares with other blocks are inner sides (no ring, sweeps shrink there), and loads
+// reach into the field's deep halo there but only the ring past the domain.
+TEST(TilePlan, CutsABlockOfTheDomain) {
+  TilePlanRequest r;
+  r.grid = {200, 90};
+  r.block = Box2{{67, 0}, {134, 45}};
+  r.field_halo = 6;
+  r.halo = 6;
+  r.store_bytes = 64 * 1024;
+  r.min_tiles = 4;
+  const TilePlan plan = TilePlan::make(r);
+  std::int64_t area = 0;
+  for (const Tile& t : plan.tiles()) {
+    EXPECT_TRUE(r.block.contains(t.core)) << t.core;
+    area += t.core.area();
+    const Box2 w = plan.written_box(t);
+    EXPECT_EQ(w.min.x, t.core.min.x);  // no domain edge in x
+    EXPECT_EQ(w.max.y, t.core.max.y);  // the top is another block's
+    EXPECT_EQ(w.min.y, t.core.min.y == 0 ? -1 : t.core.min.y);
+    // Cuts on the block's field lines (row start 67 - 6).
+    if (t.core.min.x != r.block.min.x) EXPECT_EQ((t.core.min.x - 61) % 32, 0) << t.core;
+  }
+  EXPECT_EQ(area, r.block.area());
+  EXPECT_EQ(plan.readable(), (Box2{{61, -1}, {140, 51}}));
+  const Tile first = plan.tiles()[0];
+  EXPECT_EQ(plan.load_box(first, 6).min, (Int2{61, -1}));
+  EXPECT_EQ(plan.sweep_region(first, 6, 1).min, (Int2{62, 0}));
 }
 
 }  // namespace

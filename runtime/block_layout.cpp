@@ -1,0 +1,130 @@
+#include "runtime/block_layout.h"
+
+#include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "runtime/check.h"
+
+namespace ardcell {
+namespace {
+
+// Cut points of n cells into k parts, the first n % k one cell larger.
+std::vector<int> cuts(int n, int k) {
+  std::vector<int> at{0};
+  for (int i = 0; i < k; ++i) at.push_back(at.back() + n / k + (i < n % k ? 1 : 0));
+  return at;
+}
+
+}  // namespace
+
+BlockLayout BlockLayout::split(Int2 domain, Int2 parts, bool periodic_x, bool periodic_y) {
+  if (parts.x < 1 || parts.y < 1 || parts.x > domain.x || parts.y > domain.y) {
+    char why[160];
+    std::snprintf(why, sizeof why,
+                  "blocks %dx%d: a %dx%d grid cuts into 1 to %d blocks along x and 1 to %d "
+                  "along y",
+                  parts.x, parts.y, domain.x, domain.y, domain.x, domain.y);
+    throw std::invalid_argument(why);
+  }
+  BlockLayout l;
+  l.domain_ = domain;
+  l.parts_ = parts;
+  l.periodic_x_ = periodic_x;
+  l.periodic_y_ = periodic_y;
+  const std::vector<int> xs = cuts(domain.x, parts.x), ys = cuts(domain.y, parts.y);
+  for (int j = 0; j < parts.y; ++j)
+    for (int i = 0; i < parts.x; ++i)
+      l.blocks_.push_back(Box2{{xs[std::size_t(i)], ys[std::size_t(j)]},
+                               {xs[std::size_t(i) + 1], ys[std::size_t(j) + 1]}});
+  return l;
+}
+
+Box2 BlockLayout::owned(int b) const {
+  Box2 o = block(b);
+  if (!periodic_x_) {
+    if (o.min.x == 0) o.min.x = -1;
+    if (o.max.x == domain_.x) o.max.x = domain_.x + 1;
+  }
+  if (!periodic_y_) {
+    if (o.min.y == 0) o.min.y = -1;
+    if (o.max.y == domain_.y) o.max.y = domain_.y + 1;
+  }
+  return o;
+}
+
+bool parse_block_parts(std::string_view text, Int2& out) {
+  const std::size_t x = text.find('x');
+  if (x == std::string_view::npos) return false;
+  const auto number = [](std::string_view s, int& v) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size() && v >= 1;
+  };
+  Int2 p;
+  if (!number(text.substr(0, x), p.x) || !number(text.substr(x + 1), p.y)) return false;
+  out = p;
+  return true;
+}
+
+HaloExchange::HaloExchange(const BlockLayout& layout, int width) : width_(width) {
+  const Int2 d = layout.domain();
+  ARDCELL_CHECK(width >= 0, "HaloExchange: negative width");
+  ARDCELL_CHECK((!layout.periodic_x() || width <= d.x) && (!layout.periodic_y() || width <= d.y),
+                "HaloExchange: the halo is wider than the periodic domain");
+  // Images of the domain a halo can reach: itself, and one width away along a periodic axis.
+  const int sx = layout.periodic_x() ? 1 : 0, sy = layout.periodic_y() ? 1 : 0;
+  for (int b = 0; b < layout.count(); ++b) {
+    first_.push_back(copies_.size());
+    const Box2 halo = layout.block(b).grown(width);
+    for (int src = 0; src < layout.count(); ++src)
+      for (int iy = -sy; iy <= sy; ++iy)
+        for (int ix = -sx; ix <= sx; ++ix) {
+          if (src == b && ix == 0 && iy == 0) continue;
+          const Int2 image{ix * d.x, iy * d.y};
+          const Box2 box = halo.intersected(layout.owned(src).shifted(image));
+          if (!box.empty()) copies_.push_back(HaloCopy{src, box, Int2{0, 0} - image});
+        }
+  }
+  first_.push_back(copies_.size());
+}
+
+std::span<const HaloCopy> HaloExchange::copies_into(int block) const {
+  const std::size_t a = first_[std::size_t(block)], e = first_[std::size_t(block) + 1];
+  return std::span<const HaloCopy>(copies_).subspan(a, e - a);
+}
+
+std::size_t HaloExchange::cells_into(int block) const {
+  std::size_t n = 0;
+  for (const HaloCopy& c : copies_into(block)) n += std::size_t(c.box.area());
+  return n;
+}
+
+void HaloExchange::fill(std::span<FieldF* const> fields, int block) const {
+  FieldF& dst = *fields[std::size_t(block)];
+  ARDCELL_CHECK(dst.halo() >= width_, "HaloExchange: a field's halo is narrower than the exchange");
+  for (const HaloCopy& c : copies_into(block)) {
+    const FieldF& src = *fields[std::size_t(c.src_block)];
+    for (int y = c.box.min.y; y < c.box.max.y; ++y)
+      std::memcpy(dst.row(y) + c.box.min.x, src.row(y + c.shift.y) + c.box.min.x + c.shift.x,
+                  std::size_t(c.box.width()) * sizeof(float));
+  }
+}
+
+LocalBlockGroup::LocalBlockGroup(const BlockLayout& layout, int width)
+    : layout_(layout),
+      exchange_(layout, width),
+      posted_(std::size_t(layout.count()), nullptr),
+      barrier_(layout.count()) {
+  for (int b = 0; b < layout.count(); ++b) channels_.emplace_back(this, b);
+}
+
+void LocalBlockGroup::Channel::exchange(FieldF& field) {
+  LocalBlockGroup& g = *group_;
+  g.posted_[std::size_t(block_)] = &field;
+  g.barrier_.arrive_and_wait();  // every block's field is posted and its cells are final
+  g.exchange_.fill(g.posted_, block_);
+  g.barrier_.arrive_and_wait();  // every halo is filled before anyone writes its cells again
+}
+
+}  // namespace ardcell

@@ -1,0 +1,123 @@
+#pragma once
+// Blocks: a domain of cells cut into boxes, each with its own fields (runtime/field.h, interior
+// the block's box in global coordinates, a halo deep enough for the passes that read across its
+// edges), and the halo exchange that fills those halos from the blocks that own the cells - the
+// unit one frame plan runs on (host/engine/frame_plan.h), as PETSc's DMDA or AMReX's BoxArray
+// cut a grid for MPI ranks. Here the blocks of one process run side by side on threads
+// (LocalBlockGroup); the exchange is written as copies between boxes so that a transport
+// between processes moves the same boxes.
+//
+// Ownership: a block owns its interior and, where it touches a non-periodic domain edge, the
+// domain's ghost ring on that side (the cells its boundary fills write). The halo cells of a
+// block are filled from their owners; along a periodic axis from the cell one domain width away
+// (the ring there is nobody's: it is the far side's cells). Halo cells beyond the ring of a
+// non-periodic edge are left alone: nobody reads them.
+#include <barrier>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/box.h"
+#include "runtime/field.h"
+
+namespace ardcell {
+
+class BlockLayout {
+ public:
+  // Cuts `domain` into parts.x by parts.y blocks, row-major (block (i, j) is index j * parts.x +
+  // i), sizes along each axis differing by at most one cell, the first ones the larger. Throws
+  // std::invalid_argument (one line) when a block would be empty.
+  static BlockLayout split(Int2 domain, Int2 parts, bool periodic_x = false,
+                           bool periodic_y = false);
+
+  Int2 domain() const { return domain_; }
+  Int2 parts() const { return parts_; }
+  int count() const { return int(blocks_.size()); }
+  const Box2& block(int b) const { return blocks_[std::size_t(b)]; }
+  bool periodic_x() const { return periodic_x_; }
+  bool periodic_y() const { return periodic_y_; }
+  // The cells block b writes: its box, grown by the ring on non-periodic domain edges.
+  Box2 owned(int b) const;
+
+ private:
+  Int2 domain_{}, parts_{};
+  bool periodic_x_ = false, periodic_y_ = false;
+  std::vector<Box2> blocks_;
+};
+
+// "2x1" (x parts by y parts, each >= 1) into out; false when the text is not of that form.
+bool parse_block_parts(std::string_view text, Int2& out);
+
+// One rectangle of a block's halo: its cells (global coordinates of the receiving block) read
+// the source block's cells at box.shifted(shift) (shift: 0, or a domain width across a
+// periodic edge).
+struct HaloCopy {
+  int src_block = 0;
+  Box2 box;
+  Int2 shift;
+};
+
+class HaloExchange {
+ public:
+  HaloExchange() = default;
+  // The copies that fill each block's halo of `width` cells. width must not exceed the domain
+  // along a periodic axis.
+  HaloExchange(const BlockLayout& layout, int width);
+
+  int width() const { return width_; }
+  std::span<const HaloCopy> copies_into(int block) const;
+  // Halo cells one fill of `block` moves (bytes: times sizeof(float)).
+  std::size_t cells_into(int block) const;
+  // Fills block b's halo: fields[i] is block i's field (interior layout.block(i), halo >=
+  // width). Reads only the other blocks' owned cells and writes only b's halo, so every block
+  // may fill at once while no block writes its cells.
+  void fill(std::span<FieldF* const> fields, int block) const;
+
+ private:
+  int width_ = 0;
+  std::vector<HaloCopy> copies_;
+  std::vector<std::size_t> first_;  // copies_into(b) = copies_[first_[b], first_[b + 1])
+};
+
+// What a frame plan's exchange step calls (host/engine/frame_plan.h): fills the halo of this
+// block's `field` from the other blocks' copies of the same field. Collective: every block of
+// the group calls exchange for the same fields in the same order.
+class HaloChannel {
+ public:
+  virtual ~HaloChannel() = default;
+  virtual int block() const = 0;
+  // The halo width the channel fills.
+  virtual int width() const = 0;
+  virtual void exchange(FieldF& field) = 0;
+};
+
+// The blocks of one layout run side by side in one process, one thread each: an exchange
+// publishes each block's field, waits for all, copies, and waits again before anyone writes.
+class LocalBlockGroup {
+ public:
+  LocalBlockGroup(const BlockLayout& layout, int width);
+  const BlockLayout& layout() const { return layout_; }
+  HaloChannel& channel(int block) { return channels_[std::size_t(block)]; }
+
+ private:
+  class Channel : public HaloChannel {
+   public:
+    Channel(LocalBlockGroup* group, int block) : group_(group), block_(block) {}
+    int block() const override { return block_; }
+    int width() const override { return group_->exchange_.width(); }
+    void exchange(FieldF& field) override;
+
+   private:
+    LocalBlockGroup* group_;
+    int block_;
+  };
+  BlockLayout layout_;
+  HaloExchange exchange_;
+  std::vector<FieldF*> posted_;
+  std::barrier<> barrier_;
+  std::vector<Channel> channels_;
+};
+
+}  // namespace ardcell
