@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "drivers/cli.h"
@@ -22,6 +23,9 @@
 #include "host/io/state_io.h"
 #include "host/run/offline_run.h"
 #include "host/run/probe_recorder.h"
+#if defined(ARDCELL_WITH_MPI)
+#include "host/run/rank_stepper.h"
+#endif
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
 
@@ -32,7 +36,7 @@ namespace fs = std::filesystem;
 
 struct RunArgs {
   std::string scene, scene_positional, size, solver, out, save_state, load_state;
-  std::string colormap, show, video, schedule, backend, store_kib, probe_csv;
+  std::string colormap, show, video, schedule, backend, store_kib, probe_csv, ranks;
   std::vector<std::string> sets;
   bool list = false, no_png = false, quiet = false, stats = false, realtime_solvers = false;
   int64_t steps = 0, every = 0;
@@ -40,7 +44,7 @@ struct RunArgs {
   int sweeps = 0, fps = 30, cl_device = -1, workers = 0;
   CLI::Option *steps_opt, *every_opt, *dt_opt, *re_opt, *sweeps_opt, *solver_opt, *size_opt;
   CLI::Option *colormap_opt, *show_opt, *schedule_opt, *backend_opt, *cl_device_opt, *workers_opt;
-  CLI::Option *store_kib_opt, *out_opt, *video_opt, *save_state_opt;
+  CLI::Option *store_kib_opt, *out_opt, *video_opt, *save_state_opt, *ranks_opt;
   RunPaintOptions paint;  // --strokes, --replay, --paint-mode, --paint-radius, --loop-strokes
 };
 
@@ -165,18 +169,26 @@ int open_outputs(RunArgs& a, CliContext& ctx, const std::string& scene_name, Int
 
 // Steps the run, finishes the sinks, saves the state and prints the summary line (and, with
 // --stats, the per-frame times; `after_run` prints what else the run can tell).
+// Across ranks (`ranks`: this rank's stepper) every rank steps, the blocks are gathered for the
+// saved state, and only rank 0 writes and reports.
+struct RankRun {
+  const std::atomic<bool>* stop = nullptr;  // agreed by every rank
+  std::function<void()> gather;             // every rank calls it before the state is saved
+  bool root = true;
+};
+
 int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const SceneConfig& scene,
                    int64_t steps, int64_t every, const RenderSettings& render, RunOutputs& outputs,
-                   const std::function<void()>& after_run = {}) {
+                   const std::function<void()>& after_run = {}, const RankRun& ranks = {}) {
   OfflineRunOptions options;
   options.steps = steps;
   options.every = every;
   options.render = render;
-  options.progress = (!a.quiet && ::isatty(STDERR_FILENO)) ? ctx.err : nullptr;
+  options.progress = (!a.quiet && ranks.root && ::isatty(STDERR_FILENO)) ? ctx.err : nullptr;
   // From here to the summary, SIGINT/SIGTERM/SIGHUP end the run early and the frames, video
   // and state are still finished; a second signal cannot cut the saving short.
   StopSignals signals;
-  options.stop = &StopSignals::requested();
+  options.stop = ranks.stop ? ranks.stop : &StopSignals::requested();
   std::vector<double> frame_seconds;
   if (a.stats) {
     frame_seconds.assign(std::size_t(std::min(steps, kMaxTimedFrames)), 0.0);
@@ -214,7 +226,8 @@ int run_and_report(RunArgs& a, CliContext& ctx, OfflineStepper& stepper, const S
   if (summary.stopped_early)
     std::fprintf(ctx.err, "ardcell run: interrupted after %lld frames\n",
                  static_cast<long long>(summary.steps));
-  if (!a.save_state.empty()) {
+  if (!a.save_state.empty() && ranks.gather) ranks.gather();
+  if (!a.save_state.empty() && ranks.root) {
     if (Status s = save_state(a.save_state, stepper.frame_state(), scene); !s) {
       std::fprintf(ctx.err, "ardcell run: --save-state %s\n", s.message().c_str());
       return kExitFailure;
@@ -282,6 +295,39 @@ int do_run(RunArgs& a, CliContext& ctx) {
     if (a.cl_device_opt->count() && !opencl_asked)
       return usage("--cl-device " + std::to_string(a.cl_device) + " needs --backend opencl or " +
                    "auto (expected no --cl-device with --backend " + a.backend + ")");
+  }
+
+  // --ranks: this process is one rank of an mpirun, running one block of the grid. Only rank 0
+  // speaks: every rank makes the same checks.
+  Int2 ranks{};
+  const bool ranked = a.ranks_opt->count() > 0;
+#if defined(ARDCELL_WITH_MPI)
+  std::unique_ptr<MpiWorld> world;
+#endif
+  if (ranked) {
+#if defined(ARDCELL_WITH_MPI)
+    if (!parse_block_parts(a.ranks, ranks))
+      return usage("--ranks '" + a.ranks +
+                   "': expected WxH, the ranks along x by along y (e.g. 2x1)");
+    if (backend == BackendKind::kOpenCl)
+      return usage(
+          "--ranks runs each rank on the threads or serial back end (expected no "
+          "--backend opencl)");
+    if (backend == BackendKind::kAuto) backend = BackendKind::kThreads;
+    world = std::make_unique<MpiWorld>();
+    if (world->rank() != 0) {
+      static std::FILE* const quiet = std::fopen("/dev/null", "w");
+      if (quiet) ctx.out = ctx.err = quiet;
+    }
+    if (world->size() != ranks.x * ranks.y)
+      return usage("--ranks " + a.ranks + " needs " + std::to_string(ranks.x * ranks.y) +
+                   " processes (mpirun -np " + std::to_string(ranks.x * ranks.y) +
+                   "); this run has " + std::to_string(world->size()));
+#else
+    return usage(
+        "--ranks: this ardcell was built without MPI (expected a build with "
+        "-DARDCELL_WITH_MPI=ON and libopenmpi-dev)");
+#endif
   }
 
   // The scene: a saved state's, or a built-in scene / preset by name or path.
@@ -364,6 +410,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
         scene.name + "' runs its stages as ops (expected no ";
     if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
     if (a.store_kib_opt->count()) return usage("--store-kib" + general + "--store-kib)");
+    if (ranked) return usage("--ranks" + general + "--ranks)");
   } else if (a.schedule_opt->count()) {
     if (backend == BackendKind::kSerial && plan.schedule != PlanSchedule::kSerial)
       return usage("--schedule " + a.schedule +
@@ -380,28 +427,72 @@ int do_run(RunArgs& a, CliContext& ctx) {
   EngineOptions options;
   options.plan = plan;
   if (a.workers_opt->count()) options.workers = a.workers;
-  options.pin_workers = true;  // nothing else of ours runs beside the engine
+  options.pin_workers = !ranked;  // nothing else of ours runs beside the engine (one rank)
   const BackendChoice choice = choose_engine_backend(backend, a.cl_device, options, ctx);
+#if defined(ARDCELL_WITH_MPI)
+  // One block of the grid per rank, its halos exchanged with the other ranks.
+  std::optional<BlockLayout> layout;
+  std::unique_ptr<MpiHaloChannel> channel;
+  if (ranked) {
+    try {
+      layout = BlockLayout::split(scene.size, ranks);
+    } catch (const std::invalid_argument& e) {
+      return usage("--ranks " + a.ranks + ": " + e.what());
+    }
+    const int width = table1_block_halo(scene);
+    for (int b = 0; b < layout->count(); ++b)
+      if (layout->block(b).width() < width || layout->block(b).height() < width)
+        return usage("--ranks " + a.ranks + ": a block of " +
+                     std::to_string(layout->block(b).width()) + "x" +
+                     std::to_string(layout->block(b).height()) +
+                     " cells is narrower than its halo of " + std::to_string(width) +
+                     " (expected fewer ranks or a larger --size)");
+    channel = std::make_unique<MpiHaloChannel>(*layout, width, *world);
+    options.plan.block = layout->block(world->rank());
+    options.plan.halo = channel.get();
+  }
+#endif
   std::unique_ptr<Engine> engine;
   if (Status s = make_engine(scene, options, engine); !s) return usage(s.message());
   if (std::string line = generalized_stability_line(scene); !line.empty())
     std::fprintf(ctx.err, "ardcell run: %s\n", line.c_str());
   SimState* state = &engine->state();
-  if (!frame_field_available(*state, field))
-    return usage("--show " + show + ": scene '" + scene.name + "' has no " + show +
-                 " field (expected one of the fields it simulates)");
+  const std::string no_field = "--show " + show + ": scene '" + scene.name + "' has no " + show +
+                               " field (expected one of the fields it simulates)";
+  // A rank's fields are its block's: its run checks the gathered state (below).
+  if (!ranked && !frame_field_available(*state, field)) return usage(no_field);
   if (resume) {
-    if (Status s = load_state_fields(a.load_state, meta, *state); !s)
+#if defined(ARDCELL_WITH_MPI)
+    if (ranked) {
+      if (Status s = load_state_into_block(a.load_state, meta, *engine); !s)
+        return usage("--load-state " + s.message());
+    } else
+#endif
+        if (Status s = load_state_fields(a.load_state, meta, *state); !s)
       return usage("--load-state " + s.message());
   }
 
   // Stroke playback (--strokes / --replay): files are read before any output is created.
   std::unique_ptr<StrokePlayback> playback;
   if (std::string error; !a.paint.make(scene, playback, error)) return usage(error);
+  if (ranked && playback)
+    return usage("--strokes / --replay paint one process's grid (expected no --ranks)");
+  if (ranked && !a.probe_csv.empty())
+    return usage("--probe-csv records one process's grid (expected no --ranks)");
 
   // Outputs: checked and created before the first step, removed again on a usage error.
   RunOutputs outputs;
-  if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs); rc != kExitOk)
+#if defined(ARDCELL_WITH_MPI)
+  if (ranked) {
+    // Rank 0 writes; every rank leaves together when it cannot.
+    const int rc = world->rank() == 0
+                       ? open_outputs(a, ctx, scene.name, scene.size, show, every, outputs)
+                       : kExitOk;
+    if (world->any(rc != kExitOk)) return kExitUsage;
+  } else
+#endif
+      if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs);
+          rc != kExitOk)
     return rc;
   if (!a.probe_csv.empty())
     if (Status s = ProbeRecorder::open(*engine, a.probe_csv, steps, outputs.probes); !s) {
@@ -421,9 +512,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
 #endif
     std::fputc('\n', ctx.out);
   }
-  EngineStepper stepper(*engine, playback.get());
   Table1Plan* table1 = engine->table1_plan();
-  return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, [&] {
+  const auto print_passes = [&] {
     if (!table1) return;
     if (FramePlan* p = table1->plan())
       p->print_stats(ctx.out);
@@ -431,7 +521,23 @@ int do_run(RunArgs& a, CliContext& ctx) {
       std::fprintf(ctx.out,
                    "passes: the OpenCL frame is timed whole (its kernels are queued, not "
                    "planned)\n");
-  });
+  };
+#if defined(ARDCELL_WITH_MPI)
+  if (ranked) {
+    // Every rank gathers at the frames rank 0 writes (the same test open_outputs makes).
+    const bool writes_frames = every > 0 && (!a.no_png || !a.video.empty());
+    RankStepper stepper(*engine, *layout, *world, writes_frames ? every : 0,
+                        &StopSignals::requested());
+    if (world->any(world->rank() == 0 && !frame_field_available(stepper.frame_state(), field))) {
+      remove_created(outputs.created);
+      return usage(no_field);
+    }
+    RankRun run{stepper.stop(), [&] { stepper.gather(); }, world->rank() == 0};
+    return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, print_passes, run);
+  }
+#endif
+  EngineStepper stepper(*engine, playback.get());
+  return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, print_passes);
 }
 
 }  // namespace
@@ -485,6 +591,10 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--cl-device", a.cl_device, "OpenCL device index (see ardcell devices)");
   a.workers_opt =
       run->add_option("--workers", a.workers, "threads back end workers (default: one per core)");
+  a.ranks_opt = run->add_option(
+      "--ranks", a.ranks,
+      "table1 scenes under mpirun: the grid cut into WxH blocks, one per process (mpirun -np "
+      "W*H)");
   a.store_kib_opt = run->add_option(
       "--store-kib", a.store_kib,
       "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2 "

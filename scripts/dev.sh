@@ -17,6 +17,7 @@ PACKAGES=(
   nlohmann-json3-dev liblo-dev libsystemd-dev libplplot-dev libfftw3-dev
   clang libclang-rt-14-dev
   libosd-dev
+  libopenmpi-dev openmpi-bin
   xvfb xauth python3-numpy
 )
 

@@ -327,6 +327,10 @@ Table1Coefficients table1_coefficients(const SceneConfig& config) {
   return c;
 }
 
+int table1_block_halo(const SceneConfig& config) {
+  return config.fluid.pressure_solver.max_iterations + 3;
+}
+
 bool operator==(const Table1Coefficients& a, const Table1Coefficients& b) {
   const auto same = [](const StamSweepParams& x, const StamSweepParams& y) {
     return x.a == y.a && x.inv_c == y.inv_c;

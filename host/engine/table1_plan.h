@@ -65,6 +65,9 @@ struct Table1Coefficients {
   GrayScottImplicitParams reaction;
 };
 Table1Coefficients table1_coefficients(const SceneConfig& config);
+// The halo of the fields of one block of a decomposed grid (PlanOptions::block): the deepest
+// pass halo of every schedule (a solve's sweeps + 2) and a cell for the advection's reach.
+int table1_block_halo(const SceneConfig& config);
 bool operator==(const Table1Coefficients& a, const Table1Coefficients& b);
 
 class Table1Plan {

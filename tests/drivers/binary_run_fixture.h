@@ -58,9 +58,13 @@ class BinaryRunTest : public ::testing::Test {
   }
   // Runs `ardcell <args>` in work() (args are shell words).
   BinaryRunResult run(const std::string& args) {
-    const std::string cmd =
-        "cd '" + work().string() + "' && " + limits_ + "exec '" ARDCELL_BINARY "' " + args + " >'" +
-        (dir_ / "stdout").string() + "' 2>'" + (dir_ / "stderr").string() + "' </dev/null";
+    return run_command("exec '" ARDCELL_BINARY "' " + args);
+  }
+  // Runs `command` (shell words) in work(), its output captured.
+  BinaryRunResult run_command(const std::string& command) {
+    const std::string cmd = "cd '" + work().string() + "' && " + limits_ + command + " >'" +
+                            (dir_ / "stdout").string() + "' 2>'" + (dir_ / "stderr").string() +
+                            "' </dev/null";
     const int status = std::system(cmd.c_str());
     BinaryRunResult r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

@@ -13,7 +13,7 @@
 
 // Sanitizer builds: SDL keeps D-Bus/X11 helper allocations for the life of the process.
 extern "C" const char* __lsan_default_options() {
-  return "suppressions=" ARDCELL_SOURCE_DIR "/scripts/lsan_sdl.supp";
+  return "suppressions=" ARDCELL_SOURCE_DIR "/scripts/lsan.supp";
 }
 
 namespace ardcell {

@@ -115,7 +115,9 @@ TEST(TilePlan, CutsABlockOfTheDomain) {
     EXPECT_EQ(w.max.y, t.core.max.y);  // the top is another block's
     EXPECT_EQ(w.min.y, t.core.min.y == 0 ? -1 : t.core.min.y);
     // Cuts on the block's field lines (row start 67 - 6).
-    if (t.core.min.x != r.block.min.x) EXPECT_EQ((t.core.min.x - 61) % 32, 0) << t.core;
+    if (t.core.min.x != r.block.min.x) {
+      EXPECT_EQ((t.core.min.x - 61) % 32, 0) << t.core;
+    }
   }
   EXPECT_EQ(area, r.block.area());
   EXPECT_EQ(plan.readable(), (Box2{{61, -1}, {140, 51}}));

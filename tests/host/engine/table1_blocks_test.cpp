@@ -49,7 +49,7 @@ bool same_owned_cells(const FieldF& block, const FieldF& whole, const Box2& owne
 void run_blocks(PlanSchedule schedule, Int2 parts, const SimState& whole, int frames) {
   const SceneConfig scene = awkward_scene();
   const BlockLayout layout = BlockLayout::split(scene.size, parts);
-  LocalBlockGroup group(layout, table1_coefficients(scene).sweeps + 3);
+  LocalBlockGroup group(layout, table1_block_halo(scene));
   std::vector<std::unique_ptr<Engine>> blocks;
   for (int b = 0; b < layout.count(); ++b) {
     EngineOptions o = options(schedule);
@@ -92,7 +92,7 @@ TEST(Table1Blocks, BlocksOnThreadsEqualOneEngineBitwise) {
 TEST(Table1Blocks, TheExchangeIsAStepOfThePlan) {
   const SceneConfig scene = awkward_scene();
   const BlockLayout layout = BlockLayout::split(scene.size, {2, 1});
-  LocalBlockGroup group(layout, table1_coefficients(scene).sweeps + 3);
+  LocalBlockGroup group(layout, table1_block_halo(scene));
   EngineOptions o = options(PlanSchedule::kBlocked);
   o.plan.block = layout.block(0);
   o.plan.halo = &group.channel(0);

@@ -1,0 +1,70 @@
+#include "host/run/rank_stepper.h"
+
+namespace ardcell {
+namespace {
+
+// The whole-grid field rank 0 gathers `block` into (the scene's fields have halo 1).
+FieldF& whole_field(SimState& whole, std::string_view name) {
+  FieldF* f = name == "u"     ? &whole.u
+              : name == "v"   ? &whole.v
+              : name == "p"   ? &whole.p
+              : name == "dye" ? &whole.dye
+              : name == "A"   ? &whole.A
+              : name == "B"   ? &whole.B
+                              : &whole.theta0;
+  return *f;
+}
+
+}  // namespace
+
+RankStepper::RankStepper(Engine& engine, const BlockLayout& layout, MpiWorld& world, int64_t every,
+                         const std::atomic<bool>* signal)
+    : engine_(engine), world_(world), gather_(layout, world), every_(every), signal_(signal) {
+  const SimState& s = engine_.state();
+  whole_.size = s.size;
+  whole_.h = s.h;
+  whole_.dt = s.dt;
+  if (world_.rank() == 0)
+    s.for_each_field([&](std::string_view name, const FieldF&) {
+      whole_field(whole_, name) = FieldF(s.size, 1);
+    });
+  gather();
+}
+
+void RankStepper::step() {
+  engine_.step();
+  ++steps_;
+  if (world_.any(signal_ && signal_->load(std::memory_order_relaxed)))
+    stop_.store(true, std::memory_order_relaxed);
+  if (every_ > 0 && steps_ % every_ == 0) gather();
+}
+
+void RankStepper::gather() {
+  const SimState& s = std::as_const(engine_).state();
+  s.for_each_field([&](std::string_view name, const FieldF& f) {
+    gather_.gather(f, world_.rank() == 0 ? &whole_field(whole_, name) : nullptr);
+  });
+  whole_.time = s.time;
+  whole_.rd_time = s.rd_time;
+  whole_.step = s.step;
+  whole_.dt = s.dt;
+}
+
+Status load_state_into_block(const std::filesystem::path& dir, const SavedStateMeta& meta,
+                             Engine& engine) {
+  SimState& s = engine.state();
+  SimState whole;
+  whole.size = s.size;
+  s.for_each_field(
+      [&](std::string_view name, const FieldF&) { whole_field(whole, name) = FieldF(s.size, 1); });
+  if (Status st = load_state_fields(dir, meta, whole); !st) return st;
+  s.for_each_field([&](std::string_view name, FieldF& f) {
+    copy_box<float>(std::as_const(whole_field(whole, name)).view(), f.view(), f.interior());
+  });
+  s.time = whole.time;
+  s.rd_time = whole.rd_time;
+  s.step = whole.step;
+  return Status::ok();
+}
+
+}  // namespace ardcell

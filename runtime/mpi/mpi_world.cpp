@@ -1,0 +1,148 @@
+#include "runtime/mpi/mpi_world.h"
+
+// The C API only (Open MPI's mpi.h otherwise declares its deprecated C++ bindings).
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "runtime/check.h"
+
+namespace ardcell {
+namespace {
+
+// One message tag for every exchange and gather: messages between two ranks do not overtake
+// each other, and every rank issues them in the same order.
+constexpr int kTag = 7;
+
+std::size_t cells(const std::vector<HaloCopy>& boxes) {
+  std::size_t n = 0;
+  for (const HaloCopy& c : boxes) n += std::size_t(c.box.area());
+  return n;
+}
+
+// Rows of `box` (read at box + shift) into `out`, row after row; returns the next free float.
+float* pack(const FieldF& f, const Box2& box, Int2 shift, float* out) {
+  for (int y = box.min.y; y < box.max.y; ++y) {
+    std::memcpy(out, f.row(y + shift.y) + box.min.x + shift.x,
+                std::size_t(box.width()) * sizeof(float));
+    out += box.width();
+  }
+  return out;
+}
+
+const float* unpack(const float* in, const Box2& box, FieldF& f) {
+  for (int y = box.min.y; y < box.max.y; ++y) {
+    std::memcpy(f.row(y) + box.min.x, in, std::size_t(box.width()) * sizeof(float));
+    in += box.width();
+  }
+  return in;
+}
+
+}  // namespace
+
+MpiWorld::MpiWorld() {
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+MpiWorld::~MpiWorld() { MPI_Finalize(); }
+
+bool MpiWorld::any(bool flag) const {
+  int local = flag ? 1 : 0, all = 0;
+  MPI_Allreduce(&local, &all, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+  return all != 0;
+}
+
+MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world)
+    : block_(world.rank()), exchange_(layout, width) {
+  ARDCELL_CHECK(world.size() == layout.count(), "MpiHaloChannel: one rank per block");
+  const auto peer = [&](int rank) -> Peer& {
+    for (Peer& p : peers_)
+      if (p.rank == rank) return p;
+    peers_.push_back(Peer{rank, {}, {}, {}, {}});
+    return peers_.back();
+  };
+  // What this block receives, and what every other block receives from it: the same boxes
+  // in the same order on both sides.
+  for (const HaloCopy& c : exchange_.copies_into(block_)) {
+    if (c.src_block == block_)
+      self_.push_back(c);
+    else
+      peer(c.src_block).recv.push_back(c);
+  }
+  for (int b = 0; b < layout.count(); ++b)
+    if (b != block_)
+      for (const HaloCopy& c : exchange_.copies_into(b))
+        if (c.src_block == block_) peer(b).send.push_back(c);
+  std::sort(peers_.begin(), peers_.end(),
+            [](const Peer& a, const Peer& b) { return a.rank < b.rank; });
+  for (Peer& p : peers_) {
+    p.recv_buf.resize(cells(p.recv));
+    p.send_buf.resize(cells(p.send));
+  }
+}
+
+void MpiHaloChannel::exchange(FieldF& field) {
+  ARDCELL_CHECK(field.halo() >= exchange_.width(),
+                "MpiHaloChannel: a field's halo is narrower than the exchange");
+  // At most 8 neighbours and their images: requests on the stack.
+  constexpr std::size_t kMaxRequests = 64;
+  ARDCELL_CHECK(2 * peers_.size() <= kMaxRequests, "MpiHaloChannel: too many neighbours");
+  MPI_Request requests[kMaxRequests];
+  int n = 0;
+  for (Peer& p : peers_)
+    if (!p.recv_buf.empty())
+      MPI_Irecv(p.recv_buf.data(), int(p.recv_buf.size()), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
+                &requests[n++]);
+  for (Peer& p : peers_) {
+    if (p.send_buf.empty()) continue;
+    float* out = p.send_buf.data();
+    for (const HaloCopy& c : p.send) out = pack(field, c.box, c.shift, out);
+    MPI_Isend(p.send_buf.data(), int(p.send_buf.size()), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
+              &requests[n++]);
+  }
+  for (const HaloCopy& c : self_)
+    for (int y = c.box.min.y; y < c.box.max.y; ++y)
+      std::memmove(field.row(y) + c.box.min.x, field.row(y + c.shift.y) + c.box.min.x + c.shift.x,
+                   std::size_t(c.box.width()) * sizeof(float));
+  MPI_Waitall(n, requests, MPI_STATUSES_IGNORE);
+  for (Peer& p : peers_) {
+    const float* in = p.recv_buf.data();
+    for (const HaloCopy& c : p.recv) in = unpack(in, c.box, field);
+  }
+}
+
+BlockGather::BlockGather(const BlockLayout& layout, const MpiWorld& world)
+    : layout_(layout), rank_(world.rank()) {
+  std::size_t most = 0;
+  for (int b = 0; b < layout.count(); ++b)
+    most = std::max(most, std::size_t(layout.owned(b).area()));
+  buffer_.resize(most);
+}
+
+void BlockGather::gather(const FieldF& block, FieldF* whole) {
+  if (rank_ != 0) {
+    pack(block, layout_.owned(rank_), Int2{0, 0}, buffer_.data());
+    MPI_Send(buffer_.data(), int(layout_.owned(rank_).area()), MPI_FLOAT, 0, kTag, MPI_COMM_WORLD);
+    return;
+  }
+  ARDCELL_CHECK(whole && whole->interior() == box_of_size(layout_.domain()) && whole->halo() >= 1,
+                "BlockGather: rank 0 gathers into a field of the whole grid");
+  const Box2 own = layout_.owned(0);
+  for (int y = own.min.y; y < own.max.y; ++y)
+    std::memcpy(whole->row(y) + own.min.x, block.row(y) + own.min.x,
+                std::size_t(own.width()) * sizeof(float));
+  for (int r = 1; r < layout_.count(); ++r) {
+    const Box2 box = layout_.owned(r);
+    MPI_Recv(buffer_.data(), int(box.area()), MPI_FLOAT, r, kTag, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+    unpack(buffer_.data(), box, *whole);
+  }
+}
+
+}  // namespace ardcell

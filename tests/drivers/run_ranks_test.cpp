@@ -1,0 +1,124 @@
+// `mpirun -np N ardcell run table1-ard --ranks WxH` through the real binary and Open MPI's
+// mpirun (ARDCELL_MPIEXEC): each rank runs one block of the grid, its frame plan exchanging
+// halos with the other ranks, and rank 0 writes.
+//   - 2, 3 and 4 ranks (2x1, 1x2, 3x1, 2x2; uneven blocks of 127 x 93) save the bytes one
+//     process saves, on every schedule;
+//   - PNG frames gathered on rank 0 are the bytes one process writes;
+//   - a state saved by 4 ranks resumes in one process, and one process's in 2 ranks, bit for bit;
+//   - a layout that does not match the processes, a malformed one, a scene that is not a frame
+//     plan and blocks narrower than their halo exit 2 with one line.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/drivers/binary_run_fixture.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RunRanksTest : public BinaryRunTest {
+ protected:
+  // `ardcell <args>` as `ranks` processes of one mpirun (root allowed: CI runs as root; no
+  // single-copy mechanism: containers forbid the ptrace it needs).
+  BinaryRunResult run_ranks(int ranks, const std::string& args) {
+    return run_command(
+        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+        "OMPI_MCA_btl_vader_single_copy_mechanism=none exec '" ARDCELL_MPIEXEC
+        "' --oversubscribe -np " +
+        std::to_string(ranks) + " '" ARDCELL_BINARY "' " + args);
+  }
+  void expect_same_state(const char* a, const char* b) {
+    for (const char* field : {"u.npy", "v.npy", "dye.npy", "A.npy", "B.npy", "meta.json"}) {
+      const std::string x = slurp(work() / a / field);
+      ASSERT_FALSE(x.empty()) << a << "/" << field;
+      EXPECT_EQ(x, slurp(work() / b / field)) << a << " vs " << b << ": " << field;
+    }
+  }
+};
+
+constexpr const char* kScene = "run table1-ard --size 127x93 --quiet --every 0 ";
+
+TEST_F(RunRanksTest, RanksSaveTheFieldsOfOneProcess) {
+  for (const char* schedule : {"serial", "stream", "blocked"}) {
+    const std::string one = std::string("one-") + schedule;
+    ASSERT_EQ(
+        run(std::string(kScene) + "--steps 6 --schedule " + schedule + " --backend " +
+            (std::string(schedule) == "serial" ? "serial" : "threads") + " --save-state " + one)
+            .code,
+        0);
+    struct Layout {
+      int ranks;
+      const char* parts;
+    };
+    for (const Layout l :
+         {Layout{2, "2x1"}, Layout{2, "1x2"}, Layout{3, "3x1"}, Layout{4, "2x2"}}) {
+      const std::string dir = std::string(l.parts) + "-" + schedule;
+      const BinaryRunResult r =
+          run_ranks(l.ranks, std::string(kScene) + "--steps 6 --schedule " + schedule +
+                                 (std::string(schedule) == "serial" ? " --backend serial" : "") +
+                                 " --ranks " + l.parts + " --save-state " + dir);
+      ASSERT_EQ(r.code, 0) << l.parts << " " << schedule << ": " << r.err;
+      // Rank 0 alone reports.
+      EXPECT_EQ(r.out.find("frames=6 "), 0u) << r.out;
+      EXPECT_EQ(r.out.find("frames=6 ", 1), std::string::npos) << r.out;
+      expect_same_state(one.c_str(), dir.c_str());
+    }
+  }
+}
+
+TEST_F(RunRanksTest, FramesAreGatheredOnRankZero) {
+  ASSERT_EQ(run("run table1-ard --size 127x93 --quiet --steps 4 --every 2 --show B --out one").code,
+            0);
+  const BinaryRunResult r = run_ranks(
+      2, "run table1-ard --size 127x93 --quiet --steps 4 --every 2 --show B --out two --ranks 1x2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* png : {"B_00000002.png", "B_00000004.png"}) {
+    ASSERT_TRUE(fs::exists(work() / "one" / png)) << png;
+    EXPECT_EQ(slurp(work() / "one" / png), slurp(work() / "two" / png)) << png;
+  }
+}
+
+TEST_F(RunRanksTest, SavedStatesMoveBetweenRanksAndOneProcess) {
+  ASSERT_EQ(run(std::string(kScene) + "--steps 6 --save-state six").code, 0);
+  // 4 ranks, then one process.
+  ASSERT_EQ(
+      run_ranks(4, std::string(kScene) + "--steps 3 --ranks 2x2 --save-state three-ranks").code, 0);
+  ASSERT_EQ(
+      run("run --load-state three-ranks --steps 3 --every 0 --quiet --save-state resumed-1").code,
+      0);
+  expect_same_state("six", "resumed-1");
+  // One process, then 2 ranks.
+  ASSERT_EQ(run(std::string(kScene) + "--steps 3 --save-state three-one").code, 0);
+  const BinaryRunResult r =
+      run_ranks(2,
+                "run --load-state three-one --steps 3 --every 0 --quiet --ranks 2x1 --save-state "
+                "resumed-2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_same_state("six", "resumed-2");
+}
+
+TEST_F(RunRanksTest, BadLayoutsExitTwoWithOneLine) {
+  const auto first_line = [](const std::string& err) { return err.substr(0, err.find('\n')); };
+  BinaryRunResult r = run_ranks(2, std::string(kScene) + "--steps 1 --ranks 2x2");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(first_line(r.err),
+            "ardcell run: --ranks 2x2 needs 4 processes (mpirun -np 4); this run has 2");
+  r = run(std::string(kScene) + "--steps 1 --ranks two");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err,
+            "ardcell run: --ranks 'two': expected WxH, the ranks along x by along y (e.g. 2x1)\n");
+  r = run("run cavity --steps 1 --quiet --ranks 1x1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--ranks applies to the scenes built as a frame plan"), std::string::npos)
+      << r.err;
+  r = run_ranks(2, "run table1 --size 40 --steps 1 --quiet --ranks 2x1");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(first_line(r.err),
+            "ardcell run: --ranks 2x1: a block of 20x40 cells is narrower than its halo of 23 "
+            "(expected fewer ranks or a larger --size)");
+}
+
+}  // namespace
+}  // namespace ardcell
