@@ -23,10 +23,13 @@ fs::path bench_binary_beside_ardcell(const char* name) {
 
 int run_bench_program(const std::string& binary, const std::string& filter, double min_time,
                       const std::string& json_path,
-                      const std::vector<std::pair<std::string, std::string>>& env) {
-  std::vector<std::string> args = {binary, "--benchmark_filter=" + filter,
-                                   "--benchmark_min_time=" + std::to_string(min_time),
-                                   "--benchmark_out=" + json_path, "--benchmark_out_format=json"};
+                      const std::vector<std::pair<std::string, std::string>>& env,
+                      const std::vector<std::string>& launcher) {
+  std::vector<std::string> args = launcher;
+  for (std::string a :
+       {binary, "--benchmark_filter=" + filter, "--benchmark_min_time=" + std::to_string(min_time),
+        "--benchmark_out=" + json_path, std::string("--benchmark_out_format=json")})
+    args.push_back(std::move(a));
   const pid_t pid = fork();
   if (pid < 0) return -1;
   if (pid == 0) {
@@ -35,7 +38,7 @@ int run_bench_program(const std::string& binary, const std::string& filter, doub
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    execv(argv[0], argv.data());
+    execvp(argv[0], argv.data());
     std::fprintf(stderr, "ardcell bench: cannot run %s\n", argv[0]);
     _exit(127);
   }

@@ -16,11 +16,13 @@ namespace ardcell {
 std::filesystem::path bench_binary_beside_ardcell(const char* name);
 
 // Runs `binary` with --benchmark_filter=filter, --benchmark_min_time=min_time and a JSON report
-// to json_path, with `env` set; its console output goes to stderr. Returns its exit status, or
-// -1 when it could not be run.
+// to json_path, with `env` set, through `launcher` when given (mpirun and its arguments; looked
+// up in PATH); its console output goes to stderr. Returns its exit status, or -1 when it could
+// not be run.
 int run_bench_program(const std::string& binary, const std::string& filter, double min_time,
                       const std::string& json_path,
-                      const std::vector<std::pair<std::string, std::string>>& env);
+                      const std::vector<std::pair<std::string, std::string>>& env,
+                      const std::vector<std::string>& launcher = {});
 
 // One benchmark of a report: its name without the /min_time and /real_time suffixes, and its
 // numeric counters (fps, cells_per_s, ...).

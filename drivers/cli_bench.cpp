@@ -106,12 +106,18 @@ Status read_bench_json(const std::string& json_path, std::map<std::string, Resul
 }  // namespace
 
 void add_bench_scenes_command(CLI::App& bench, CliContext& ctx);  // drivers/cli_bench_scenes.cpp
+#if defined(ARDCELL_WITH_MPI)
+void add_bench_scale_command(CLI::App& bench, CliContext& ctx);  // drivers/cli_bench_scale.cpp
+#endif
 
 void add_bench_command(CLI::App& app, CliContext& ctx) {
   auto* bench =
       app.add_subcommand("bench", "Benchmarks (Table 1 of the paper; every preset on the engine)");
   bench->require_subcommand(1);
   add_bench_scenes_command(*bench, ctx);
+#if defined(ARDCELL_WITH_MPI)
+  add_bench_scale_command(*bench, ctx);
+#endif
   auto* t1 = bench->add_subcommand(
       "table1", "Fluid and fluid+RD FPS per size and schedule beside the Cell's (seed 000)");
   auto o = std::make_shared<BenchOptions>();

@@ -533,7 +533,17 @@ int do_run(RunArgs& a, CliContext& ctx) {
       return usage(no_field);
     }
     RankRun run{stepper.stop(), [&] { stepper.gather(); }, world->rank() == 0};
-    return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, print_passes, run);
+    const auto print_ranks = [&] {
+      print_passes();
+      // Every rank takes part in the sum; rank 0 prints.
+      const double frames = double(std::max<std::int64_t>(1, table1->plan()->runs()));
+      const double sent = world->sum(channel->bytes_sent());
+      std::fprintf(ctx.out,
+                   "ranks=%s halo: sent=%.1fKiB/frame (all ranks) exchange=%.3fms/frame (rank 0, "
+                   "waiting included)\n",
+                   a.ranks.c_str(), sent / frames / 1024.0, 1e3 * channel->seconds() / frames);
+    };
+    return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, print_ranks, run);
   }
 #endif
   EngineStepper stepper(*engine, playback.get());

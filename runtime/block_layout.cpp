@@ -74,6 +74,7 @@ HaloExchange::HaloExchange(const BlockLayout& layout, int width) : width_(width)
                 "HaloExchange: the halo is wider than the periodic domain");
   // Images of the domain a halo can reach: itself, and one width away along a periodic axis.
   const int sx = layout.periodic_x() ? 1 : 0, sy = layout.periodic_y() ? 1 : 0;
+  for (int b = 0; b < layout.count(); ++b) blocks_.push_back(layout.block(b));
   for (int b = 0; b < layout.count(); ++b) {
     first_.push_back(copies_.size());
     const Box2 halo = layout.block(b).grown(width);
@@ -100,14 +101,17 @@ std::size_t HaloExchange::cells_into(int block) const {
   return n;
 }
 
-void HaloExchange::fill(std::span<FieldF* const> fields, int block) const {
+void HaloExchange::fill(std::span<FieldF* const> fields, int block, int depth) const {
   FieldF& dst = *fields[std::size_t(block)];
   ARDCELL_CHECK(dst.halo() >= width_, "HaloExchange: a field's halo is narrower than the exchange");
+  ARDCELL_CHECK(depth >= 0 && depth <= width_, "HaloExchange: depth beyond the exchange's width");
   for (const HaloCopy& c : copies_into(block)) {
     const FieldF& src = *fields[std::size_t(c.src_block)];
-    for (int y = c.box.min.y; y < c.box.max.y; ++y)
-      std::memcpy(dst.row(y) + c.box.min.x, src.row(y + c.shift.y) + c.box.min.x + c.shift.x,
-                  std::size_t(c.box.width()) * sizeof(float));
+    const Box2 box = within(c, block, depth);
+    if (box.empty()) continue;
+    for (int y = box.min.y; y < box.max.y; ++y)
+      std::memcpy(dst.row(y) + box.min.x, src.row(y + c.shift.y) + box.min.x + c.shift.x,
+                  std::size_t(box.width()) * sizeof(float));
   }
 }
 
@@ -119,11 +123,11 @@ LocalBlockGroup::LocalBlockGroup(const BlockLayout& layout, int width)
   for (int b = 0; b < layout.count(); ++b) channels_.emplace_back(this, b);
 }
 
-void LocalBlockGroup::Channel::exchange(FieldF& field) {
+void LocalBlockGroup::Channel::exchange(FieldF& field, int depth) {
   LocalBlockGroup& g = *group_;
   g.posted_[std::size_t(block_)] = &field;
   g.barrier_.arrive_and_wait();  // every block's field is posted and its cells are final
-  g.exchange_.fill(g.posted_, block_);
+  g.exchange_.fill(g.posted_, block_, depth);
   g.barrier_.arrive_and_wait();  // every halo is filled before anyone writes its cells again
 }
 

@@ -67,16 +67,22 @@ class HaloExchange {
   HaloExchange(const BlockLayout& layout, int width);
 
   int width() const { return width_; }
+  const Box2& block(int b) const { return blocks_[std::size_t(b)]; }
   std::span<const HaloCopy> copies_into(int block) const;
+  // copy's cells within `depth` of the receiving block (depth <= width).
+  Box2 within(const HaloCopy& copy, int block, int depth) const {
+    return copy.box.intersected(this->block(block).grown(depth));
+  }
   // Halo cells one fill of `block` moves (bytes: times sizeof(float)).
   std::size_t cells_into(int block) const;
-  // Fills block b's halo: fields[i] is block i's field (interior layout.block(i), halo >=
-  // width). Reads only the other blocks' owned cells and writes only b's halo, so every block
-  // may fill at once while no block writes its cells.
-  void fill(std::span<FieldF* const> fields, int block) const;
+  // Fills block b's halo, `depth` cells deep (<= width): fields[i] is block i's field (interior
+  // layout.block(i), halo >= width). Reads only the other blocks' owned cells and writes only
+  // b's halo, so every block may fill at once while no block writes its cells.
+  void fill(std::span<FieldF* const> fields, int block, int depth) const;
 
  private:
   int width_ = 0;
+  std::vector<Box2> blocks_;
   std::vector<HaloCopy> copies_;
   std::vector<std::size_t> first_;  // copies_into(b) = copies_[first_[b], first_[b + 1])
 };
@@ -90,7 +96,8 @@ class HaloChannel {
   virtual int block() const = 0;
   // The halo width the channel fills.
   virtual int width() const = 0;
-  virtual void exchange(FieldF& field) = 0;
+  // Fills the halo cells within `depth` of the block (depth <= width).
+  virtual void exchange(FieldF& field, int depth) = 0;
 };
 
 // The blocks of one layout run side by side in one process, one thread each: an exchange
@@ -107,7 +114,7 @@ class LocalBlockGroup {
     Channel(LocalBlockGroup* group, int block) : group_(group), block_(block) {}
     int block() const override { return block_; }
     int width() const override { return group_->exchange_.width(); }
-    void exchange(FieldF& field) override;
+    void exchange(FieldF& field, int depth) override;
 
    private:
     LocalBlockGroup* group_;

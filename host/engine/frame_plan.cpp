@@ -20,8 +20,12 @@ Box2 grow_clip(const Box2& core, int reach, Int2 grid) {
   return core.grown(reach).intersected(box_of_size(grid));
 }
 
-bool contains(std::span<const FieldF* const> list, const FieldF* f) {
-  return std::find(list.begin(), list.end(), f) != list.end();
+// A field and how many cells deep around the block its halo is (to be) current.
+using FieldDepth = std::pair<FieldF*, int>;
+FieldDepth* find(std::vector<FieldDepth>& list, const FieldF* f) {
+  for (FieldDepth& e : list)
+    if (e.first == f) return &e;
+  return nullptr;
 }
 
 }  // namespace
@@ -32,8 +36,9 @@ struct FramePlan::PassProgram {
   int field_halo = 1;
   Tile block;  // the whole-field form's one tile: the plan's block
   TilePlan plan;
-  // Fields whose halos the plan's exchange step fills before the pass (block plans).
-  std::vector<FieldF*> exchange;
+  // Fields whose halos the plan's exchange step fills before the pass (block plans), and how
+  // deep.
+  std::vector<std::pair<FieldF*, int>> exchange;
   Pass pass;
   int nbuf = 0;
   std::array<bool, kMaxBuffers> written{};
@@ -222,12 +227,20 @@ int FramePlan::add_pass(PassDesc desc) {
     for (const FieldF* f : {b.src, static_cast<const FieldF*>(b.dst)})
       if (f && (f->interior() != options_.block || f->halo() != options_.field_halo))
         bad_pass(desc.name, "buffer field box or halo differs from the plan's block");
-    // Across a block edge a buffer's halo comes from the exchange (a gather reads all of it).
+    // Across a block edge a buffer's halo comes from the exchange (a gather reads all of it,
+    // as far as the back-trace reaches).
     if (options_.halo && b.src && (b.gather || b.halo > 0)) {
       if (b.halo > options_.halo->width())
         bad_pass(desc.name, "a buffer's halo is wider than the plan's halo exchange");
       FieldF* src = const_cast<FieldF*>(b.src);
-      if (!contains(exchanged_, src) && !contains(p->exchange, src)) p->exchange.push_back(src);
+      const int depth = b.gather ? options_.halo->width() : b.halo;
+      const FieldDepth* current = find(exchanged_, src);
+      if (!current || current->second < depth) {
+        if (FieldDepth* e = find(p->exchange, src))
+          e->second = std::max(e->second, depth);
+        else
+          p->exchange.emplace_back(src, depth);
+      }
     }
     const bool written = p->written[std::size_t(i)] || b.dst;
     if (b.gather || (b.src && !written)) {
@@ -243,9 +256,14 @@ int FramePlan::add_pass(PassDesc desc) {
     }
   }
   // Halos stay current until the field is written again.
-  for (FieldF* f : p->exchange) exchanged_.push_back(f);
+  for (const FieldDepth& e : p->exchange) {
+    if (FieldDepth* current = find(exchanged_, e.first))
+      current->second = e.second;
+    else
+      exchanged_.push_back(e);
+  }
   for (const PassBufferDesc& b : desc.buffers)
-    if (b.dst) std::erase(exchanged_, b.dst);
+    if (b.dst) std::erase_if(exchanged_, [&](const FieldDepth& e) { return e.first == b.dst; });
   TilePlanRequest r;
   r.grid = options_.grid;
   r.block = options_.block;
@@ -286,7 +304,7 @@ void FramePlan::run(Backend& backend) {
     if (!p.exchange.empty()) {
       // The exchange step: the fields' cells are final (barrier), their halos filled.
       if (!synced) backend.sync();
-      for (FieldF* f : p.exchange) options_.halo->exchange(*f);
+      for (const auto& [field, depth] : p.exchange) options_.halo->exchange(*field, depth);
     }
     backend.dispatch(p.pass, p.plan.tiles());
     synced = false;

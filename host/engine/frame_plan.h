@@ -41,6 +41,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "runtime/backend.h"
@@ -172,7 +173,8 @@ class FramePlan {
   struct PassProgram;
   FramePlanOptions options_;
   std::vector<std::unique_ptr<PassProgram>> passes_;
-  std::vector<FieldF*> exchanged_;  // while building: fields whose halos are current
+  // While building: fields whose halos are current, and how deep.
+  std::vector<std::pair<FieldF*, int>> exchanged_;
   std::array<std::int64_t, kMaxPasses> pass_ns_{};
   std::int64_t runs_ = 0;
 };

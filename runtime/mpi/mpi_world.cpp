@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 #include "runtime/check.h"
@@ -58,13 +59,19 @@ bool MpiWorld::any(bool flag) const {
   return all != 0;
 }
 
+double MpiWorld::sum(double value) const {
+  double all = 0;
+  MPI_Allreduce(&value, &all, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  return all;
+}
+
 MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world)
     : block_(world.rank()), exchange_(layout, width) {
   ARDCELL_CHECK(world.size() == layout.count(), "MpiHaloChannel: one rank per block");
   const auto peer = [&](int rank) -> Peer& {
     for (Peer& p : peers_)
       if (p.rank == rank) return p;
-    peers_.push_back(Peer{rank, {}, {}, {}, {}});
+    peers_.push_back(Peer{rank, {}, {}, 0, 0, {}, {}});
     return peers_.back();
   };
   // What this block receives, and what every other block receives from it: the same boxes
@@ -87,34 +94,52 @@ MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWo
   }
 }
 
-void MpiHaloChannel::exchange(FieldF& field) {
+void MpiHaloChannel::exchange(FieldF& field, int depth) {
+  const auto start = std::chrono::steady_clock::now();
   ARDCELL_CHECK(field.halo() >= exchange_.width(),
                 "MpiHaloChannel: a field's halo is narrower than the exchange");
+  ARDCELL_CHECK(depth >= 0 && depth <= exchange_.width(),
+                "MpiHaloChannel: depth beyond the exchange's width");
+  // Both sides cut the same boxes to the receiving block grown by depth.
+  for (Peer& p : peers_) {
+    p.recv_count = p.send_count = 0;
+    for (const HaloCopy& c : p.recv)
+      p.recv_count += std::size_t(exchange_.within(c, block_, depth).area());
+    for (const HaloCopy& c : p.send)
+      p.send_count += std::size_t(exchange_.within(c, p.rank, depth).area());
+  }
   // At most 8 neighbours and their images: requests on the stack.
   constexpr std::size_t kMaxRequests = 64;
   ARDCELL_CHECK(2 * peers_.size() <= kMaxRequests, "MpiHaloChannel: too many neighbours");
   MPI_Request requests[kMaxRequests];
   int n = 0;
   for (Peer& p : peers_)
-    if (!p.recv_buf.empty())
-      MPI_Irecv(p.recv_buf.data(), int(p.recv_buf.size()), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
+    if (p.recv_count > 0)
+      MPI_Irecv(p.recv_buf.data(), int(p.recv_count), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
                 &requests[n++]);
   for (Peer& p : peers_) {
-    if (p.send_buf.empty()) continue;
+    if (p.send_count == 0) continue;
     float* out = p.send_buf.data();
-    for (const HaloCopy& c : p.send) out = pack(field, c.box, c.shift, out);
-    MPI_Isend(p.send_buf.data(), int(p.send_buf.size()), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
+    for (const HaloCopy& c : p.send)
+      out = pack(field, exchange_.within(c, p.rank, depth), c.shift, out);
+    MPI_Isend(p.send_buf.data(), int(p.send_count), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
               &requests[n++]);
+    bytes_sent_ += double(p.send_count * sizeof(float));
   }
-  for (const HaloCopy& c : self_)
-    for (int y = c.box.min.y; y < c.box.max.y; ++y)
-      std::memmove(field.row(y) + c.box.min.x, field.row(y + c.shift.y) + c.box.min.x + c.shift.x,
-                   std::size_t(c.box.width()) * sizeof(float));
+  for (const HaloCopy& c : self_) {
+    const Box2 box = exchange_.within(c, block_, depth);
+    for (int y = box.min.y; y < box.max.y; ++y)
+      std::memmove(field.row(y) + box.min.x, field.row(y + c.shift.y) + box.min.x + c.shift.x,
+                   std::size_t(box.width()) * sizeof(float));
+  }
   MPI_Waitall(n, requests, MPI_STATUSES_IGNORE);
   for (Peer& p : peers_) {
     const float* in = p.recv_buf.data();
-    for (const HaloCopy& c : p.recv) in = unpack(in, c.box, field);
+    for (const HaloCopy& c : p.recv) in = unpack(in, exchange_.within(c, block_, depth), field);
   }
+  ns_ +=
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
+          .count();
 }
 
 BlockGather::BlockGather(const BlockLayout& layout, const MpiWorld& world)

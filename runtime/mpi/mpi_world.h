@@ -24,6 +24,8 @@ class MpiWorld {
   int size() const { return size_; }
   // True on every rank when `flag` is true on any (all ranks call it together).
   bool any(bool flag) const;
+  // The sum over the ranks of `value`, on every rank (all ranks call it together).
+  double sum(double value) const;
 
  private:
   int rank_ = 0, size_ = 1;
@@ -37,20 +39,31 @@ class MpiHaloChannel final : public HaloChannel {
   MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world);
   int block() const override { return block_; }
   int width() const override { return exchange_.width(); }
-  void exchange(FieldF& field) override;
+  void exchange(FieldF& field, int depth) override;
   // Halo cells this rank receives per exchanged field.
   std::size_t cells_in() const { return exchange_.cells_into(block_); }
+  // Since construction or reset_stats: the bytes this rank sent, and the seconds it spent in
+  // exchanges (packing, messages, waiting for its neighbours, unpacking).
+  double bytes_sent() const { return bytes_sent_; }
+  double seconds() const { return double(ns_) * 1e-9; }
+  void reset_stats() {
+    bytes_sent_ = 0;
+    ns_ = 0;
+  }
 
  private:
   struct Peer {
     int rank = 0;
-    std::vector<HaloCopy> recv, send;  // boxes in this block's coordinates / the peer's
+    std::vector<HaloCopy> recv, send;            // boxes in this block's coordinates / the peer's
+    std::size_t recv_count = 0, send_count = 0;  // floats of this exchange (its depth)
     std::vector<float> recv_buf, send_buf;
   };
   int block_ = 0;
   HaloExchange exchange_;
   std::vector<HaloCopy> self_;  // periodic copies from this block itself
   std::vector<Peer> peers_;
+  double bytes_sent_ = 0;
+  long long ns_ = 0;
 };
 
 // Gathers the cells each rank owns (layout.owned) of its block field into `whole` (a field of

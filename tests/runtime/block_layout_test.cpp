@@ -62,7 +62,7 @@ TEST(HaloExchange, FillsEveryHaloCellFromItsOwner) {
     std::vector<FieldF*> ptrs;
     for (FieldF& g : f) ptrs.push_back(&g);
     const HaloExchange ex(l, width);
-    for (int b = 0; b < l.count(); ++b) ex.fill(ptrs, b);
+    for (int b = 0; b < l.count(); ++b) ex.fill(ptrs, b, width);
     const Box2 walls = box_of_size(l.domain()).grown(1);
     for (int b = 0; b < l.count(); ++b) {
       const Box2 h = l.block(b).grown(width);
@@ -74,6 +74,23 @@ TEST(HaloExchange, FillsEveryHaloCellFromItsOwner) {
   }
 }
 
+// A shallower fill moves only the cells within its depth of the block.
+TEST(HaloExchange, FillsOnlyAsDeepAsAsked) {
+  const BlockLayout l = BlockLayout::split({40, 30}, {2, 2});
+  std::vector<FieldF> f = numbered_blocks(l, 6);
+  std::vector<FieldF*> ptrs;
+  for (FieldF& g : f) ptrs.push_back(&g);
+  const HaloExchange ex(l, 6);
+  ex.fill(ptrs, 3, 2);
+  const Box2 walls = box_of_size(l.domain()).grown(1);
+  const Box2 near = l.block(3).grown(2), far = l.block(3).grown(6);
+  for (int y = far.min.y; y < far.max.y; ++y)
+    for (int x = far.min.x; x < far.max.x; ++x) {
+      const bool filled = near.contains(Int2{x, y}) && walls.contains(Int2{x, y});
+      ASSERT_EQ(f[3](x, y), filled ? cell_value(x, y) : -1.0f) << x << "," << y;
+    }
+}
+
 TEST(HaloExchange, WrapsPeriodicAxes) {
   const BlockLayout l = BlockLayout::split({20, 12}, {2, 3}, true, false);
   const int width = 3;
@@ -81,7 +98,7 @@ TEST(HaloExchange, WrapsPeriodicAxes) {
   std::vector<FieldF*> ptrs;
   for (FieldF& g : f) ptrs.push_back(&g);
   const HaloExchange ex(l, width);
-  for (int b = 0; b < l.count(); ++b) ex.fill(ptrs, b);
+  for (int b = 0; b < l.count(); ++b) ex.fill(ptrs, b, width);
   for (int b = 0; b < l.count(); ++b) {
     const Box2 h = l.block(b).grown(width);
     for (int y = h.min.y; y < h.max.y; ++y)
@@ -104,7 +121,7 @@ TEST(LocalBlockGroup, BlocksOnThreadsExchangeTheirHalos) {
   std::vector<std::thread> threads;
   for (int b = 0; b < l.count(); ++b)
     threads.emplace_back([&, b] {
-      for (int round = 0; round < 3; ++round) group.channel(b).exchange(f[std::size_t(b)]);
+      for (int round = 0; round < 3; ++round) group.channel(b).exchange(f[std::size_t(b)], 4);
     });
   for (std::thread& t : threads) t.join();
   for (int b = 0; b < l.count(); ++b) {

@@ -1,0 +1,75 @@
+// `ardcell bench scale` through the real binary: bench/scale_bench under Open MPI's mpirun for
+// 1 and 2 ranks, strong and weak, at a small size: the table and scale.md / scale.csv hold one
+// row per run with a positive rate; one rank sends no halo, two do; the 1-rank rows are the
+// efficiency's reference (1.000). Bad --ranks exits 2 with one line.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/drivers/binary_run_fixture.h"
+
+namespace ardcell {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BenchScaleTest : public BinaryRunTest {
+ protected:
+  BinaryRunResult run_bench(const std::string& args) {
+    return run_command(
+        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+        "OMPI_MCA_btl_vader_single_copy_mechanism=none exec '" ARDCELL_BINARY "' bench scale " +
+        args);
+  }
+};
+
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  for (std::string c; std::getline(in, c, ',');) cells.push_back(c);
+  return cells;
+}
+
+TEST_F(BenchScaleTest, OneAndTwoRanksStrongAndWeak) {
+  const BinaryRunResult r = run_bench("--size 96 --weak 64 --frames 2 --ranks 2 --out res");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| strong | 2 | "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| weak | 2 | "), std::string::npos) << r.out;
+  const std::string csv = slurp(work() / "res" / "scale.csv");
+  ASSERT_TRUE(fs::exists(work() / "res" / "scale.md"));
+  std::stringstream lines(csv);
+  std::string header, line;
+  std::getline(lines, header);
+  EXPECT_EQ(header,
+            "scaling,ranks,workers_per_rank,grid_x,grid_y,fps,cells_per_s,efficiency,"
+            "halo_bytes_per_frame,mpi_ms_per_frame");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    const std::vector<std::string> c = csv_cells(line);
+    ASSERT_EQ(c.size(), 10u) << line;
+    ++rows;
+    const int ranks = std::stoi(c[1]);
+    EXPECT_GT(std::stod(c[5]), 0.0) << line;
+    if (ranks == 1) {
+      EXPECT_EQ(std::stod(c[8]), 0.0) << line;  // nothing to send
+      EXPECT_EQ(std::stod(c[7]), 1.0) << line;  // the reference
+    } else {
+      EXPECT_GT(std::stod(c[8]), 0.0) << line;
+    }
+    // Weak scaling: 64 x 64 cells per rank.
+    if (c[0] == "weak") EXPECT_EQ(std::stoi(c[3]) * std::stoi(c[4]), ranks * 64 * 64) << line;
+  }
+  EXPECT_EQ(rows, 4);
+}
+
+TEST_F(BenchScaleTest, BadRanksExitTwo) {
+  const BinaryRunResult r = run_bench("--ranks 0,x --out res");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err,
+            "ardcell bench scale: --ranks '0,x': expected rank counts 1..256, comma-separated\n");
+}
+
+}  // namespace
+}  // namespace ardcell
