@@ -5,10 +5,12 @@
 //     process saves, on every schedule;
 //   - PNG frames gathered on rank 0 are the bytes one process writes;
 //   - a state saved by 4 ranks resumes in one process, and one process's in 2 ranks, bit for bit;
+//   - a rank killed mid-run ends the job (no hang), mpirun naming the rank;
 //   - a layout that does not match the processes, a malformed one, a scene that is not a frame
 //     plan and blocks narrower than their halo exit 2 with one line.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
 
 #include "tests/drivers/binary_run_fixture.h"
@@ -97,6 +99,24 @@ TEST_F(RunRanksTest, SavedStatesMoveBetweenRanksAndOneProcess) {
                 "resumed-2");
   ASSERT_EQ(r.code, 0) << r.err;
   expect_same_state("six", "resumed-2");
+}
+
+// Rank 1 is killed mid-run (SIGKILL: no chance to say goodbye); the job must end, not hang with
+// rank 0 waiting for a halo that never comes, and mpirun names the rank.
+TEST_F(RunRanksTest, ARankThatDiesEndsTheJob) {
+  const auto start = std::chrono::steady_clock::now();
+  const BinaryRunResult r = run_command(
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+      "OMPI_MCA_btl_vader_single_copy_mechanism=none exec '" ARDCELL_MPIEXEC
+      "' --oversubscribe -np 2 sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then (sleep 2; kill "
+      "-9 $$) & fi; exec \"" ARDCELL_BINARY
+      "\" run table1-ard --size 128 --ranks 2x1 --steps 100000000 --every 0 --quiet'");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_NE(r.code, 0) << r.err;
+  EXPECT_LT(seconds, 60.0);
+  EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("frames="), std::string::npos) << r.out;
 }
 
 TEST_F(RunRanksTest, BadLayoutsExitTwoWithOneLine) {
