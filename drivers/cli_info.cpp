@@ -99,7 +99,9 @@ int do_info(CliContext& ctx) {
   std::fprintf(o, "build: %s, %s, sanitizers %s, compiler %s\n", build,
                ARDCELL_CHECKS_ON ? "ARDCELL_DCHECK on" : "ARDCELL_DCHECK off",
                sanitized() ? "address+undefined" : "off", __VERSION__);
-  std::fprintf(o, "options: opencl=%s hidapi=%s gpiod=%s sdl2=%s liblo=%s systemd=%s plplot=%s\n",
+  std::fprintf(o,
+               "options: opencl=%s hidapi=%s gpiod=%s sdl2=%s liblo=%s systemd=%s plplot=%s "
+               "mpi=%s\n",
 #ifdef ARDCELL_WITH_OPENCL
                on_off(true),
 #else
@@ -130,7 +132,12 @@ int do_info(CliContext& ctx) {
 #else
                on_off(false),
 #endif
-               on_off(charts_available()));
+               on_off(charts_available()),
+#ifdef ARDCELL_WITH_MPI
+               on_off(true));
+#else
+               on_off(false));
+#endif
   std::fprintf(o, "cpu: %s\n", cpu_model().c_str());
   std::fprintf(o, "cpu features: %s\n", cpu_features().c_str());
   std::fprintf(o, "compiled for: %s\n", compiled_for().c_str());

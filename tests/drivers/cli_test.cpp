@@ -153,6 +153,11 @@ TEST_F(CliTest, InfoReportsVersionBuildOptionsCpuAndCores) {
   EXPECT_TRUE(options.rfind("options: opencl=o", 0) == 0 &&
               options.find(" hidapi=o") != std::string::npos)
       << r.out;
+#if defined(ARDCELL_WITH_MPI)
+  EXPECT_NE(options.find(" mpi=on"), std::string::npos) << r.out;
+#else
+  EXPECT_NE(options.find(" mpi=off"), std::string::npos) << r.out;
+#endif
   EXPECT_NE(r.out.find("cpu features:"), std::string::npos);
   const std::string cores = line_starting(r.out, "cores: ");
   EXPECT_TRUE(cores.size() > 7 && cores[7] >= '1' && cores[7] <= '9' &&
