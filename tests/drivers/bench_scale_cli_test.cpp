@@ -18,10 +18,7 @@ namespace fs = std::filesystem;
 class BenchScaleTest : public BinaryRunTest {
  protected:
   BinaryRunResult run_bench(const std::string& args) {
-    return run_command(
-        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-        "OMPI_MCA_btl_vader_single_copy_mechanism=none exec '" ARDCELL_BINARY "' bench scale " +
-        args);
+    return run_command(mpi_env() + "exec '" ARDCELL_BINARY "' bench scale " + args);
   }
 };
 

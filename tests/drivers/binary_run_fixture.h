@@ -73,6 +73,16 @@ class BinaryRunTest : public ::testing::Test {
     return r;
   }
   std::filesystem::path work() const { return dir_ / "work"; }
+  // The environment an Open MPI job of the tests runs in (shell words, before `exec mpirun`):
+  // root allowed (CI runs as root); no single-copy mechanism (containers forbid the ptrace it
+  // needs); and in sanitizer builds the slow unwinder, since Open MPI unloads its plugins at
+  // MPI_Finalize: a leak one left has no module at exit, but the libmpi frames beneath it, which
+  // scripts/lsan.supp names, are kept.
+  static std::string mpi_env() {
+    return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+           "OMPI_MCA_btl_vader_single_copy_mechanism=none "
+           "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:fast_unwind_on_malloc=0\" ";
+  }
 
  private:
   std::filesystem::path dir_;

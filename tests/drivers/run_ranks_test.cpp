@@ -22,14 +22,10 @@ namespace fs = std::filesystem;
 
 class RunRanksTest : public BinaryRunTest {
  protected:
-  // `ardcell <args>` as `ranks` processes of one mpirun (root allowed: CI runs as root; no
-  // single-copy mechanism: containers forbid the ptrace it needs).
+  // `ardcell <args>` as `ranks` processes of one mpirun.
   BinaryRunResult run_ranks(int ranks, const std::string& args) {
-    return run_command(
-        "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-        "OMPI_MCA_btl_vader_single_copy_mechanism=none exec '" ARDCELL_MPIEXEC
-        "' --oversubscribe -np " +
-        std::to_string(ranks) + " '" ARDCELL_BINARY "' " + args);
+    return run_command(mpi_env() + "exec '" ARDCELL_MPIEXEC "' --oversubscribe -np " +
+                       std::to_string(ranks) + " '" ARDCELL_BINARY "' " + args);
   }
   void expect_same_state(const char* a, const char* b) {
     for (const char* field : {"u.npy", "v.npy", "dye.npy", "A.npy", "B.npy", "meta.json"}) {
@@ -106,8 +102,8 @@ TEST_F(RunRanksTest, SavedStatesMoveBetweenRanksAndOneProcess) {
 TEST_F(RunRanksTest, ARankThatDiesEndsTheJob) {
   const auto start = std::chrono::steady_clock::now();
   const BinaryRunResult r = run_command(
-      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-      "OMPI_MCA_btl_vader_single_copy_mechanism=none exec '" ARDCELL_MPIEXEC
+      mpi_env() +
+      "exec '" ARDCELL_MPIEXEC
       "' --oversubscribe -np 2 sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then (sleep 2; kill "
       "-9 $$) & fi; exec \"" ARDCELL_BINARY
       "\" run table1-ard --size 128 --ranks 2x1 --steps 100000000 --every 0 --quiet'");
@@ -129,7 +125,8 @@ TEST_F(RunRanksTest, BadLayoutsExitTwoWithOneLine) {
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err,
             "ardcell run: --ranks 'two': expected WxH, the ranks along x by along y (e.g. 2x1)\n");
-  r = run("run cavity --steps 1 --quiet --ranks 1x1");
+  // Without mpirun: a singleton MPI job of one process.
+  r = run_command(mpi_env() + "exec '" ARDCELL_BINARY "' run cavity --steps 1 --quiet --ranks 1x1");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--ranks applies to the scenes built as a frame plan"), std::string::npos)
       << r.err;
