@@ -475,8 +475,14 @@ int do_run(RunArgs& a, CliContext& ctx) {
   // Stroke playback (--strokes / --replay): files are read before any output is created.
   std::unique_ptr<StrokePlayback> playback;
   if (std::string error; !a.paint.make(scene, playback, error)) return usage(error);
-  if (ranked && playback)
-    return usage("--strokes / --replay paint one process's grid (expected no --ranks)");
+  // Every rank reads the same strokes and paints its block's cells; orientation sources and
+  // obstacles are whole-grid fields of one process.
+  if (ranked && playback &&
+      (playback->painter().mode() == PaintMode::kOrient ||
+       playback->painter().mode() == PaintMode::kObstacle))
+    return usage(
+        "--paint-mode orient and obstacle paint one process's grid (expected deposit, "
+        "push or erase with --ranks)");
   if (ranked && !a.probe_csv.empty())
     return usage("--probe-csv records one process's grid (expected no --ranks)");
 
@@ -527,7 +533,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
     // Every rank gathers at the frames rank 0 writes (the same test open_outputs makes).
     const bool writes_frames = every > 0 && (!a.no_png || !a.video.empty());
     RankStepper stepper(*engine, *layout, *world, writes_frames ? every : 0,
-                        &StopSignals::requested());
+                        &StopSignals::requested(), playback.get());
     if (world->any(world->rank() == 0 && !frame_field_available(stepper.frame_state(), field))) {
       remove_created(outputs.created);
       return usage(no_field);

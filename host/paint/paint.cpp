@@ -43,7 +43,12 @@ PaintConfig paint_config_for(const SceneConfig& scene) {
 }
 
 Painter::Painter(Int2 grid, const PaintConfig& config)
-    : grid_(grid), config_(config), weight_(grid, 0), dir_cos_(grid, 0), dir_sin_(grid, 0) {
+    : grid_(grid),
+      cells_(box_of_size(grid)),
+      config_(config),
+      weight_(grid, 0),
+      dir_cos_(grid, 0),
+      dir_sin_(grid, 0) {
   extender_ = OrientationExtender(grid, auto_coarsening());
 }
 
@@ -71,6 +76,12 @@ void Painter::clear_orientation() {
 
 void Painter::apply(std::span<const StrokeSample> samples, SimState& s) {
   ARDCELL_CHECK(s.size == grid_, "Painter: state size differs from the painter's grid");
+  cells_ = box_of_size(grid_);
+  for (const FieldF* f : {&s.A, &s.B, &s.dye, &s.u})
+    if (!f->empty()) {
+      cells_ = f->interior();
+      break;
+    }
   for (const StrokeSample& sample : samples) {
     const bool touching = sample.touching() && sample.in_range;
     if (!touching) {
@@ -110,10 +121,10 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
   const bool erasing = eraser || c.mode == PaintMode::kErase;
   const bool erase_all = c.mode == PaintMode::kErase;
 
-  const int xa = std::max(0, int(std::floor(std::min(x0, x1) - r)));
-  const int xb = std::min(grid_.x - 1, int(std::ceil(std::max(x0, x1) + r)));
-  const int ya = std::max(0, int(std::floor(std::min(y0, y1) - r)));
-  const int yb = std::min(grid_.y - 1, int(std::ceil(std::max(y0, y1) + r)));
+  const int xa = std::max(cells_.min.x, int(std::floor(std::min(x0, x1) - r)));
+  const int xb = std::min(cells_.max.x - 1, int(std::ceil(std::max(x0, x1) + r)));
+  const int ya = std::max(cells_.min.y, int(std::floor(std::min(y0, y1) - r)));
+  const int yb = std::min(cells_.max.y - 1, int(std::ceil(std::max(y0, y1) + r)));
   for (int y = ya; y <= yb; ++y) {
     for (int x = xa; x <= xb; ++x) {
       const double px = x + 0.5, py = y + 0.5;
@@ -187,8 +198,10 @@ void Painter::orient_dabs(double x0, double y0, double ux, double uy, double len
   const double spacing = std::max(0.5, double(config_.orient_dab_spacing) * r);
   for (; next_dab_ <= arc_ + len; next_dab_ += spacing) {
     const double cx = x0 + (next_dab_ - arc_) * ux, cy = y0 + (next_dab_ - arc_) * uy;
-    const int xa = std::max(0, int(std::floor(cx - r))), xb = std::min(grid_.x - 1, int(cx + r));
-    const int ya = std::max(0, int(std::floor(cy - r))), yb = std::min(grid_.y - 1, int(cy + r));
+    const int xa = std::max(cells_.min.x, int(std::floor(cx - r)));
+    const int xb = std::min(cells_.max.x - 1, int(cx + r));
+    const int ya = std::max(cells_.min.y, int(std::floor(cy - r)));
+    const int yb = std::min(cells_.max.y - 1, int(cy + r));
     for (int y = ya; y <= yb; ++y)
       for (int x = xa; x <= xb; ++x) {
         const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);

@@ -80,7 +80,9 @@ class Painter {
   void set_mode(PaintMode mode) { config_.mode = mode; }
   PaintMode mode() const { return config_.mode; }
 
-  // Paints samples into state (whose size must be the painter's grid). No allocation.
+  // Paints samples into state (whose size must be the painter's grid). No allocation. A state
+  // whose fields cover one block of the grid (a rank of `ardcell run --ranks`) gets the cells
+  // of its block: every block painted by the same samples gives the whole grid's painting.
   void apply(std::span<const StrokeSample> samples, SimState& state);
   void apply(const StrokeSample& sample, SimState& state) { apply({&sample, 1}, state); }
 
@@ -108,6 +110,7 @@ class Painter {
   int auto_coarsening() const;
 
   Int2 grid_;
+  Box2 cells_;  // the cells the painted state holds (its block; the grid otherwise)
   PaintConfig config_;
   FieldF weight_, dir_cos_, dir_sin_;
   OrientationExtender extender_;

@@ -18,8 +18,13 @@ FieldF& whole_field(SimState& whole, std::string_view name) {
 }  // namespace
 
 RankStepper::RankStepper(Engine& engine, const BlockLayout& layout, MpiWorld& world, int64_t every,
-                         const std::atomic<bool>* signal)
-    : engine_(engine), world_(world), gather_(layout, world), every_(every), signal_(signal) {
+                         const std::atomic<bool>* signal, StrokePlayback* playback)
+    : engine_(engine),
+      world_(world),
+      gather_(layout, world),
+      every_(every),
+      signal_(signal),
+      playback_(playback) {
   const SimState& s = engine_.state();
   whole_.size = s.size;
   whole_.h = s.h;
@@ -32,6 +37,7 @@ RankStepper::RankStepper(Engine& engine, const BlockLayout& layout, MpiWorld& wo
 }
 
 void RankStepper::step() {
+  if (playback_) playback_->before_step(engine_.state(), engine_.state().time);
   engine_.step();
   ++steps_;
   if (world_.any(signal_ && signal_->load(std::memory_order_relaxed)))

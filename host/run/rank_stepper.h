@@ -20,10 +20,12 @@ namespace ardcell {
 class RankStepper final : public OfflineStepper {
  public:
   // `every`: the run loop writes a frame after every `every` steps (0: none); `signal`: set
-  // asynchronously on this rank (Ctrl-C).
+  // asynchronously on this rank (Ctrl-C); `playback`: strokes every rank reads alike, painted
+  // into this rank's block before each step (host/paint/paint.h).
   RankStepper(Engine& engine, const BlockLayout& layout, MpiWorld& world, int64_t every,
-              const std::atomic<bool>* signal);
-  // One frame; then whether any rank was asked to stop; then, when a frame is due, the gather.
+              const std::atomic<bool>* signal, StrokePlayback* playback = nullptr);
+  // The strokes due, one frame; then whether any rank was asked to stop; then, when a frame is
+  // due, the gather.
   void step() override;
   // Rank 0: the whole state as of the last gather (other ranks: its size only).
   const SimState& frame_state() override { return whole_; }
@@ -38,6 +40,7 @@ class RankStepper final : public OfflineStepper {
   BlockGather gather_;
   int64_t every_ = 0, steps_ = 0;
   const std::atomic<bool>* signal_;
+  StrokePlayback* playback_;
   std::atomic<bool> stop_{false};
   SimState whole_;
 };

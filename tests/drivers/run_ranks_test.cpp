@@ -4,6 +4,7 @@
 //   - 2, 3 and 4 ranks (2x1, 1x2, 3x1, 2x2; uneven blocks of 127 x 93) save the bytes one
 //     process saves, on every schedule;
 //   - PNG frames gathered on rank 0 are the bytes one process writes;
+//   - strokes (deposit, push) paint 4 ranks' blocks as they paint one grid;
 //   - a state saved by 4 ranks resumes in one process, and one process's in 2 ranks, bit for bit;
 //   - a rank killed mid-run ends the job (no hang), mpirun naming the rank;
 //   - a layout that does not match the processes, a malformed one, a scene that is not a frame
@@ -64,6 +65,31 @@ TEST_F(RunRanksTest, RanksSaveTheFieldsOfOneProcess) {
       expect_same_state(one.c_str(), dir.c_str());
     }
   }
+}
+
+// Every rank reads the strokes and paints its block: the painting of one process.
+TEST_F(RunRanksTest, StrokesPaintEveryBlockAsOneGrid) {
+  const std::string strokes = std::string(" --strokes '") + ARDCELL_SOURCE_DIR +
+                              "/presets/strokes/fig3_spiral.jsonl' --paint-radius 3 --steps 30 ";
+  for (const char* mode : {"deposit", "push"}) {
+    const std::string one = std::string("one-") + mode, two = std::string("two-") + mode;
+    ASSERT_EQ(
+        run(std::string(kScene) + strokes + "--paint-mode " + mode + " --save-state " + one).code,
+        0);
+    const BinaryRunResult r = run_ranks(4, std::string(kScene) + strokes + "--paint-mode " + mode +
+                                               " --ranks 2x2 --save-state " + two);
+    ASSERT_EQ(r.code, 0) << mode << ": " << r.err;
+    expect_same_state(one.c_str(), two.c_str());
+  }
+  ASSERT_EQ(run(std::string(kScene) + "--steps 30 --save-state plain").code, 0);
+  EXPECT_NE(slurp(work() / "plain" / "B.npy"), slurp(work() / "one-deposit" / "B.npy"))
+      << "the strokes left no trace";
+  const BinaryRunResult r =
+      run_ranks(2, std::string(kScene) + strokes + "--paint-mode orient --ranks 2x1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--paint-mode orient and obstacle paint one process's grid"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST_F(RunRanksTest, FramesAreGatheredOnRankZero) {
