@@ -1,6 +1,7 @@
 // Scaling across processes: frames per second of table1-ard on ONE grid cut into blocks, one per
-// MPI rank, as `mpirun -np R ardcell run table1-ard --ranks WxH` runs it (the blocked schedule,
-// each rank's workers pinned off; the plan's halo exchange through MpiHaloChannel). Run under
+// MPI rank, as `mpirun -np R ardcell run table1-ard --ranks WxH` runs it (the blocked schedule;
+// one rank's workers pinned, several ranks' left to mpirun's binding; the plan's halo exchange
+// through MpiHaloChannel). Run under
 // mpirun by `ardcell bench scale` (drivers/cli_bench_scale.cpp), one configuration a process
 // group:
 //   ARDCELL_BENCH_GRID     the whole grid, "WxH" (default 2048x2048);
@@ -50,6 +51,9 @@ void run_scale(benchmark::State& state, MpiWorld& world, Int2 grid, Int2 ranks, 
   EngineOptions o;
   o.backend = EngineOptions::Backend::kThreads;
   o.workers = workers;
+  // As `ardcell run`: one process pins its workers (unpinned, a woken worker tends to land on
+  // the core of the thread that woke it); ranks do not (each would pin to the same cores).
+  o.pin_workers = world.size() == 1;
   o.plan.schedule = PlanSchedule::kBlocked;
   o.plan.block = layout.block(world.rank());
   o.plan.halo = &channel;
