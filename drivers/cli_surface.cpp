@@ -6,11 +6,13 @@
 // A subcommand of its own, not a scene of `ardcell run`: the patches do not run on the engine
 // yet (no Device ops, back ends, frames or state files, which run's flags are about); once
 // patches are blocks of the frame plan it becomes `ardcell run surface-gray-scott`.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "drivers/cli.h"
 
@@ -19,6 +21,7 @@
 #include "host/io/atomic_file.h"
 #include "host/io/surface_atlas.h"
 #include "host/io/surface_ply.h"
+#include "host/scenes/preset.h"
 #include "host/surface/limit_surface.h"
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
@@ -43,8 +46,59 @@ struct SurfaceArgs {
   int patch_cells = 16, steps = 3000, workers = 0;
   unsigned seed = 1;
   double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
-  CLI::Option *mesh_opt, *shape_opt, *scale_opt;
+  std::string preset;
+  CLI::Option *mesh_opt, *shape_opt, *scale_opt, *reaction_opt, *field_opt, *f_opt, *k_opt, *dt_opt,
+      *seed_opt;
 };
+
+// A flat scene's reaction-diffusion on the surface (--preset): its model and parameters, rates,
+// step and start; `why` names the first setting a surface cannot take.
+struct PresetRd {
+  ReactionParams reaction;
+  double diffusion_a = 0, diffusion_b = 0, dt = 1;  // rates in cells^2 per unit time
+  SurfaceGrayScott::Start start;                    // radius in cells
+  Int2 grid{};                                      // the flat scene's cells (its spots' density)
+  std::string name;
+};
+
+Status preset_rd(const std::string& name, PresetRd& out) {
+  Preset p;
+  if (Status s = load_preset(name, p); !s) return Status::error("--preset " + s.message());
+  const RdConfig& rd = p.scene.rd;
+  const std::string refused = "--preset " + name + ": ";
+  if (!rd.enabled) return Status::error(refused + "rd.enabled is false (expected a scene with RD)");
+  if (rd.diffusion_operator != RdOperator::kLaplacian)
+    return Status::error(refused +
+                         "rd.operator: a surface diffuses with its Laplace-Beltrami operator "
+                         "(expected laplacian)");
+  if (rd.anisotropy.kind != AnisotropyKind::kIsotropic)
+    return Status::error(refused +
+                         "rd.anisotropy: the surface's diffusion is isotropic (expected "
+                         "isotropic)");
+  if (rd.use_table || rd.map)
+    return Status::error(refused +
+                         "rd.table / rd.map: one reaction per cell, computed (expected "
+                         "neither)");
+  if (rd.initial != RdInitialPattern::kUniform && rd.initial != RdInitialPattern::kRandomSpots)
+    return Status::error(refused +
+                         "rd.initial.pattern: squares, discs and stripes are laid out on a "
+                         "flat grid (expected uniform or random-spots)");
+  out.reaction = rd.reaction;
+  out.diffusion_a = rd.diffusion_a;
+  out.diffusion_b = rd.diffusion_b;
+  out.dt = rd.dt > 0 ? rd.dt : p.scene.dt;
+  out.start.background_a = rd.background_a;
+  out.start.background_b = rd.background_b;
+  out.start.seed_a = rd.seed_a;
+  out.start.seed_b = rd.seed_b;
+  out.start.spots = rd.initial == RdInitialPattern::kRandomSpots ? rd.spots : 0;
+  out.start.radius = rd.seed_radius;
+  out.start.noise = rd.noise;
+  out.start.seed = std::uint32_t(rd.seed);
+  out.grid = p.scene.size;
+  out.name = p.scene.name.empty() ? name : p.scene.name;
+  return Status::ok();
+}
 
 Status control_mesh(const SurfaceArgs& a, PolyMesh& mesh) {
   if (a.mesh_opt->count()) return read_obj(a.mesh, {}, mesh);
@@ -68,13 +122,28 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (a.workers < 0 || a.workers > 256)
     return usage("--workers " + std::to_string(a.workers) + ": expected 1..256 (0: one per core)");
   SurfaceRdParams params;
-  params.reaction.F = float(a.F);
-  params.reaction.k = float(a.k);
+  PresetRd flat;
+  const bool from_preset = !a.preset.empty();
+  if (from_preset) {
+    for (CLI::Option* o : {a.f_opt, a.k_opt})
+      if (o->count())
+        return usage(o->get_name() + ": the preset sets the reaction (expected no " +
+                     o->get_name() + " with --preset)");
+    if (Status s = preset_rd(a.preset, flat); !s) return usage(s.message());
+    params.reaction = flat.reaction;
+    if (!a.dt_opt->count()) a.dt = flat.dt;
+    if (!a.field_opt->count()) a.field = "a";
+  } else {
+    params.reaction.F = float(a.F);
+    params.reaction.k = float(a.k);
+  }
   if (const char* problem = reaction_params_problem(params.reaction)) return usage(problem);
-  if (a.reaction == "implicit")
-    params.scheme = SurfaceReaction::kImplicit;
-  else if (a.reaction != "euler")
+  if (a.reaction != "euler" && a.reaction != "implicit")
     return usage("--reaction '" + a.reaction + "': expected euler (the seed's) or implicit");
+  // The seed's forward Euler by default; with a preset, Kim & Lin's implicit reaction (any model
+  // at the preset's step).
+  const bool implicit = a.reaction_opt->count() ? a.reaction == "implicit" : from_preset;
+  params.scheme = implicit ? SurfaceReaction::kImplicit : SurfaceReaction::kForwardEuler;
   if (a.field != "a" && a.field != "b") return usage("--field '" + a.field + "': expected a or b");
   SurfaceColours colours;
   if (!parse_colormap(a.colormap, colours.colormap))
@@ -133,20 +202,34 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   // Pattern scale: the classic flat model's cell, 1/20 of a mean patch's side by default.
   const double side = std::sqrt(op.area() / op.patches());
   const double length = a.scale_opt->count() ? a.scale : side / 20;
+  // A flat cell is `length` on the surface: rates in cells^2 per unit time scale by length^2.
   const SurfaceRdParams rates = gray_scott_for_length(length);
-  params.diffusion_a = rates.diffusion_a;
-  params.diffusion_b = rates.diffusion_b;
+  params.diffusion_a = from_preset ? flat.diffusion_a * length * length : rates.diffusion_a;
+  params.diffusion_b = from_preset ? flat.diffusion_b * length * length : rates.diffusion_b;
   params.dt = a.dt;
   params.solve.tolerance = a.tolerance;
   std::fprintf(ctx.out,
-               "patches=%d%s cells=%lld area=%.4g scale=%.4g r_a=%.4g r_b=%.4g F=%g k=%g dt=%g "
+               "patches=%d%s cells=%lld area=%.4g scale=%.4g r_a=%.4g r_b=%.4g model=%s%s%s dt=%g "
                "reaction=%s workers=%d\n",
                surface.patches(), surface.refined() ? " (refined once)" : "", cells, op.area(),
-               length, params.diffusion_a, params.diffusion_b, a.F, a.k, a.dt, a.reaction.c_str(),
+               length, params.diffusion_a, params.diffusion_b,
+               std::string(reaction_model_name(params.reaction.model)).c_str(),
+               from_preset ? " preset=" : "", from_preset ? flat.name.c_str() : "", a.dt,
+               params.scheme == SurfaceReaction::kImplicit ? "implicit" : "euler",
                backend.workers());
   std::fflush(ctx.out);
   SurfaceGrayScott rd(op, params);
-  rd.seed_spots(cell_positions(surface, op.grid()), a.seed, 3 * op.patches(), 0.2 * side);
+  if (from_preset) {
+    // The preset's spots at the same density per flat cell, their radius in surface units.
+    SurfaceGrayScott::Start start = flat.start;
+    const double flat_cells = double(flat.grid.x) * flat.grid.y;
+    start.spots = int(std::lround(start.spots * (op.area() / (length * length)) / flat_cells));
+    start.radius *= length;
+    if (a.seed_opt->count()) start.seed = a.seed;
+    rd.seed_pattern(cell_positions(surface, op.grid()), start);
+  } else {
+    rd.seed_spots(cell_positions(surface, op.grid()), a.seed, 3 * op.patches(), 0.2 * side);
+  }
 
   StopSignals signals;
   int done = 0;
@@ -158,9 +241,16 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
     return StopSignals::exit_code(kExitOk);
   }
   const PatchField& field = a.field == "a" ? rd.a() : rd.b();
-  // b lives in [0, ~0.45] in Gray-Scott's patterns, a in [~0.2, 1].
-  colours.lo = a.field == "a" ? 0.2 : 0.0;
-  colours.hi = a.field == "a" ? 1.0 : 0.45;
+  if (from_preset) {
+    // The model's working range (kernels/reaction.h typical_range).
+    const ConcentrationBox range = typical_range(params.reaction);
+    colours.lo = a.field == "a" ? range.a_lo : range.b_lo;
+    colours.hi = a.field == "a" ? range.a_hi : range.b_hi;
+  } else {
+    // b lives in [0, ~0.45] in Gray-Scott's patterns, a in [~0.2, 1].
+    colours.lo = a.field == "a" ? 0.2 : 0.0;
+    colours.hi = a.field == "a" ? 1.0 : 0.45;
+  }
   Status written = Status::ok();
   if (!a.out.empty()) written = write_surface_ply(a.out, surface, op.grid(), field, colours);
   if (written && !a.atlas.empty()) {
@@ -178,8 +268,25 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::fprintf(ctx.out, "steps=%d mean_sweeps=%.1f seconds=%.2f out=%s%s%s%s%s\n", done,
-               done ? double(sweeps) / done : 0.0, seconds, a.out.empty() ? "-" : a.out.c_str(),
+  // The cells' range of each chemical: whether a pattern grew (and what the colours span).
+  const auto range = [&](const PatchField& f) {
+    const PatchGrid& g = op.grid();
+    double lo = INFINITY, hi = -INFINITY;
+    for (int p = 0; p < g.patches(); ++p)
+      for (int j = 0; j < g.n(); ++j)
+        for (int i = 0; i < g.n(); ++i) {
+          lo = std::min(lo, f[g.index(p, i, j)]);
+          hi = std::max(hi, f[g.index(p, i, j)]);
+        }
+    return std::pair(lo, hi);
+  };
+  const auto [a_lo, a_hi] = range(rd.a());
+  const auto [b_lo, b_hi] = range(rd.b());
+  std::fprintf(ctx.out,
+               "steps=%d mean_sweeps=%.1f seconds=%.2f a=[%.4g, %.4g] b=[%.4g, %.4g] "
+               "out=%s%s%s%s%s\n",
+               done, done ? double(sweeps) / done : 0.0, seconds, a_lo, a_hi, b_lo, b_hi,
+               a.out.empty() ? "-" : a.out.c_str(),
                a.atlas.empty() ? "" : " atlas=", a.atlas.empty() ? "" : (a.atlas + ".obj").c_str(),
                a.render.empty() ? "" : " render=", a.render.c_str());
   std::fflush(ctx.out);
@@ -217,19 +324,25 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
                   "also a PNG of the surface from a fixed camera (800 x 600)");
   cmd->add_option("--view", a.view,
                   "the render's camera direction AZIMUTH,ELEVATION in degrees (35,25)");
-  cmd->add_option("--reaction", a.reaction,
-                  "euler (the seed's forward Euler) or implicit (ardcell's backward Euler)");
-  cmd->add_option("--F", a.F, "Gray-Scott feed (0.055)")->check(finite_range(0, 1));
-  cmd->add_option("--k", a.k, "Gray-Scott kill (0.062)")->check(finite_range(0, 1));
-  cmd->add_option("--dt", a.dt, "time step (1)")->check(finite_range(1e-6, 100));
+  a.reaction_opt =
+      cmd->add_option("--reaction", a.reaction,
+                      "euler (the seed's forward Euler) or implicit (ardcell's backward Euler; "
+                      "the default with --preset)");
+  cmd->add_option("--preset", a.preset,
+                  "a scene or preset's reaction-diffusion on the surface (its model, parameters, "
+                  "rates, step and start; e.g. turing-spots, meinhardt-spots)");
+  a.f_opt = cmd->add_option("--F", a.F, "Gray-Scott feed (0.055)")->check(finite_range(0, 1));
+  a.k_opt = cmd->add_option("--k", a.k, "Gray-Scott kill (0.062)")->check(finite_range(0, 1));
+  a.dt_opt = cmd->add_option("--dt", a.dt, "time step (1; with --preset the preset's)")
+                 ->check(finite_range(1e-6, 100));
   a.scale_opt = cmd->add_option("--scale", a.scale,
                                 "the flat model's cell in surface units: sets the wavelength "
                                 "(default: a patch's side / 20)")
                     ->check(finite_range(1e-9, 1e9));
   cmd->add_option("--tolerance", a.tolerance, "implicit diffusion's relative residual (1e-6)")
       ->check(finite_range(1e-14, 1));
-  cmd->add_option("--seed", a.seed, "random start (1)");
-  cmd->add_option("--field", a.field, "a or b (b)");
+  a.seed_opt = cmd->add_option("--seed", a.seed, "random start (1; with --preset the preset's)");
+  a.field_opt = cmd->add_option("--field", a.field, "a or b (b; with --preset a)");
   cmd->add_option("--colormap", a.colormap, std::string(colormap_names()) + " (magma)");
   cmd->callback([args, &ctx] {
     try {

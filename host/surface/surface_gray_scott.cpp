@@ -1,5 +1,6 @@
 #include "host/surface/surface_gray_scott.h"
 
+#include <algorithm>
 #include <random>
 
 namespace ardcell {
@@ -18,15 +19,15 @@ SurfaceGrayScott::SurfaceGrayScott(const SurfaceLaplacian& op, const SurfaceRdPa
       b_(op.grid().make_field(0.0)),
       rhs_(op.grid().make_field()) {}
 
-void SurfaceGrayScott::seed_spots(const std::array<PatchField, 3>& pos, std::uint32_t seed,
-                                  int spots, double radius) {
-  const PatchGrid& g = op_.grid();
+namespace {
+
+// Calls f(c) for every cell c within `radius` (straight-line distance) of a random cell, for
+// `spots` random cells drawn from rng.
+template <class F>
+void for_spot_cells(const PatchGrid& g, const std::array<PatchField, 3>& pos, int spots,
+                    double radius, std::mt19937& rng, const F& f) {
   const int n = g.n();
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::uniform_int_distribution<int> patch(0, g.patches() - 1), cell(0, n - 1);
-  a_.assign(a_.size(), 1.0);
-  b_.assign(b_.size(), 0.0);
   for (int s = 0; s < spots; ++s) {
     const std::size_t centre = g.index(patch(rng), cell(rng), cell(rng));
     for (int p = 0; p < g.patches(); ++p)
@@ -35,9 +36,45 @@ void SurfaceGrayScott::seed_spots(const std::array<PatchField, 3>& pos, std::uin
           const std::size_t c = g.index(p, i, j);
           double d2 = 0;
           for (const PatchField& x : pos) d2 += (x[c] - x[centre]) * (x[c] - x[centre]);
-          if (d2 > radius * radius) continue;
-          a_[c] = 0.5 * (1 + 0.02 * (unit(rng) - 0.5));
-          b_[c] = 0.25 * (1 + 0.02 * (unit(rng) - 0.5));
+          if (d2 <= radius * radius) f(c);
+        }
+  }
+}
+
+}  // namespace
+
+void SurfaceGrayScott::seed_spots(const std::array<PatchField, 3>& pos, std::uint32_t seed,
+                                  int spots, double radius) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  a_.assign(a_.size(), 1.0);
+  b_.assign(b_.size(), 0.0);
+  for_spot_cells(op_.grid(), pos, spots, radius, rng, [&](std::size_t c) {
+    a_[c] = 0.5 * (1 + 0.02 * (unit(rng) - 0.5));
+    b_[c] = 0.25 * (1 + 0.02 * (unit(rng) - 0.5));
+  });
+}
+
+void SurfaceGrayScott::seed_pattern(const std::array<PatchField, 3>& pos, const Start& start) {
+  const PatchGrid& g = op_.grid();
+  const int n = g.n();
+  std::mt19937 rng(start.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  a_.assign(a_.size(), start.background_a);
+  b_.assign(b_.size(), start.background_b);
+  for_spot_cells(g, pos, start.spots, start.radius, rng, [&](std::size_t c) {
+    a_[c] = start.seed_a;
+    b_[c] = start.seed_b;
+  });
+  if (start.noise > 0) {
+    const ConcentrationBox box = invariant_box(params_.reaction);
+    for (int p = 0; p < g.patches(); ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const std::size_t c = g.index(p, i, j);
+          const double ua = 2 * unit(rng) - 1, ub = 2 * unit(rng) - 1;
+          a_[c] = std::clamp(a_[c] * (1 + start.noise * ua), box.a_lo, box.a_hi);
+          b_[c] = std::clamp(b_[c] * (1 + start.noise * ub), box.b_lo, box.b_hi);
         }
   }
 }

@@ -44,6 +44,17 @@ class SurfaceGrayScott {
   // given every cell's position.
   void seed_spots(const std::array<PatchField, 3>& cell_positions, std::uint32_t seed, int spots,
                   double radius);
+  // A flat scene's start on the surface (a preset's rd.initial): a and b at the background,
+  // `spots` discs of `radius` (surface units) at seed_a, seed_b around random cells, then each
+  // cell times 1 +- noise, clamped to the model's invariant box (host/engine/rd_step.cpp's
+  // noise).
+  struct Start {
+    double background_a = 1, background_b = 0, seed_a = 0.5, seed_b = 0.25;
+    int spots = 0;
+    double radius = 0, noise = 0;
+    std::uint32_t seed = 1;
+  };
+  void seed_pattern(const std::array<PatchField, 3>& cell_positions, const Start& start);
   // One step dt; the report of b's diffusion solve (the slower of the two).
   DiffusionReport step();
 

@@ -3,6 +3,8 @@
 // and bad input as one line, exit 2, nothing written.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -90,6 +92,51 @@ TEST_F(SurfaceCli, MixedObjIsRefinedOnce) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out.rfind("patches=16 (refined once) cells=256 ", 0), 0u) << r.out;
   expect_ply(work() / "p.ply", 16 * 25, 16 * 16);
+}
+
+// A flat scene's reaction-diffusion on the torus: Meinhardt's spots grow from the preset's noisy
+// start (a spreads from 1.6 +- 5% to more than +-0.2), FitzHugh-Nagumo's waves are excited.
+TEST_F(SurfaceCli, PresetsRunTheirModelOnTheSurface) {
+  const auto a_range = [](const std::string& out) {
+    double lo = 0, hi = 0;
+    const auto at = out.find(" a=[");
+    if (at == std::string::npos || std::sscanf(out.c_str() + at, " a=[%lf, %lf]", &lo, &hi) != 2)
+      return -1.0;
+    return hi - lo;
+  };
+  BinaryRunResult r =
+      run("surface --preset meinhardt-spots --patch-cells 8 --steps 400 --out m.ply");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find(" model=meinhardt preset=meinhardt-spots dt=1 reaction=implicit "),
+            std::string::npos)
+      << r.out;
+  EXPECT_GT(a_range(r.out), 0.4) << r.out;
+  expect_ply(work() / "m.ply", 32 * 81, 32 * 64);
+  r = run("surface --preset cavity-fhn --patch-cells 8 --steps 100 --out f.ply");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find(" model=fitzhugh-nagumo "), std::string::npos) << r.out;
+  EXPECT_GT(a_range(r.out), 1.0) << r.out;
+}
+
+TEST_F(SurfaceCli, PresetsASurfaceCannotRunAreRefused) {
+  const struct {
+    const char* args;
+    const char* line;
+  } cases[] = {
+      {"--preset cavity",
+       "ardcell surface: --preset cavity: rd.enabled is false (expected a "
+       "scene with RD)\n"},
+      {"--preset fig3-orient",
+       "ardcell surface: --preset fig3-orient: rd.anisotropy: the "
+       "surface's diffusion is isotropic (expected isotropic)\n"},
+      {"--preset meinhardt-spots --F 0.05",
+       "ardcell surface: --F: the preset sets the reaction (expected no --F with --preset)\n"},
+  };
+  for (const auto& c : cases) {
+    const BinaryRunResult r = run(std::string("surface --out x.ply ") + c.args);
+    EXPECT_EQ(r.code, 2) << c.args;
+    EXPECT_EQ(r.err, c.line) << c.args;
+  }
 }
 
 TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
