@@ -279,9 +279,12 @@ SceneConfig spots(ReactionModel model) {
   rd.reaction.model = model;
   rd.dt = turing ? 8.0 : 1.0;
   rd.cell_size = 1.0;
-  rd.diffusion_a = turing ? 0.125 : 0.02;
-  rd.diffusion_b = turing ? 0.03125 : 1.0;
-  if (turing) std::swap(rd.diffusion_a, rd.diffusion_b);  // the inhibitor B diffuses faster
+  // Turing: the activator A diffuses 8 times slower than the substrate B. At 4 times the
+  // homogeneous state (4, 4) of beta = 12 sits exactly on the Turing threshold (D_B f_A + D_A g_B
+  // = 2 sqrt(D_A D_B det J), both 0.25 s) and the noise decays: Turk's spots at that ratio come
+  // from a per-cell random beta.
+  rd.diffusion_a = turing ? 0.03125 : 0.02;
+  rd.diffusion_b = turing ? 0.25 : 1.0;
   rd.boundary = BoundaryKind::kPeriodic;
   rd.initial = RdInitialPattern::kUniform;
   rd.background_a = turing ? 4.0f : 1.6f;
