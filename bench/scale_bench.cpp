@@ -22,20 +22,15 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_env.h"
 #include "host/engine/engine.h"
 #include "host/engine/table1_plan.h"
-#include "host/run/offline_run.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
 #include "runtime/mpi/mpi_world.h"
 
 namespace ardcell {
 namespace {
-
-std::string env_text(const char* name, const char* fallback) {
-  const char* s = std::getenv(name);
-  return s && *s ? s : fallback;
-}
 
 class SilentReporter : public benchmark::BenchmarkReporter {
  public:
@@ -84,8 +79,8 @@ int main(int argc, char** argv) {
   using namespace ardcell;
   MpiWorld world;
   Int2 grid{2048, 2048}, ranks{1, 1};
-  const std::string grid_text = env_text("ARDCELL_BENCH_GRID", "2048x2048");
-  const std::string ranks_text = env_text("ARDCELL_BENCH_RANKS", "1x1");
+  const std::string grid_text = bench_env_text("ARDCELL_BENCH_GRID", "2048x2048");
+  const std::string ranks_text = bench_env_text("ARDCELL_BENCH_RANKS", "1x1");
   if (!parse_block_parts(grid_text, grid) || !parse_block_parts(ranks_text, ranks) ||
       ranks.x * ranks.y != world.size()) {
     if (world.rank() == 0)
@@ -95,8 +90,8 @@ int main(int argc, char** argv) {
                    grid_text.c_str(), ranks_text.c_str(), world.size());
     return 2;
   }
-  const int workers = std::max(1, std::atoi(env_text("ARDCELL_BENCH_WORKERS", "1").c_str()));
-  const int frames = std::max(1, std::atoi(env_text("ARDCELL_BENCH_FRAMES", "20").c_str()));
+  const int workers = std::max(1, bench_env_int("ARDCELL_BENCH_WORKERS", 1));
+  const int frames = std::max(1, bench_env_int("ARDCELL_BENCH_FRAMES", 20));
   const std::string name =
       "Scale/" + ranks_text + "/" + grid_text + "/workers:" + std::to_string(workers);
   benchmark::RegisterBenchmark(

@@ -41,11 +41,6 @@ double process_cpu_seconds() {
          1e-6 * double(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
 }
 
-int env_int(const char* name, int fallback) {
-  const char* s = std::getenv(name);
-  return s ? std::atoi(s) : fallback;
-}
-
 void run_table1(benchmark::State& state, PlanSchedule schedule, bool rd, int n) {
   SceneConfig scene = builtin_scenes().find(rd ? "table1-ard" : "table1")->make();
   scene.size = {n, n};
@@ -54,11 +49,11 @@ void run_table1(benchmark::State& state, PlanSchedule schedule, bool rd, int n) 
                                                 : EngineOptions::Backend::kThreads;
   o.pin_workers = true;
   o.plan.schedule = schedule;
-  o.plan.local_store_bytes =
-      std::size_t(env_int("ARDCELL_BENCH_STORE_KIB", int(machine_local_store_bytes() / 1024))) *
-      1024;
+  o.plan.local_store_bytes = std::size_t(bench_env_int("ARDCELL_BENCH_STORE_KIB",
+                                                       int(machine_local_store_bytes() / 1024))) *
+                             1024;
   if (schedule == PlanSchedule::kBlocked)
-    o.plan.sweeps_per_residency = env_int("ARDCELL_BENCH_SWEEPS", 0);
+    o.plan.sweeps_per_residency = bench_env_int("ARDCELL_BENCH_SWEEPS", 0);
   Engine engine(scene, o);
   Table1Plan& w = *engine.table1_plan();
   engine.step();  // warm: first touch of every field and store
@@ -112,7 +107,7 @@ void register_all() {
   benchmark::RegisterBenchmark("STREAM/triad", stream_triad)
       ->UseRealTime()
       ->Unit(benchmark::kMillisecond);
-  const int serial_max = env_int("ARDCELL_BENCH_SERIAL_MAX", 1024);
+  const int serial_max = bench_env_int("ARDCELL_BENCH_SERIAL_MAX", 1024);
   for (PlanSchedule s : {PlanSchedule::kSerial, PlanSchedule::kStream, PlanSchedule::kBlocked})
     for (bool rd : {false, true})
       for (int n : bench_sizes_from_env({128, 256, 512, 1024, 2048})) {

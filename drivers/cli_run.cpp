@@ -130,6 +130,12 @@ struct RunOutputs {
   std::unique_ptr<ProbeRecorder> probes;  // --probe-csv
 };
 
+// Whether a run writes frames (PNG or video): open_outputs opens their sinks, and every rank of
+// a ranked run gathers the blocks at them.
+bool writes_frames(const RunArgs& a, int64_t every) {
+  return every > 0 && (!a.no_png || !a.video.empty());
+}
+
 // Checks and creates the outputs; on a usage error removes what it made and returns the exit
 // code, else kExitOk.
 int open_outputs(RunArgs& a, CliContext& ctx, const std::string& scene_name, Int2 size,
@@ -163,14 +169,14 @@ int open_outputs(RunArgs& a, CliContext& ctx, const std::string& scene_name, Int
     if (!note.empty()) std::fprintf(ctx.err, "ardcell run: %s\n", note.c_str());
     o.sinks.push_back(std::move(sink));
   }
-  if (every == 0 && !o.sinks.empty()) o.sinks.clear();
+  if (!writes_frames(a, every)) o.sinks.clear();
   return kExitOk;
 }
 
 // Steps the run, finishes the sinks, saves the state and prints the summary line (and, with
 // --stats, the per-frame times; `after_run` prints what else the run can tell).
-// Across ranks (`ranks`: this rank's stepper) every rank steps, the blocks are gathered for the
-// saved state, and only rank 0 writes and reports.
+// Across ranks every rank steps, the blocks are gathered for the saved state, and only rank 0
+// writes and reports.
 struct RankRun {
   const std::atomic<bool>* stop = nullptr;  // agreed by every rank
   std::function<void()> gather;             // every rank calls it before the state is saved
@@ -530,9 +536,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
   };
 #if defined(ARDCELL_WITH_MPI)
   if (ranked) {
-    // Every rank gathers at the frames rank 0 writes (the same test open_outputs makes).
-    const bool writes_frames = every > 0 && (!a.no_png || !a.video.empty());
-    RankStepper stepper(*engine, *layout, *world, writes_frames ? every : 0,
+    RankStepper stepper(*engine, *layout, *world, writes_frames(a, every) ? every : 0,
                         &StopSignals::requested(), playback.get());
     if (world->any(world->rank() == 0 && !frame_field_available(stepper.frame_state(), field))) {
       remove_created(outputs.created);

@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 
 #include "runtime/check.h"
@@ -106,18 +105,19 @@ void HaloExchange::fill(std::span<FieldF* const> fields, int block, int depth) c
   ARDCELL_CHECK(dst.halo() >= width_, "HaloExchange: a field's halo is narrower than the exchange");
   ARDCELL_CHECK(depth >= 0 && depth <= width_, "HaloExchange: depth beyond the exchange's width");
   for (const HaloCopy& c : copies_into(block)) {
-    const FieldF& src = *fields[std::size_t(c.src_block)];
-    const Box2 box = within(c, block, depth);
-    if (box.empty()) continue;
-    for (int y = box.min.y; y < box.max.y; ++y)
-      std::memcpy(dst.row(y) + box.min.x, src.row(y + c.shift.y) + box.min.x + c.shift.x,
-                  std::size_t(box.width()) * sizeof(float));
+    copy_halo_cells(*fields[std::size_t(c.src_block)], c, within(c, block, depth), dst);
   }
 }
 
+void copy_halo_cells(const FieldF& src, const HaloCopy& copy, const Box2& box, FieldF& dst) {
+  if (box.empty()) return;
+  // src's cells at box + shift, addressed as box.
+  const View<const float> from(src.view(box.shifted(copy.shift)).data(), src.stride(), box);
+  copy_box<float>(from, dst.view(), box);
+}
+
 LocalBlockGroup::LocalBlockGroup(const BlockLayout& layout, int width)
-    : layout_(layout),
-      exchange_(layout, width),
+    : exchange_(layout, width),
       posted_(std::size_t(layout.count()), nullptr),
       barrier_(layout.count()) {
   for (int b = 0; b < layout.count(); ++b) channels_.emplace_back(this, b);

@@ -59,6 +59,9 @@ struct HaloCopy {
   Int2 shift;
 };
 
+// Copies `box` (inside copy.box) of a halo copy: dst's cells there from src's at box + shift.
+void copy_halo_cells(const FieldF& src, const HaloCopy& copy, const Box2& box, FieldF& dst);
+
 class HaloExchange {
  public:
   HaloExchange() = default;
@@ -105,7 +108,6 @@ class HaloChannel {
 class LocalBlockGroup {
  public:
   LocalBlockGroup(const BlockLayout& layout, int width);
-  const BlockLayout& layout() const { return layout_; }
   HaloChannel& channel(int block) { return channels_[std::size_t(block)]; }
 
  private:
@@ -120,7 +122,6 @@ class LocalBlockGroup {
     LocalBlockGroup* group_;
     int block_;
   };
-  BlockLayout layout_;
   HaloExchange exchange_;
   std::vector<FieldF*> posted_;
   std::barrier<> barrier_;

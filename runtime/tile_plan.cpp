@@ -16,7 +16,7 @@ int round_up(int v, int m) { return (v + m - 1) / m * m; }
 
 std::size_t TilePlan::slot_bytes_for(Int2 size, const TilePlanRequest& r) {
   // Written boxes reach the domain's ghost ring, not the whole of a deep field halo.
-  const int ring = r.field_halo > 0 ? 1 : 0;
+  const int ring = TilePlan::ring(r.field_halo);
   if (!r.buffer_halos.empty()) {
     std::size_t total = 0;
     for (int h : r.buffer_halos) {
@@ -42,7 +42,7 @@ TilePlan TilePlan::make(const TilePlanRequest& r) {
   ARDCELL_CHECK(box_of_size(r.grid).contains(block), "TilePlan: the block lies outside the domain");
   const Int2 cells = block.size();
   const std::size_t slot = r.store_bytes / LocalStore::kSlots;
-  int reach = std::max(r.halo, r.field_halo > 0 ? 1 : 0);
+  int reach = std::max(r.halo, ring(r.field_halo));
   for (int h : r.buffer_halos) reach = std::max(reach, h);
   // Widest row a single DMA transfer may carry.
   const int max_row_cells = int(Dma::kMaxTransferBytes / sizeof(float));

@@ -54,7 +54,8 @@ class TilePlan {
 
   Box2 domain() const { return box_of_size(grid_); }
   // The domain's ghost ring: one cell (none for fields without a halo).
-  int ring() const { return field_halo_ > 0 ? 1 : 0; }
+  static int ring(int field_halo) { return field_halo > 0 ? 1 : 0; }
+  int ring() const { return ring(field_halo_); }
   // Core grown by the domain's ring on the sides where the tile touches the domain edge.
   Box2 written_box(const Tile& t) const;
   // What the block's fields hold: the block grown by field_halo, no further than the ring.

@@ -3,6 +3,7 @@
 // All fields are cell-centred (Stam's collocated grid), size.x by size.y cells, halo 1.
 #include <cstdint>
 #include <string_view>
+#include <utility>
 
 #include "runtime/field.h"
 
@@ -29,6 +30,18 @@ struct SimState {
   template <class F>
   void for_each_field(F&& f) const {
     visit_fields(*this, f);
+  }
+  // The float field of that name (allocated or not); nullptr for an unknown name.
+  FieldF* field(std::string_view name) {
+    for (auto [n, f] : {std::pair<std::string_view, FieldF*>{"u", &u},
+                        {"v", &v},
+                        {"p", &p},
+                        {"dye", &dye},
+                        {"A", &A},
+                        {"B", &B},
+                        {"theta0", &theta0}})
+      if (n == name) return f;
+    return nullptr;
   }
 
  private:

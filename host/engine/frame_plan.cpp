@@ -227,6 +227,9 @@ int FramePlan::add_pass(PassDesc desc) {
     for (const FieldF* f : {b.src, static_cast<const FieldF*>(b.dst)})
       if (f && (f->interior() != options_.block || f->halo() != options_.field_halo))
         bad_pass(desc.name, "buffer field box or halo differs from the plan's block");
+    // A block's buffers reach past the block into its fields' halo (sweeps shrink there).
+    if (options_.halo && b.halo > options_.field_halo)
+      bad_pass(desc.name, "a buffer's halo is deeper than the block's fields hold");
     // Across a block edge a buffer's halo comes from the exchange (a gather reads all of it,
     // as far as the back-trace reaches).
     if (options_.halo && b.src && (b.gather || b.halo > 0)) {

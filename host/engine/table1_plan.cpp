@@ -368,8 +368,6 @@ void Table1Plan::init(const SceneConfig& config) {
   // addresses. One block: halo 1 (the domain's ring); several: the exchange's width.
   if (options_.block.empty()) options_.block = box_of_size(grid_);
   field_halo_ = options_.halo ? options_.halo->width() : 1;
-  ARDCELL_CHECK(!options_.halo || field_halo_ >= sweeps_ + 2,
-                "Table1Plan: a block's halo must hold a solve's sweeps + 2 cells");
   for (FieldF* f : {&state_.u, &state_.v, &state_.dye})
     *f = FieldF::over(options_.block, field_halo_);
   if (rd_)

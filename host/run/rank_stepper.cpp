@@ -1,21 +1,8 @@
 #include "host/run/rank_stepper.h"
 
+#include <utility>
+
 namespace ardcell {
-namespace {
-
-// The whole-grid field rank 0 gathers `block` into (the scene's fields have halo 1).
-FieldF& whole_field(SimState& whole, std::string_view name) {
-  FieldF* f = name == "u"     ? &whole.u
-              : name == "v"   ? &whole.v
-              : name == "p"   ? &whole.p
-              : name == "dye" ? &whole.dye
-              : name == "A"   ? &whole.A
-              : name == "B"   ? &whole.B
-                              : &whole.theta0;
-  return *f;
-}
-
-}  // namespace
 
 RankStepper::RankStepper(Engine& engine, const BlockLayout& layout, MpiWorld& world, int64_t every,
                          const std::atomic<bool>* signal, StrokePlayback* playback)
@@ -25,14 +12,13 @@ RankStepper::RankStepper(Engine& engine, const BlockLayout& layout, MpiWorld& wo
       every_(every),
       signal_(signal),
       playback_(playback) {
-  const SimState& s = engine_.state();
+  const SimState& s = std::as_const(engine_).state();
   whole_.size = s.size;
   whole_.h = s.h;
   whole_.dt = s.dt;
   if (world_.rank() == 0)
-    s.for_each_field([&](std::string_view name, const FieldF&) {
-      whole_field(whole_, name) = FieldF(s.size, 1);
-    });
+    s.for_each_field(
+        [&](std::string_view name, const FieldF&) { *whole_.field(name) = FieldF(s.size, 1); });
   gather();
 }
 
@@ -48,7 +34,7 @@ void RankStepper::step() {
 void RankStepper::gather() {
   const SimState& s = std::as_const(engine_).state();
   s.for_each_field([&](std::string_view name, const FieldF& f) {
-    gather_.gather(f, world_.rank() == 0 ? &whole_field(whole_, name) : nullptr);
+    gather_.gather(f, world_.rank() == 0 ? whole_.field(name) : nullptr);
   });
   whole_.time = s.time;
   whole_.rd_time = s.rd_time;
@@ -62,10 +48,10 @@ Status load_state_into_block(const std::filesystem::path& dir, const SavedStateM
   SimState whole;
   whole.size = s.size;
   s.for_each_field(
-      [&](std::string_view name, const FieldF&) { whole_field(whole, name) = FieldF(s.size, 1); });
+      [&](std::string_view name, const FieldF&) { *whole.field(name) = FieldF(s.size, 1); });
   if (Status st = load_state_fields(dir, meta, whole); !st) return st;
   s.for_each_field([&](std::string_view name, FieldF& f) {
-    copy_box<float>(std::as_const(whole_field(whole, name)).view(), f.view(), f.interior());
+    copy_box<float>(std::as_const(*whole.field(name)).view(), f.view(), f.interior());
   });
   s.time = whole.time;
   s.rd_time = whole.rd_time;

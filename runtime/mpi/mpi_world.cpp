@@ -126,12 +126,8 @@ void MpiHaloChannel::exchange(FieldF& field, int depth) {
               &requests[n++]);
     bytes_sent_ += double(p.send_count * sizeof(float));
   }
-  for (const HaloCopy& c : self_) {
-    const Box2 box = exchange_.within(c, block_, depth);
-    for (int y = box.min.y; y < box.max.y; ++y)
-      std::memmove(field.row(y) + box.min.x, field.row(y + c.shift.y) + box.min.x + c.shift.x,
-                   std::size_t(box.width()) * sizeof(float));
-  }
+  for (const HaloCopy& c : self_)
+    copy_halo_cells(field, c, exchange_.within(c, block_, depth), field);
   MPI_Waitall(n, requests, MPI_STATUSES_IGNORE);
   for (Peer& p : peers_) {
     const float* in = p.recv_buf.data();
@@ -158,10 +154,7 @@ void BlockGather::gather(const FieldF& block, FieldF* whole) {
   }
   ARDCELL_CHECK(whole && whole->interior() == box_of_size(layout_.domain()) && whole->halo() >= 1,
                 "BlockGather: rank 0 gathers into a field of the whole grid");
-  const Box2 own = layout_.owned(0);
-  for (int y = own.min.y; y < own.max.y; ++y)
-    std::memcpy(whole->row(y) + own.min.x, block.row(y) + own.min.x,
-                std::size_t(own.width()) * sizeof(float));
+  copy_box<float>(block.view(), whole->view(), layout_.owned(0));
   for (int r = 1; r < layout_.count(); ++r) {
     const Box2 box = layout_.owned(r);
     MPI_Recv(buffer_.data(), int(box.area()), MPI_FLOAT, r, kTag, MPI_COMM_WORLD,

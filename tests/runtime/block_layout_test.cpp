@@ -26,6 +26,12 @@ std::vector<FieldF> numbered_blocks(const BlockLayout& l, int halo) {
   return f;
 }
 
+std::vector<FieldF*> pointers(std::vector<FieldF>& fields) {
+  std::vector<FieldF*> p;
+  for (FieldF& f : fields) p.push_back(&f);
+  return p;
+}
+
 int wrap(int v, int n) { return ((v % n) + n) % n; }
 
 TEST(BlockLayout, SplitsUnevenlyAndTilesTheDomain) {
@@ -59,8 +65,7 @@ TEST(HaloExchange, FillsEveryHaloCellFromItsOwner) {
     const BlockLayout l = BlockLayout::split({37, 29}, parts);
     const int width = 5;
     std::vector<FieldF> f = numbered_blocks(l, width);
-    std::vector<FieldF*> ptrs;
-    for (FieldF& g : f) ptrs.push_back(&g);
+    const std::vector<FieldF*> ptrs = pointers(f);
     const HaloExchange ex(l, width);
     for (int b = 0; b < l.count(); ++b) ex.fill(ptrs, b, width);
     const Box2 walls = box_of_size(l.domain()).grown(1);
@@ -78,8 +83,7 @@ TEST(HaloExchange, FillsEveryHaloCellFromItsOwner) {
 TEST(HaloExchange, FillsOnlyAsDeepAsAsked) {
   const BlockLayout l = BlockLayout::split({40, 30}, {2, 2});
   std::vector<FieldF> f = numbered_blocks(l, 6);
-  std::vector<FieldF*> ptrs;
-  for (FieldF& g : f) ptrs.push_back(&g);
+  const std::vector<FieldF*> ptrs = pointers(f);
   const HaloExchange ex(l, 6);
   ex.fill(ptrs, 3, 2);
   const Box2 walls = box_of_size(l.domain()).grown(1);
@@ -95,8 +99,7 @@ TEST(HaloExchange, WrapsPeriodicAxes) {
   const BlockLayout l = BlockLayout::split({20, 12}, {2, 3}, true, false);
   const int width = 3;
   std::vector<FieldF> f = numbered_blocks(l, width);
-  std::vector<FieldF*> ptrs;
-  for (FieldF& g : f) ptrs.push_back(&g);
+  const std::vector<FieldF*> ptrs = pointers(f);
   const HaloExchange ex(l, width);
   for (int b = 0; b < l.count(); ++b) ex.fill(ptrs, b, width);
   for (int b = 0; b < l.count(); ++b) {
