@@ -57,7 +57,7 @@ void run_table1(benchmark::State& state, PlanSchedule schedule, bool rd, int n) 
   Engine engine(scene, o);
   Table1Plan& w = *engine.table1_plan();
   engine.step();  // warm: first touch of every field and store
-  w.plan()->reset_stats();
+  engine.plan().reset_stats();
   const double cpu0 = process_cpu_seconds();
   for (auto _ : state) engine.step();
   const double cpu = process_cpu_seconds() - cpu0;
@@ -66,15 +66,15 @@ void run_table1(benchmark::State& state, PlanSchedule schedule, bool rd, int n) 
   // seconds they consumed per frame give the rate the same cores reach when they are not
   // shared (an upper bound that assumes perfect overlap of the workers).
   state.counters["cpu_ms_per_frame"] = 1e3 * cpu / frames;
-  state.counters["fps_if_unshared"] = frames * w.backend()->workers() / std::max(cpu, 1e-9);
+  state.counters["fps_if_unshared"] = frames * engine.workers() / std::max(cpu, 1e-9);
   state.counters["fps"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
   state.counters["cells_per_s"] =
       benchmark::Counter(frames * double(n) * n, benchmark::Counter::kIsRate);
   state.counters["bytes_per_s"] =
       benchmark::Counter(frames * w.bytes_per_frame(), benchmark::Counter::kIsRate);
-  state.counters["workers"] = w.backend()->workers();
+  state.counters["workers"] = engine.workers();
   state.counters["store_kib"] = double(o.plan.local_store_bytes / 1024);
-  if (std::getenv("ARDCELL_BENCH_STATS")) w.plan()->print_stats(stderr);
+  if (std::getenv("ARDCELL_BENCH_STATS")) engine.plan().print_stats(stderr);
 }
 
 // STREAM triad a = b + s c over arrays far larger than the caches, split over `threads`.

@@ -516,7 +516,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
                  scene.size.x, scene.size.y, engine->backend_name(), engine->workers());
     if (Table1Plan* t = engine->table1_plan()) {
       std::fprintf(ctx.out, " schedule=%s", std::string(plan_schedule_name(t->schedule())).c_str());
-      if (t->plan()) std::fprintf(ctx.out, " local_store=%zuKiB", t->local_store_bytes() / 1024);
+      if (engine->device().fields_on_host())
+        std::fprintf(ctx.out, " local_store=%zuKiB", t->local_store_bytes() / 1024);
     }
 #if defined(ARDCELL_WITH_OPENCL)
     if (choice.opencl)
@@ -524,15 +525,11 @@ int do_run(RunArgs& a, CliContext& ctx) {
 #endif
     std::fputc('\n', ctx.out);
   }
-  Table1Plan* table1 = engine->table1_plan();
   const auto print_passes = [&] {
-    if (!table1) return;
-    if (FramePlan* p = table1->plan())
-      p->print_stats(ctx.out);
-    else
-      std::fprintf(ctx.out,
-                   "passes: the OpenCL frame is timed whole (its kernels are queued, not "
-                   "planned)\n");
+    engine->plan().print_stats(ctx.out);
+    if (!engine->device().fields_on_host())
+      std::fprintf(ctx.out, "(%s queues its work: a step's time is the host's time to queue it)\n",
+                   engine->backend_name());
   };
 #if defined(ARDCELL_WITH_MPI)
   if (ranked) {
@@ -546,7 +543,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
     const auto print_ranks = [&] {
       print_passes();
       // Every rank takes part in the sum; rank 0 prints.
-      const double frames = double(std::max<std::int64_t>(1, table1->plan()->runs()));
+      const double frames = double(std::max<std::int64_t>(1, engine->plan().runs()));
       const double sent = world->sum(channel->bytes_sent());
       std::fprintf(ctx.out,
                    "ranks=%s halo: sent=%.1fKiB/frame (all ranks) exchange=%.3fms/frame (rank 0, "
@@ -619,8 +616,9 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       "--store-kib", a.store_kib,
       "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2 "
       "per double-buffer slot)");
-  run->add_flag("--stats", a.stats,
-                "print per-frame times (mean, p50, p99) and, for table1 scenes, per-pass timings");
+  run->add_flag(
+      "--stats", a.stats,
+      "print per-frame times (mean, p50, p99) and the time of each step of the frame plan");
   run->callback([args, &ctx] {
     try {
       ctx.exit_code = do_run(*args, ctx);

@@ -2,6 +2,7 @@
 
 #include "host/engine/device.h"
 #include "host/engine/fluid_step.h"
+#include "host/engine/frame_plan.h"
 #include "host/engine/rd_step.h"
 #include "host/engine/table1_plan.h"
 #include "runtime/row_executor.h"
@@ -63,26 +64,42 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.dt = config_.dt;
   if (!options.plan.block.empty() && config_.fluid.kind != FluidSceneKind::kTable1)
     throw std::invalid_argument(
-        "blocks: only a scene built as a frame plan (fluid.scene table1) runs as one block of a "
+        "blocks: only a scene built of tile passes (fluid.scene table1) runs as one block of a "
         "decomposed grid");
+  const bool on_device = !device_->fields_on_host();
   if (config_.fluid.kind == FluidSceneKind::kTable1) {
     PlanOptions plan = options.plan;
     if (options.backend == EngineOptions::Backend::kSerial) plan.schedule = PlanSchedule::kSerial;
+    if (!on_device && plan.schedule == PlanSchedule::kSerial &&
+        options.backend != EngineOptions::Backend::kSerial)
+      plan_serial_backend_ = std::make_unique<SerialBackend>();
+    plan_backend_ = on_device              ? nullptr
+                    : plan_serial_backend_ ? plan_serial_backend_.get()
+                                           : backend_.get();
+    plan_ = std::make_unique<FramePlan>(
+        table1_frame_plan_options(config_, plan, plan_backend_ ? plan_backend_->workers() : 1));
     // Throws std::invalid_argument with one line naming a setting the plan cannot run.
-    solvers_->table1 = std::make_unique<Table1Plan>(config_, state_, *backend_, *device_, plan);
+    solvers_->table1 = std::make_unique<Table1Plan>(config_, state_, *plan_, *device_, plan);
     reset();
     return;
   }
+  FramePlanOptions po;
+  po.grid = config_.size;
+  plan_ = std::make_unique<FramePlan>(po);
+  plan_backend_ = on_device ? nullptr : backend_.get();
   if (config_.fluid.kind != FluidSceneKind::kNone) {
     if (std::string why = fluid_config_problem(config_); !why.empty())
       throw std::invalid_argument(why);
     solvers_->fluid = make_fluid_step(config_, *device_);
     solvers_->fluid->allocate(state_);
+    solvers_->fluid->append_stages(*plan_, state_);
   }
   if (config_.rd.enabled) {
     // Throws std::invalid_argument with one line naming a bad RD parameter.
     solvers_->rd = std::make_unique<RdStepper>(config_, *device_);
     solvers_->rd->init_state(state_);  // allocates A, B, theta0
+    // Fluid first: the RD is advected by this frame's velocity.
+    solvers_->rd->append_stages(*plan_, state_);
   }
   reset();
 }
@@ -91,13 +108,10 @@ Engine::~Engine() = default;
 
 const char* Engine::backend_name() const {
   // A plan's serial schedule runs on a serial back end of its own.
-  if (solvers_->table1 && solvers_->table1->backend()) return solvers_->table1->backend()->name();
-  return device_->fields_on_host() ? backend_->name() : device_->name();
+  return plan_backend_ ? plan_backend_->name() : device_->name();
 }
 int Engine::workers() const {
-  if (solvers_->table1 && solvers_->table1->backend())
-    return solvers_->table1->backend()->workers();
-  return device_->fields_on_host() ? backend_->workers() : device_->workers();
+  return plan_backend_ ? plan_backend_->workers() : device_->workers();
 }
 
 namespace {
@@ -251,25 +265,21 @@ Status Engine::update_parameters(const SceneConfig& next) {
   return Status::ok();
 }
 
-void Engine::step() {
-  if (solvers_->table1) solvers_->table1->step();
-  // Fluid first: the RD is advected by this frame's velocity.
-  if (solvers_->fluid) solvers_->fluid->step(state_);
-  // RD: implicit reaction -> anisotropic diffusion -> advection by this frame's u, v.
-  if (solvers_->rd) solvers_->rd->step(state_);
+void Engine::run_plan(bool with_rd) {
+  if (plan_backend_)
+    plan_->run(*plan_backend_, with_rd);
+  else
+    plan_->run(*device_, with_rd);
   state_.time += state_.dt;
   ++state_.step;
 }
+
+void Engine::step() { run_plan(true); }
 
 void Engine::finish() { device_->finish(); }
 
-void Engine::step_without_rd() {
-  // A plan's RD rides in its fluid passes: the whole frame.
-  if (solvers_->table1) solvers_->table1->step();
-  if (solvers_->fluid) solvers_->fluid->step(state_);
-  state_.time += state_.dt;
-  ++state_.step;
-}
+// A plan's RD that rides in its fluid passes (table1) runs all the same.
+void Engine::step_without_rd() { run_plan(false); }
 
 FluidStep* Engine::fluid_step() { return solvers_->fluid.get(); }
 

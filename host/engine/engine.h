@@ -1,12 +1,13 @@
 #pragma once
-// Engine: runs one scene. Owns the simulation state, the solvers and the back end they run on,
-// built once from a SceneConfig; step() advances one frame (fluid step, then the RD step when the
-// scene has RD) and does no heap allocation once the first frame has run.
+// Engine: runs one scene. Owns the simulation state, the solvers, the back end they run on and
+// the scene's FramePlan (host/engine/frame_plan.h), built once from a SceneConfig; step() runs the
+// plan (one frame) and does no heap allocation once the first frame has run.
 //
-// Every stage runs as the ops of the engine's Device (host/engine/device.h): on the CPU,
-// per-cell kernels, solver sweeps and reductions in bands of rows (runtime/row_executor.h), so
-// `serial` and `threads` with any number of workers give the same bits
-// (tests/host/engine/engine_backend_parity_test.cpp).
+// The plan holds the scene's steps: the Table 1 scenes' fused tile passes (Table1Plan), or the
+// stages of the fluid (FluidStep) and then of the RD (RdStepper), which run as the ops of the
+// engine's Device (host/engine/device.h): on the CPU, per-cell kernels, solver sweeps and
+// reductions in bands of rows (runtime/row_executor.h), so `serial` and `threads` with any
+// number of workers give the same bits (tests/host/engine/engine_backend_parity_test.cpp).
 #include <memory>
 #include <span>
 #include <string>
@@ -104,17 +105,26 @@ class Engine {
   const RdStepStats* rd_stats() const;
   // The fluid solver (its masks, the physical pressure for probes); nullptr without a fluid.
   FluidStep* fluid_step();
-  // The frame plan of a scene built as one (fluid.scene table1): its passes' timings, the
-  // schedule; nullptr for the other scenes.
+  // The scene's frame: its steps and their timings (FramePlan::print_stats).
+  FramePlan& plan() { return *plan_; }
+  const FramePlan& plan() const { return *plan_; }
+  // The Table 1 scenes' passes (fluid.scene table1): the schedule, the local store; nullptr for
+  // the other scenes.
   Table1Plan* table1_plan();
 
  private:
   struct Solvers;  // the fluid and RD solvers and their scratch (host/engine/engine.cpp)
+  void run_plan(bool with_rd);
   SceneConfig config_;
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<RowExecutor> executor_;
   std::unique_ptr<Device> device_;
   SimState state_;
+  std::unique_ptr<FramePlan> plan_;
+  // Where the plan's tile passes run: backend_, a serial back end of the plan's own (the serial
+  // schedule on a threads engine), or null: whole-field on the device (OpenCL).
+  std::unique_ptr<Backend> plan_serial_backend_;
+  Backend* plan_backend_ = nullptr;
   std::unique_ptr<Solvers> solvers_;
 };
 

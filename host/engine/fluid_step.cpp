@@ -415,16 +415,24 @@ void FluidStep::diffuse_dye(SimState& state) {
   report_.dye = dev_->solve(*ops_->solver_dye, ops_->dye, scratch_b_, state.dye);
 }
 
-void FluidStep::step(SimState& state) {
+void FluidStep::append_stages(FramePlan& plan, SimState& state) {
   if (config_.kind == FluidSceneKind::kNone) return;
-  if (state.dt != prepared_dt_) prepare(state.dt);
-  add_forces_and_sources(state);
-  diffuse_velocity(state);
-  report_.pressure_first = project(state);
-  if (!p_first_.empty()) dev_->copy(state.p, p_first_);
-  advect(state);
-  report_.pressure_second = project(state);
+  plan.add_stage({"fluid: forces, sources", [this, &state] {
+                    if (state.dt != prepared_dt_) prepare(state.dt);
+                    add_forces_and_sources(state);
+                  }});
+  plan.add_stage({"fluid: viscosity", [this, &state] { diffuse_velocity(state); }});
+  plan.add_stage({"fluid: projection", [this, &state] {
+                    report_.pressure_first = project(state);
+                    if (!p_first_.empty()) dev_->copy(state.p, p_first_);
+                  }});
+  plan.add_stage({"fluid: self-advection", [this, &state] { advect(state); }});
+  plan.add_stage(
+      {"fluid: projection 2", [this, &state] { report_.pressure_second = project(state); }});
+  plan.add_stage({"fluid: dye", [this, &state] { step_dye(state); }});
+}
 
+void FluidStep::step_dye(SimState& state) {
   diffuse_dye(state);
   dev_->fill_boundary(state.dye, fill_dye_);
   if (!solid_.empty()) dev_->fill_obstacle(state.dye, solid_, ObstacleRule::kCopy);

@@ -7,13 +7,16 @@
 // FluidConfig (jacobi | rbgs | iccg | mg); the per-cell work is the tile kernels of kernels/
 // (advect.h, project.h, sources.h), run as the ops of the Device it is made with
 // (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers, or
-// OpenCL). Everything is allocated in the constructor: step() does no heap allocation.
+// OpenCL). The frame is the stages append_stages() adds to the scene's FramePlan
+// (host/engine/frame_plan.h). Everything is allocated in the constructor: a frame does no heap
+// allocation.
 #include <memory>
 #include <string>
 
 #include "host/config/fluid_config.h"
 #include "host/config/sim_state.h"
 #include "host/engine/device.h"
+#include "host/engine/frame_plan.h"
 #include "kernels/linear_solver.h"
 #include "runtime/boundary.h"
 
@@ -43,8 +46,10 @@ class FluidStep {
   void allocate(SimState& state) const;
   // The scene's initial conditions (fluid at rest, the initial dye, the obstacle mask).
   void reset(SimState& state) const;
-  // Advances the fluid and the dye by state.dt (re-preparing the operators if dt changed).
-  void step(SimState& state);
+  // Appends the frame's stages to `plan`, in the order above, on `state` (kept by reference):
+  // together they advance the fluid and the dye by state.dt (re-preparing the operators if dt
+  // changed). None for a scene without a fluid.
+  void append_stages(FramePlan& plan, SimState& state);
   // Takes the non-structural parameters of `config` (viscosity, lid and inflow speed, dye
   // diffusion, solver iterations and tolerances, emitters when their count is unchanged); the
   // operators are re-prepared on the next step. Allocates nothing. The caller (Engine) refuses
@@ -86,6 +91,9 @@ class FluidStep {
   void add_forces_and_sources(SimState& state);
   void diffuse_velocity(SimState& state);
   void diffuse_dye(SimState& state);
+  // The dye's stage: diffusion, then advection by the last projection's face velocities (and
+  // the closed scenes' mass fix).
+  void step_dye(SimState& state);
   void advect(SimState& state);
   void advect_dye(SimState& state, const AdvectParams& params);
   void cut_cells(double cx, double cy, double r);

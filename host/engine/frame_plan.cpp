@@ -32,6 +32,9 @@ FieldDepth* find(std::vector<FieldDepth>& list, const FieldF* f) {
 
 struct FramePlan::PassProgram {
   PassDesc desc;
+  // A stage instead of a pass (desc holds its name only).
+  std::function<void()> stage;
+  bool rd = false;
   Int2 grid;
   int field_halo = 1;
   Tile block;  // the whole-field form's one tile: the plan's block
@@ -298,33 +301,84 @@ int FramePlan::exchanges_before(int i) const {
   return int(passes_.at(std::size_t(i))->exchange.size());
 }
 
-void FramePlan::run(Backend& backend) {
+int FramePlan::add_stage(StageDesc desc) {
+  ARDCELL_CHECK(int(passes_.size()) < kMaxPasses, "FramePlan: too many steps");
+  ARDCELL_CHECK(desc.run != nullptr, "FramePlan: a stage needs its run function");
+  ARDCELL_CHECK(!options_.halo, "FramePlan: a stage works on whole fields, not in a block plan");
+  auto p = std::make_unique<PassProgram>();
+  p->grid = options_.grid;
+  p->desc.name = std::move(desc.name);
+  p->stage = std::move(desc.run);
+  p->rd = desc.rd;
+  p->pass.name = p->desc.name.c_str();
+  p->pass.kernel_id = int(passes_.size());
+  passes_.push_back(std::move(p));
+  return int(passes_.size()) - 1;
+}
+
+bool FramePlan::is_stage(int i) const { return passes_.at(std::size_t(i))->stage != nullptr; }
+
+void FramePlan::run(Backend& backend, bool with_rd) {
   using Clock = std::chrono::steady_clock;
   auto start = Clock::now();
+  const auto charge = [&](std::size_t i) {
+    const auto now = Clock::now();
+    pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
+    start = now;
+  };
   bool synced = true;
+  std::size_t unsynced = 0;  // the last pass dispatched without a barrier
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     const PassProgram& p = *passes_[i];
+    if (p.stage) {
+      if (p.rd && !with_rd) continue;
+      if (!synced) {
+        backend.sync();
+        synced = true;
+        charge(unsynced);
+      }
+      p.stage();
+      charge(i);
+      continue;
+    }
     if (!p.exchange.empty()) {
       // The exchange step: the fields' cells are final (barrier), their halos filled.
       if (!synced) backend.sync();
       for (const auto& [field, depth] : p.exchange) options_.halo->exchange(*field, depth);
     }
     backend.dispatch(p.pass, p.plan.tiles());
-    synced = false;
-    if (p.desc.barrier_after || i + 1 == passes_.size()) {
+    if (p.desc.barrier_after) {
       backend.sync();
       synced = true;
-      const auto now = Clock::now();
-      pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
-      start = now;
+      charge(i);
+    } else {
+      synced = false;
+      unsynced = i;
     }
+  }
+  if (!synced) {
+    backend.sync();
+    charge(unsynced);
   }
   ++runs_;
 }
 
-void FramePlan::run(Device& device) {
+void FramePlan::run(Device& device, bool with_rd) {
   ARDCELL_CHECK(!options_.halo, "FramePlan: a block plan runs on a back end, not a device");
-  for (const auto& p : passes_) p->run_on(device);
+  using Clock = std::chrono::steady_clock;
+  auto start = Clock::now();
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    const PassProgram& p = *passes_[i];
+    if (p.stage) {
+      if (p.rd && !with_rd) continue;
+      p.stage();
+    } else {
+      p.run_on(device);
+    }
+    const auto now = Clock::now();
+    pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
+    start = now;
+  }
   ++runs_;
 }
 
@@ -337,14 +391,18 @@ void FramePlan::print_stats(std::FILE* out) const {
   std::int64_t total = 0;
   for (std::size_t i = 0; i < passes_.size(); ++i) total += pass_ns_[i];
   const double runs = runs_ > 0 ? double(runs_) : 1.0;
-  std::fprintf(out, "%-28s %6s %5s %6s %4s %10s %6s\n", "pass", "tiles", "halo", "sweeps", "xchg",
+  std::fprintf(out, "%-28s %6s %5s %6s %4s %10s %6s\n", "step", "tiles", "halo", "sweeps", "xchg",
                "ms/frame", "share");
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     const PassProgram& p = *passes_[i];
-    std::fprintf(out, "%-28s %6zu %5d %6d %4zu %10.3f %5.1f%%\n", p.desc.name.c_str(),
-                 p.plan.tiles().size(), p.pass.halo, p.pass.sweeps, p.exchange.size(),
-                 double(pass_ns_[i]) * 1e-6 / runs,
-                 total > 0 ? 100.0 * double(pass_ns_[i]) / double(total) : 0.0);
+    const double ms = double(pass_ns_[i]) * 1e-6 / runs;
+    const double share = total > 0 ? 100.0 * double(pass_ns_[i]) / double(total) : 0.0;
+    if (p.stage)
+      std::fprintf(out, "%-28s %6s %5s %6s %4s %10.3f %5.1f%%\n", p.desc.name.c_str(), "-", "-",
+                   "-", "-", ms, share);
+    else
+      std::fprintf(out, "%-28s %6zu %5d %6d %4zu %10.3f %5.1f%%\n", p.desc.name.c_str(),
+                   p.plan.tiles().size(), p.pass.halo, p.pass.sweeps, p.exchange.size(), ms, share);
   }
 }
 

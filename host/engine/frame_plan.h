@@ -1,8 +1,13 @@
 #pragma once
 // FramePlan: the PPE side of the offload runtime. Built once per scene (as a Taskflow graph is
-// built once and run every frame): an ordered list of passes over the grid, each a fused group
-// of kernels that run on a tile while it sits in a worker's local store, with the barrier
-// between passes. run() then replays it every frame on any Backend without allocating.
+// built once and run every frame): an ordered list of the frame's steps, each either
+//   a PASS  - a fused group of kernels that run on a tile while it sits in a worker's local
+//             store, with the barrier between passes (the Table 1 scenes' frame), or
+//   a STAGE - a step that runs as ops of a Device (host/engine/device.h) on whole fields, each
+//             op in bands of rows on the CPU workers or as its OpenCL twin: what the other
+//             scenes' solvers are made of (FluidStep, RdStepper append their stages).
+// run() then replays it every frame on any Backend (or Device) without allocating, and times
+// each step.
 //
 // A pass declares BUFFERS and OPS:
 //   buffer - a local array covering the tile's written box grown by `halo` (runtime/tile_plan.h).
@@ -37,6 +42,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -103,6 +109,15 @@ struct PassDesc {
   bool barrier_after = true;
 };
 
+// A stage (see above): `run` issues the stage's Device ops on the calling thread; it holds the
+// fields it works on. Stages of the reaction-diffusion (rd) can be left out of a frame (a
+// caller that steps the RD elsewhere: the live display's coarser RD grid).
+struct StageDesc {
+  std::string name;
+  std::function<void()> run;
+  bool rd = false;
+};
+
 struct FramePlanOptions {
   Int2 grid{};
   Box2 block{};                 // the cells this plan computes (empty: the whole grid)
@@ -149,24 +164,33 @@ class FramePlan {
   // Adds a pass at the end of the frame; returns its index. Checks the description (buffer
   // indices, halos large enough for the ops' reach) and cuts its tiles.
   int add_pass(PassDesc desc);
-  // Runs every pass in order on `backend` (one frame). No allocation.
-  void run(Backend& backend);
-  // The same frame on `device`'s own fields, whole-field, op by op (queued on a device that
-  // queues). No allocation once every field has its device copy.
-  void run(Device& device);
+  // Adds a stage at the end of the frame; returns its index (stages and passes share one
+  // numbering). A stage works on whole fields: a block plan (options.halo) refuses it.
+  int add_stage(StageDesc desc);
+  // Runs every step in order (one frame): passes on `backend`, stages as they are; without
+  // `with_rd`, the rd stages are left out. No allocation.
+  void run(Backend& backend, bool with_rd = true);
+  // The same frame on `device`'s own fields: passes whole-field, op by op (queued on a device
+  // that queues: their times are then the host's time to queue them). No allocation once every
+  // field has its device copy.
+  void run(Device& device, bool with_rd = true);
 
+  // Steps: passes and stages, in frame order.
   int pass_count() const { return int(passes_.size()); }
+  bool is_stage(int i) const;
   const Pass& pass(int i) const;
   const TilePlan& tiles(int i) const;
   std::string_view pass_name(int i) const;
+  const FramePlanOptions& options() const { return options_; }
   // Fields whose halos the exchange step fills before pass i (block plans; 0 otherwise).
   int exchanges_before(int i) const;
 
-  // Timings: seconds spent in each pass over all run() calls, and the number of runs.
+  // Timings: seconds spent in each step over all run() calls, and the number of runs.
   double pass_seconds(int i) const { return double(pass_ns_[std::size_t(i)]) * 1e-9; }
   std::int64_t runs() const { return runs_; }
   void reset_stats();
-  // One line per pass: name, tiles, halo, sweeps, mean ms per frame, share of the frame.
+  // One line per step: name, tiles, halo, sweeps, exchanges (a stage: "-"), mean ms per frame,
+  // share of the frame.
   void print_stats(std::FILE* out) const;
 
  private:

@@ -534,9 +534,20 @@ void RdStepper::advect(SimState& s) {
   dev_->swap(s.B, scratch_b_);
 }
 
-void RdStepper::step(SimState& s) {
+void RdStepper::append_stages(FramePlan& plan, SimState& s) {
   ARDCELL_CHECK(!s.A.empty() && s.A.size() == scene_.size && s.B.size() == scene_.size,
-                "RD step needs A and B of the scene's size (RdStepper::init_state)");
+                "RD stages need A and B of the scene's size (RdStepper::init_state)");
+  plan.add_stage({"rd: reaction-diffusion", [this, &s] { react_diffuse(s); }, true});
+  // The velocity is allocated by now when the scene has one.
+  if (!s.u.empty() && !s.v.empty() && s.u.size() == scene_.size)
+    plan.add_stage({"rd: advection",
+                    [this, &s] {
+                      if (rd_.advect) advect(s);
+                    },
+                    true});
+}
+
+void RdStepper::react_diffuse(SimState& s) {
   if (gray_scott9_) {
     dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params());
   } else {
@@ -557,7 +568,6 @@ void RdStepper::step(SimState& s) {
       }
     }
   }
-  if (rd_.advect && !s.u.empty() && !s.v.empty() && s.u.size() == scene_.size) advect(s);
   s.rd_time += dt_ * rd_.steps_per_frame;
 }
 

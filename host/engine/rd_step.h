@@ -32,13 +32,16 @@
 // on OpenCL, step whole fields one step at a time. Every stage is an op of the engine's
 // Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers,
 // or OpenCL).
-// Nothing is allocated in step() once constructed.
+// The frame is the stages append_stages() adds to the scene's FramePlan
+// (host/engine/frame_plan.h): the RD steps of the frame, then the advection. Nothing is
+// allocated in a frame once constructed.
 #include <memory>
 #include <string>
 
 #include "host/config/scene_config.h"
 #include "host/config/sim_state.h"
 #include "host/engine/device.h"
+#include "host/engine/frame_plan.h"
 #include "kernels/aniso_diffusion.h"
 #include "kernels/gray_scott9.h"
 #include "kernels/periodic_etdrk4.h"
@@ -78,8 +81,10 @@ class RdStepper {
   // Whether the next sbdf2 step is SBDF2 (true) or its SBDF1 start (false).
   bool has_history() const { return history_; }
 
-  // One frame. A, B must be allocated (init_state); u, v are used when allocated.
-  void step(SimState& s);
+  // Appends the frame's stages to `plan`, on `s` (kept by reference; A, B allocated by
+  // init_state): the RD steps, then, when s has a velocity of the scene's size, the advection.
+  // Both are rd stages (FramePlan::run's with_rd).
+  void append_stages(FramePlan& plan, SimState& s);
 
   // Takes the RD parameters of `scene` (reaction parameters, diffusion rates, anisotropy,
   // dt, cell size, steps per frame, solver iterations and tolerance, initial pattern for the
@@ -116,6 +121,8 @@ class RdStepper {
   GeneralizedRdParams generalized_params(bool react, bool diffuse) const;
   GrayScott9Params gray_scott9_params() const;
   void advect(SimState& s);
+  // The frame's rd.steps_per_frame steps of reaction and diffusion.
+  void react_diffuse(SimState& s);
 
   SceneConfig scene_;
   Device* dev_;

@@ -353,6 +353,21 @@ struct Table1Plan::Params : Table1Coefficients {
   }
 };
 
+FramePlanOptions table1_frame_plan_options(const SceneConfig& config, const PlanOptions& options,
+                                           int workers) {
+  FramePlanOptions po;
+  po.grid = config.size;
+  po.block = options.block.empty() ? box_of_size(config.size) : options.block;
+  po.halo = options.halo;
+  // One block: halo 1 (the domain's ring); several: the exchange's width.
+  po.field_halo = options.halo ? options.halo->width() : 1;
+  po.local_store_bytes = options.local_store_bytes;
+  po.workers = workers;
+  po.max_tile_width = options.max_tile_width;
+  po.max_tile_height = options.max_tile_height;
+  return po;
+}
+
 void Table1Plan::init(const SceneConfig& config) {
   if (std::string why = table1_config_problem(config); !why.empty())
     throw std::invalid_argument(why);
@@ -364,42 +379,26 @@ void Table1Plan::init(const SceneConfig& config) {
   if (options_.sweeps_per_residency == 0) options_.sweeps_per_residency = sweeps_;
   ARDCELL_CHECK(options_.sweeps_per_residency >= 1 && options_.sweeps_per_residency <= sweeps_,
                 "Table1Plan: sweeps per residency must be 1 .. the sweeps of a solve");
+  ARDCELL_CHECK(plan_->options().grid == grid_ && plan_->pass_count() == 0,
+                "Table1Plan: builds an empty plan of the scene's grid");
   // The scene's fields over the plan's block, on the state: the plan's passes hold their
-  // addresses. One block: halo 1 (the domain's ring); several: the exchange's width.
-  if (options_.block.empty()) options_.block = box_of_size(grid_);
-  field_halo_ = options_.halo ? options_.halo->width() : 1;
+  // addresses.
+  options_.block = plan_->options().block;
+  field_halo_ = plan_->options().field_halo;
   for (FieldF* f : {&state_.u, &state_.v, &state_.dye})
     *f = FieldF::over(options_.block, field_halo_);
   if (rd_)
     for (FieldF* f : {&state_.A, &state_.B}) *f = FieldF::over(options_.block, field_halo_);
 }
 
-Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
+Table1Plan::Table1Plan(const SceneConfig& config, SimState& state, FramePlan& plan, Device& device,
                        const PlanOptions& options)
-    : state_(state), options_(options) {
+    : state_(state), options_(options), plan_(&plan) {
   init(config);
   f_ = std::make_unique<Fields>(state_, options_.block, field_halo_, rd_);
   ARDCELL_CHECK(!options_.halo || device.fields_on_host(),
                 "Table1Plan: a block of a decomposed grid runs on a CPU back end");
-  if (!device.fields_on_host()) {
-    device_ = &device;
-    backend_ = nullptr;
-  } else if (options_.schedule == PlanSchedule::kSerial) {
-    serial_backend_ = std::make_unique<SerialBackend>();
-    backend_ = serial_backend_.get();
-  } else {
-    backend_ = &backend;
-  }
-  FramePlanOptions po;
-  po.grid = grid_;
-  po.block = options_.block;
-  po.halo = options_.halo;
-  po.field_halo = field_halo_;
-  po.local_store_bytes = options_.local_store_bytes;
-  po.workers = backend_ ? backend_->workers() : 1;
-  po.max_tile_width = options_.max_tile_width;
-  po.max_tile_height = options_.max_tile_height;
-  plan_ = std::make_unique<FramePlan>(po);
+  if (!device.fields_on_host()) device_ = &device;
   build();
   reset();
 }
@@ -440,13 +439,6 @@ void Table1Plan::reset() {
       for (FieldF* x : {&s.A, &s.B}) device_->host_wrote(*x);
     f.for_each_scratch([&](FieldF& x) { device_->host_wrote(x); });
   }
-}
-
-void Table1Plan::step() {
-  if (device_)
-    plan_->run(*device_);
-  else
-    plan_->run(*backend_);
 }
 
 // Sources (stream, serial, and blocked with several residencies per solve): u, v, dye in place,

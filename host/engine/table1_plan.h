@@ -1,9 +1,9 @@
 #pragma once
 // The Table 1 scenes' frame (fluid.scene = table1; seed 000 section 7.2, bench/README.md): Stam's
 // stable fluid in a free-slip box stirred by four turning splats, alone (`table1`) or with
-// Gray-Scott reaction-diffusion riding on it (`table1-ard`), built once as a FramePlan of fused
-// passes and run by the Engine (host/engine/engine.h) every frame, under one of three schedules
-// of the same kernels (PlanSchedule, host/engine/frame_plan.h):
+// Gray-Scott reaction-diffusion riding on it (`table1-ard`), built once as the fused passes of the
+// Engine's FramePlan and run by the Engine (host/engine/engine.h) every frame, under one of three
+// schedules of the same kernels (PlanSchedule, host/engine/frame_plan.h):
 //   serial  - whole-grid reference: every stage a global loop on the calling thread, no tiling;
 //   stream  - Cell-faithful: every solver sweep streams the tiles through the local stores
 //             (threads back end); the RD work is fused into passes the fluid makes anyway
@@ -68,15 +68,20 @@ Table1Coefficients table1_coefficients(const SceneConfig& config);
 // The halo of the fields of one block of a decomposed grid (PlanOptions::block): the deepest
 // pass halo of every schedule (a solve's sweeps + 2) and a cell for the advection's reach.
 int table1_block_halo(const SceneConfig& config);
+// The options of the FramePlan the Table 1 passes go into: its block (the whole grid when
+// options.block is empty), the fields' halo (1, or the exchange's width), the local store, and
+// tiles cut for `workers` (1: whole-field on a device or the serial schedule).
+FramePlanOptions table1_frame_plan_options(const SceneConfig& config, const PlanOptions& options,
+                                           int workers);
 bool operator==(const Table1Coefficients& a, const Table1Coefficients& b);
 
 class Table1Plan {
  public:
-  // Runs on `backend` (stream, blocked) or on its own serial back end (serial), or on `device`
-  // when the device keeps fields of its own. Allocates the scene's fields u, v, dye (and A, B
-  // with RD) on `state`, which must keep them at the same addresses; state.step turns the
-  // splats.
-  Table1Plan(const SceneConfig& config, SimState& state, Backend& backend, Device& device,
+  // Appends the scene's passes to `plan` (empty, made with table1_frame_plan_options), whose
+  // passes run on a back end, or whole-field on `device` when the device keeps fields of its own.
+  // Allocates the scene's fields u, v, dye (and A, B with RD) on `state`, which must keep them
+  // at the same addresses; state.step turns the splats.
+  Table1Plan(const SceneConfig& config, SimState& state, FramePlan& plan, Device& device,
              const PlanOptions& options);
   ~Table1Plan();
   Table1Plan(const Table1Plan&) = delete;
@@ -84,13 +89,8 @@ class Table1Plan {
 
   // The initial conditions in state's fields (handed to the device).
   void reset();
-  // One frame (no heap allocation); on a device, queued.
-  void step();
 
   PlanSchedule schedule() const { return options_.schedule; }
-  FramePlan* plan() { return plan_.get(); }
-  // The back end the plan runs on; null when it runs on a device's own fields.
-  Backend* backend() { return backend_; }
   std::size_t local_store_bytes() const { return options_.local_store_bytes; }
   // The sweep-by-sweep minimum traffic of one frame (bench/README.md).
   double bytes_per_frame() const;
@@ -124,12 +124,10 @@ class Table1Plan {
   int field_halo_ = 1;
   bool rd_ = false;
   int sweeps_ = 20;  // Jacobi sweeps of every solve
+  FramePlan* plan_;
   std::unique_ptr<Fields> f_;
   std::unique_ptr<Params> p_;
-  std::unique_ptr<FramePlan> plan_;
-  std::unique_ptr<Backend> serial_backend_;
-  Backend* backend_ = nullptr;
-  Device* device_ = nullptr;
+  Device* device_ = nullptr;  // when the plan runs on a device's own fields
 };
 
 }  // namespace ardcell

@@ -97,13 +97,15 @@ void transfer(RowExecutor& ex, const AxisMap& mx, const AxisMap& my, const Field
 
 }  // namespace
 
-// One coarser RD grid: its own RdStepper and state (A, B, theta0, and the velocity and obstacle
-// restricted from the scene's grid), and the transfers to and from the scene's grid.
+// One coarser RD grid: its own RdStepper, state (A, B, theta0, and the velocity and obstacle
+// restricted from the scene's grid) and frame plan of the RD's stages, and the transfers to and
+// from the scene's grid.
 struct EngineSimulation::RdLevel {
   double scale = 1;
   SceneConfig config;  // the scene at this grid (size, rd.cell_size scaled)
   std::unique_ptr<RdStepper> rd;
   SimState state;
+  std::unique_ptr<FramePlan> plan;
   AxisMap down_x, down_y, up_x, up_y, near_x, near_y;
   FieldF down_tmp, up_tmp, a_tmp, b_tmp, solid_tmp;
 
@@ -197,6 +199,10 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
     l->b_tmp = FieldF(n, 1);
     l->solid_tmp = FieldF(n, 1);
     if (!engine_->state().obstacle.empty()) l->state.obstacle = Field<uint8_t>(n, 1);
+    FramePlanOptions po;
+    po.grid = n;
+    l->plan = std::make_unique<FramePlan>(po);
+    l->rd->append_stages(*l->plan, l->state);
     levels_.push_back(std::move(l));
     previous = n;
   }
@@ -294,7 +300,7 @@ void EngineSimulation::step() {
     engine_->device().host_wrote(c.v);
   }
   const double rd_time = c.rd_time;
-  l.rd->step(c);
+  l.plan->run(engine_->device());
   f.rd_time += c.rd_time - rd_time;
   engine_->device().sync_to_host(c.A);
   engine_->device().sync_to_host(c.B);

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "runtime/dma.h"
 #include "runtime/local_store.h"
@@ -149,6 +152,63 @@ TEST(FramePlan, FusedMapOpsMatchSerialForAnyWorkerCount) {
     EXPECT_EQ(plan.runs(), 3);
     EXPECT_GT(plan.pass_seconds(1), 0.0);
   }
+}
+
+// Stages run in frame order between passes, after the passes before them have finished (a
+// stage reads what they wrote); run(with_rd = false) leaves the rd stages out; every step is
+// timed; the stats name each step.
+TEST(FramePlan, StagesRunInOrderBetweenPassesAndRdStagesCanBeLeftOut) {
+  const Int2 grid{127, 93};
+  FieldF a = pattern(grid, 5);
+  const FieldF start = a;
+  FramePlan plan(small_tiles(grid, 2));
+  std::vector<std::string> log;
+  log.reserve(64);
+  float seen = 0;
+  plan.add_stage({"double", [&] {
+                    log.push_back("double");
+                    for (int y = 0; y < grid.y; ++y)
+                      for (int x = 0; x < grid.x; ++x) a(x, y) *= 2.0f;
+                  }});
+  PassDesc d;
+  d.name = "scale";
+  d.buffers = {{&a, &a, 0, false}};
+  PassOpDesc scale;
+  scale.map = test_scale;
+  scale.writes = {0, -1, -1, -1};
+  d.ops.push_back(scale);
+  d.barrier_after = false;  // the stage after it still sees its result
+  plan.add_pass(d);
+  plan.add_stage({"read", [&] {
+                    log.push_back("read");
+                    seen = a(120, 90);
+                  }});
+  plan.add_stage({"rd", [&] { log.push_back("rd"); }, true});
+  ASSERT_EQ(plan.pass_count(), 4);
+  EXPECT_TRUE(plan.is_stage(0));
+  EXPECT_FALSE(plan.is_stage(1));
+  EXPECT_EQ(plan.pass_name(3), "rd");
+
+  ThreadBackend threads({2, 512 * 1024, false});
+  plan.run(threads);
+  EXPECT_EQ(log, (std::vector<std::string>{"double", "read", "rd"}));
+  const float expected = start(120, 90) * 2.0f * (1.0f + 0.001f * float((120 * 7 + 90 * 3) % 17));
+  EXPECT_EQ(seen, expected);
+  EXPECT_EQ(a(120, 90), expected);
+  plan.run(threads, false);
+  EXPECT_EQ(log, (std::vector<std::string>{"double", "read", "rd", "double", "read"}));
+  EXPECT_EQ(plan.runs(), 2);
+  EXPECT_GT(plan.pass_seconds(0), 0.0);
+  EXPECT_GT(plan.pass_seconds(1), 0.0);
+
+  char text[2048] = {};
+  std::FILE* out = fmemopen(text, sizeof text - 1, "w");
+  ASSERT_NE(out, nullptr);
+  plan.print_stats(out);
+  std::fclose(out);
+  EXPECT_NE(std::strstr(text, "double"), nullptr);
+  EXPECT_NE(std::strstr(text, "scale"), nullptr);
+  EXPECT_NE(std::strstr(text, "rd "), nullptr);
 }
 
 TEST(FramePlanDeathTest, JacobiBuffersWithTooSmallAHaloAreRefused) {

@@ -3,6 +3,7 @@
 #include "host/scenes/scene_registry.h"
 #include "kernels/explicit_rd.h"
 #include "runtime/boundary.h"
+#include "tests/support/rd_frame.h"
 
 #include <gtest/gtest.h>
 
@@ -113,8 +114,9 @@ TEST_P(Stability, ImplicitStaysInTheInvariantBoxWhereExplicitBlowsUp) {
     SimState st = make_state(s);
     rd.init_state(st);
     if (c.fluid) add_rotating_fluid(st, 3.0);
+    RdFrame frame(rd, st);
     for (int step = 0; step < 200; ++step) {
-      rd.step(st);
+      frame.step();
       const Range r = range_of(st);
       ASSERT_TRUE(r.finite) << "step " << step;
       ASSERT_GE(r.a_lo, box.a_lo - tol) << "step " << step;
@@ -132,9 +134,10 @@ TEST_P(Stability, ImplicitStaysInTheInvariantBoxWhereExplicitBlowsUp) {
     SimState st = make_state(s);
     rd.init_state(st);
     if (c.fluid) add_rotating_fluid(st, 3.0);
+    RdFrame frame(rd, st);
     bool blew_up = false;
     for (int step = 0; step < 200 && !blew_up; ++step) {
-      rd.step(st);
+      frame.step();
       const Range r = range_of(st);
       blew_up = !r.finite || r.a_lo < box.a_lo - 1 || r.a_hi > box.a_hi + 1 ||
                 r.b_lo < box.b_lo - 1 || r.b_hi > box.b_hi + 1;
@@ -178,7 +181,8 @@ TEST(RdStep, GrayScottImplicitConvergesToExplicitAsDtShrinks) {
     RdStepper rd(c);
     SimState st = make_state(c);
     rd.init_state(st);
-    for (int i = 0, n = int(std::lround(T / dt)); i < n; ++i) rd.step(st);
+    RdFrame frame(rd, st);
+    for (int i = 0, n = int(std::lround(T / dt)); i < n; ++i) frame.step();
     return st;
   };
   const SimState ref = run(RdScheme::kExplicit5, 0.005);
@@ -244,7 +248,8 @@ TEST(RdStep, PatternOrientationFollowsTheta0) {
     RdStepper stepper(s);
     SimState st = make_state(s);
     stepper.init_state(st);
-    for (int i = 0; i < 1500; ++i) stepper.step(st);
+    RdFrame frame(stepper, st);
+    for (int i = 0; i < 1500; ++i) frame.step();
     return orientation(st.B);
   };
   const auto [phi0, coh0] = pattern(0.0f);
@@ -273,7 +278,8 @@ TEST(RdStep, AnisotropyOffBLeavesBIsotropic) {
     RdStepper stepper(s);
     SimState st = make_state(s);
     stepper.init_state(st);
-    for (int i = 0; i < 5; ++i) stepper.step(st);
+    RdFrame frame(stepper, st);
+    for (int i = 0; i < 5; ++i) frame.step();
     return st;
   };
   auto max_difference = [](const FieldF& a, const FieldF& b) {
@@ -340,9 +346,10 @@ TEST(RdStep, TableAndNewtonGiveTheSamePattern) {
   SimState a = make_state(s), b = make_state(s);
   newton.init_state(a);
   table.init_state(b);
+  RdFrame newton_frame(newton, a), table_frame(table, b);
   for (int i = 0; i < 50; ++i) {
-    newton.step(a);
-    table.step(b);
+    newton_frame.step();
+    table_frame.step();
   }
   double err = 0;
   for (int y = 0; y < 24; ++y)
@@ -362,6 +369,7 @@ TEST(RdStep, Seed001SchemeRunsInParallelAndAgreesWithTheWholeFieldKernel) {
   RdStepper rd(s);
   SimState st = make_state(s);
   rd.init_state(st);
+  RdFrame frame(rd, st);
   FieldF a = st.A, b = st.B, a2(s.size, 1), b2(s.size, 1);
   std::vector<float> scratch(2 * std::size_t(s.size.x + 2) + 16);
   auto reference_frame = [&](const SceneConfig& scene) {
@@ -383,8 +391,8 @@ TEST(RdStep, Seed001SchemeRunsInParallelAndAgreesWithTheWholeFieldKernel) {
                           std::abs(double(st.B(x, y)) - b(x, y))});
     return worst;
   };
-  for (int frame = 0; frame < 30; ++frame) {
-    rd.step(st);
+  for (int f = 0; f < 30; ++f) {
+    frame.step();
     reference_frame(s);
   }
   EXPECT_LT(max_difference(), 1e-4);
@@ -392,8 +400,8 @@ TEST(RdStep, Seed001SchemeRunsInParallelAndAgreesWithTheWholeFieldKernel) {
   s.rd.reaction.F = 0.035f;
   s.rd.reaction.k = 0.065f;
   rd.update_parameters(s);
-  for (int frame = 0; frame < 10; ++frame) {
-    rd.step(st);
+  for (int f = 0; f < 10; ++f) {
+    frame.step();
     reference_frame(s);
   }
   EXPECT_LT(max_difference(), 1e-4);

@@ -8,6 +8,8 @@
 //    (computed here), within 5% at the largest dt each scheme claims;
 //  - sbdf2's history: its first step and the first after a restart are SBDF1;
 //  - serial and threads give the same bits with every new scheme.
+#include "tests/support/rd_frame.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -88,7 +90,8 @@ SimState run_convergence(RdScheme scheme, double dt, double t_end) {
       st.A(x, y) = float(1.0 - 0.5 * g);
       st.B(x, y) = float(0.25 * g);
     }
-  for (int i = 0, n = int(std::lround(t_end / dt)); i < n; ++i) rd.step(st);
+  RdFrame frame(rd, st);
+  for (int i = 0, n = int(std::lround(t_end / dt)); i < n; ++i) frame.step();
   return st;
 }
 
@@ -231,9 +234,10 @@ double measured_growth(RdScheme scheme, double dt, int n, const Mode& mode, doub
   rd.init_state(st);
   const int k0 = int(std::lround(t0 / dt)), k1 = int(std::lround(t1 / dt));
   double p0 = 0;
+  RdFrame frame(rd, st);
   for (int k = 0; k < k1; ++k) {
     if (k == k0) p0 = mode_power(st.A, mode);
-    rd.step(st);
+    frame.step();
   }
   const double p1 = mode_power(st.A, mode);
   return 0.5 * std::log(p1 / p0) / ((k1 - k0) * dt);
@@ -307,19 +311,21 @@ TEST(Sbdf2, StartsWithSbdf1AndAgainAfterARestart) {
   // second step, which is then an SBDF1 step again (first order: a different result).
   SimState a = st, b = st;
   RdStepper ra(s), rb(s);
-  ra.step(a);
-  rb.step(b);
+  RdFrame ra_a(ra, a), rb_b(rb, b);
+  ra_a.step();
+  rb_b.step();
   EXPECT_TRUE(ra.has_history());
   rb.restart();
-  ra.step(a);
-  rb.step(b);
+  ra_a.step();
+  rb_b.step();
   EXPECT_GT(max_difference(a, b), 1e-7);
   // An SBDF1 step is the first step of a fresh stepper from the same state.
   SimState c = a, d = a;
-  RdStepper rc(s), rd2(s);
-  rc.step(c);
+  RdStepper rc(s);
+  RdFrame rc_c(rc, c), ra_d(ra, d);
+  rc_c.step();
   ra.restart();
-  ra.step(d);
+  ra_d.step();
   EXPECT_EQ(max_difference(c, d), 0.0);
 }
 

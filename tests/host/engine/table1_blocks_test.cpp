@@ -97,7 +97,7 @@ TEST(Table1Blocks, TheExchangeIsAStepOfThePlan) {
   o.plan.block = layout.block(0);
   o.plan.halo = &group.channel(0);
   Engine e(scene, o);
-  const FramePlan& plan = *e.table1_plan()->plan();
+  const FramePlan& plan = e.plan();
   // Blocked: the first pass diffuses u from the scene's u, read with a halo of 20: u is
   // exchanged before it, and nothing else (v is read by the next pass, exchanged there).
   ASSERT_EQ(plan.pass_name(0), "diffuse:u");

@@ -57,7 +57,7 @@ TEST(TilingParity, StreamAndBlockedEqualSerialBitwiseOnAnAwkwardGrid) {
   EXPECT_GT(ref.B(47, 35), 0.0f);
   for (PlanSchedule s : {PlanSchedule::kStream, PlanSchedule::kBlocked}) {
     auto w = awkward(s, 2);
-    const FramePlan& plan = *w->table1_plan()->plan();
+    const FramePlan& plan = w->plan();
     for (int p = 0; p < plan.pass_count(); ++p)
       ASSERT_GT(plan.tiles(p).tiles().size(), 8u) << plan.pass_name(p);
     for (int i = 0; i < kFrames; ++i) w->step();
