@@ -45,7 +45,7 @@ struct EngineOptions {
   // against 1.8 pinned). Off by default: the live display and a kiosk's other processes share
   // the cores, and a pinned thread cannot leave one.
   bool pin_workers = false;
-  // Scenes built as a frame plan (fluid.scene table1, host/engine/table1_plan.h): the schedule,
+  // Scenes of tile passes (fluid.scene table1, host/engine/table1_plan.h): the schedule,
   // the local store per worker and the residency. The serial back end runs the serial schedule.
   // With plan.block and plan.halo the engine runs one block of a decomposed grid (its state's
   // fields cover the block; runtime/block_layout.h); other scenes refuse a block.
