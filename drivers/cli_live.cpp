@@ -17,12 +17,17 @@
 
 #include "drivers/cli.h"
 #include "drivers/cli_backend.h"
+#include "drivers/cli_ranks.h"
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/gpio_buttons.h"
 #include "drivers/png_writer.h"
 #include "host/io/atomic_file.h"
 #include "host/live/attract_mode.h"
 #include "host/live/live_engine.h"
+#include "host/live/live_wall.h"
+#if defined(ARDCELL_WITH_MPI)
+#include "host/live/rank_wall.h"
+#endif
 #include "host/scenes/preset.h"
 #include "runtime/opencl/backend_choice.h"
 #ifdef ARDCELL_WITH_SDL2
@@ -73,9 +78,31 @@ struct LiveArgs {
   std::string backend = "auto";
   int cl_device = -1;
   int workers = 0;
+  std::string wall;
+  int bezel = 0;
   CLI::Option* cl_device_opt = nullptr;
   CLI::Option* workers_opt = nullptr;
+  CLI::Option* wall_opt = nullptr;
+  CLI::Option* playlist_opt = nullptr;
 };
+
+// --wall: the flags a wall's screens cannot honour. "" when none, else the usage line.
+std::string check_wall_args(const LiveArgs& a, BackendKind backend) {
+  if (a.wall_opt->count() == 0) return a.bezel > 0 ? "--bezel applies to a --wall" : "";
+  const auto refuse = [](const char* flag, const char* why) {
+    return std::string(flag) + " does not run on a --wall (" + why + ")";
+  };
+  if (a.pipeline) return refuse("--pipeline", "the screens step in lockstep");
+  if (!a.record.empty()) return refuse("--record", "record one screen's output instead");
+  if (a.playlist_opt->count()) return refuse("--playlist", "a wall keeps its preset");
+  if (backend == BackendKind::kOpenCl)
+    return "--wall runs each screen's block on the threads or serial back end (expected no "
+           "--backend opencl)";
+  if (a.bezel > 0 && a.scale == 0)
+    return "--bezel " + std::to_string(a.bezel) +
+           " needs --scale (the window pixels per cell that turn the bezel into cells)";
+  return "";
+}
 
 // An IPv4 address outside 127.0.0.0/8: listening there needs --osc-remote.
 bool is_remote_address(const std::string& address) {
@@ -159,6 +186,26 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   bool opencl_asked = false;
   if (std::string why = check_backend_args(a, backend, opencl_asked); !why.empty())
     return cli_usage_error(ctx, "live", why);
+  if (std::string why = check_wall_args(a, backend); !why.empty())
+    return cli_usage_error(ctx, "live", why);
+  const bool walled = a.wall_opt->count() > 0;
+  int screen = 0;  // on a wall, this process's screen (its rank)
+#if defined(ARDCELL_WITH_MPI)
+  // --wall: this process is one screen of an mpirun, showing the block of the grid it runs.
+  RankJob job;
+  if (walled) {
+    if (backend == BackendKind::kAuto) backend = BackendKind::kThreads;
+    opencl_asked = false;
+    if (std::string why = start_rank_job("--wall", a.wall, ctx, job); !why.empty())
+      return cli_usage_error(ctx, "live", why);
+    screen = job.world->rank();
+  }
+#else
+  if (walled)
+    return cli_usage_error(ctx, "live",
+                           "--wall: this ardcell was built without MPI (expected a build with "
+                           "-DARDCELL_WITH_MPI=ON and libopenmpi-dev)");
+#endif
   if (a.osc_port >= 0 && !a.osc_remote && is_remote_address(a.osc_bind))
     return cli_usage_error(ctx, "live",
                            "--osc-bind " + a.osc_bind +
@@ -202,13 +249,38 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     return cli_usage_error(ctx, "live", "--screenshot-dir " + s.message());
   if (a.rt) request_realtime(ctx.err);
 
+  // Declared before the loop: the simulations it makes must outlive it.
+  EngineOptions engine_options;
+  if (a.workers_opt->count()) engine_options.workers = a.workers;
+  Int2 window_cells = preset.scene.size;
+#if defined(ARDCELL_WITH_MPI)
+  std::unique_ptr<RankWall> wall;
+  if (walled) {
+    if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);
+        !why.empty())
+      return cli_usage_error(ctx, "live", why);
+    const int bezel_cells = a.bezel > 0 ? (a.bezel + a.scale - 1) / a.scale : 0;
+    for (int b = 0; b < job.layout->count(); ++b)
+      if (wall_view(*job.layout, b, bezel_cells).empty())
+        return cli_usage_error(ctx, "live",
+                               "--bezel " + std::to_string(a.bezel) + ": hides every cell of a " +
+                                   std::to_string(job.layout->block(b).width()) + "x" +
+                                   std::to_string(job.layout->block(b).height()) +
+                                   " screen (expected a smaller bezel or a larger grid)");
+    wall = std::make_unique<RankWall>(*job.layout, bezel_cells, *job.world);
+    window_cells = wall->view().size();
+  }
+#endif
+
   Status error = Status::ok();
+  const std::string title =
+      walled ? "ardcell " + a.wall + " screen " + std::to_string(screen) : "ardcell";
   auto display = SdlDisplay::open({.display = a.display,
                                    .fullscreen = a.fullscreen,
                                    .vsync = !a.no_vsync,
                                    .scale = a.scale,
-                                   .title = "ardcell"},
-                                  preset.scene.size, error);
+                                   .title = title},
+                                  window_cells, error);
   if (!display) {
     std::fprintf(ctx.err, "ardcell live: %s\n", error.message().c_str());
     return kExitFailure;
@@ -237,10 +309,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                        Status&) -> std::unique_ptr<FrameWriter> {
     return std::make_unique<PngWriter>(path);
   };
-
-  // Declared before the loop: the simulations it makes must outlive it.
-  EngineOptions engine_options;
-  if (a.workers_opt->count()) engine_options.workers = a.workers;
+#if defined(ARDCELL_WITH_MPI)
+  o.wall = wall.get();
+  if (walled) o.adaptive = false;
+#endif
   // Its OpenCL context outlives the loop's simulations.
   const BackendChoice choice = choose_engine_backend(backend, a.cl_device, engine_options, ctx);
   SimulationFactory factory = engine_simulations(engine_options);
@@ -285,7 +357,8 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #endif
 #ifdef ARDCELL_WITH_LIBLO
   std::unique_ptr<OscServer> osc;
-  if (a.osc_port >= 0) {
+  // On a wall OSC listens on screen 0 only (one port); what it receives reaches every screen.
+  if (a.osc_port >= 0 && (!walled || screen == 0)) {
     Status os = Status::ok();
     osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(),
                            loop.remote_log(), os, a.preset_dirs);
@@ -386,8 +459,9 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   live->add_option("--record", args->record, "Record from the start (.mp4 via ffmpeg, .y4m)");
   live->add_option("--screenshot", args->screenshot, "PNG of the window after the last frame");
   live->add_option("--screenshot-dir", args->screenshot_dir, "Folder for S-key screenshots");
-  live->add_option("--playlist", args->playlist, "Presets for next/previous (default: all)")
-      ->delimiter(',');
+  args->playlist_opt =
+      live->add_option("--playlist", args->playlist, "Presets for next/previous (default: all)")
+          ->delimiter(',');
   live->add_option("--crossfade", args->crossfade, "Frames of crossfade on preset switch")
       ->check(CLI::Range(0, 10000));
   live->add_flag("--keys", args->keys, "List every preset key and exit");
@@ -403,6 +477,13 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
                                        "threads back end workers (default: one per core)");
   args->cl_device_opt =
       live->add_option("--cl-device", args->cl_device, "OpenCL device index (see ardcell devices)");
+  args->wall_opt = live->add_option(
+      "--wall", args->wall,
+      "WxH: one screen of a video wall under mpirun -np W*H, showing its block of one "
+      "simulation (table1 scenes)");
+  live->add_option("--bezel", args->bezel,
+                   "--wall: window pixels hidden between screens (needs --scale)")
+      ->check(CLI::Range(0, 100000));
   live->callback([args, &ctx] { ctx.exit_code = run_live(*args, ctx); });
 }
 

@@ -14,6 +14,7 @@
 
 #include "drivers/cli.h"
 #include "drivers/cli_backend.h"
+#include "drivers/cli_ranks.h"
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/png_writer.h"
 #include "drivers/stroke_sources.h"
@@ -305,30 +306,19 @@ int do_run(RunArgs& a, CliContext& ctx) {
 
   // --ranks: this process is one rank of an mpirun, running one block of the grid. Only rank 0
   // speaks: every rank makes the same checks.
-  Int2 ranks{};
   const bool ranked = a.ranks_opt->count() > 0;
 #if defined(ARDCELL_WITH_MPI)
-  std::unique_ptr<MpiWorld> world;
+  RankJob job;
 #endif
   if (ranked) {
 #if defined(ARDCELL_WITH_MPI)
-    if (!parse_block_parts(a.ranks, ranks))
-      return usage("--ranks '" + a.ranks +
-                   "': expected WxH, the ranks along x by along y (e.g. 2x1)");
     if (backend == BackendKind::kOpenCl)
       return usage(
           "--ranks runs each rank on the threads or serial back end (expected no "
           "--backend opencl)");
     if (backend == BackendKind::kAuto) backend = BackendKind::kThreads;
-    world = std::make_unique<MpiWorld>();
-    if (world->rank() != 0) {
-      static std::FILE* const quiet = std::fopen("/dev/null", "w");
-      if (quiet) ctx.out = ctx.err = quiet;
-    }
-    if (world->size() != ranks.x * ranks.y)
-      return usage("--ranks " + a.ranks + " needs " + std::to_string(ranks.x * ranks.y) +
-                   " processes (mpirun -np " + std::to_string(ranks.x * ranks.y) +
-                   "); this run has " + std::to_string(world->size()));
+    if (std::string why = start_rank_job("--ranks", a.ranks, ctx, job); !why.empty())
+      return usage(why);
 #else
     return usage(
         "--ranks: this ardcell was built without MPI (expected a build with "
@@ -407,16 +397,14 @@ int do_run(RunArgs& a, CliContext& ctx) {
 
   if (Status s = check_memory_for_grid(scene); !s) return usage(s.message());
 
-  // A scene built as a frame plan (the table1 scenes) takes a schedule and a local store size.
+  // A scene of tile passes (the table1 scenes) takes a schedule and a local store size.
   const bool planned = scene.fluid.kind == FluidSceneKind::kTable1;
   if (!planned) {
     const std::string general =
-        " applies to the scenes built as a frame plan (table1, "
-        "table1-ard); scene '" +
-        scene.name + "' runs its stages as ops (expected no ";
+        " applies to the scenes built of tile passes (table1, table1-ard); scene '" + scene.name +
+        "' runs its steps as stages on whole fields (expected no ";
     if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
     if (a.store_kib_opt->count()) return usage("--store-kib" + general + "--store-kib)");
-    if (ranked) return usage("--ranks" + general + "--ranks)");
   } else if (a.schedule_opt->count()) {
     if (backend == BackendKind::kSerial && plan.schedule != PlanSchedule::kSerial)
       return usage("--schedule " + a.schedule +
@@ -437,26 +425,9 @@ int do_run(RunArgs& a, CliContext& ctx) {
   const BackendChoice choice = choose_engine_backend(backend, a.cl_device, options, ctx);
 #if defined(ARDCELL_WITH_MPI)
   // One block of the grid per rank, its halos exchanged with the other ranks.
-  std::optional<BlockLayout> layout;
-  std::unique_ptr<MpiHaloChannel> channel;
-  if (ranked) {
-    try {
-      layout = BlockLayout::split(scene.size, ranks);
-    } catch (const std::invalid_argument& e) {
-      return usage("--ranks " + a.ranks + ": " + e.what());
-    }
-    const int width = table1_block_halo(scene);
-    for (int b = 0; b < layout->count(); ++b)
-      if (layout->block(b).width() < width || layout->block(b).height() < width)
-        return usage("--ranks " + a.ranks + ": a block of " +
-                     std::to_string(layout->block(b).width()) + "x" +
-                     std::to_string(layout->block(b).height()) +
-                     " cells is narrower than its halo of " + std::to_string(width) +
-                     " (expected fewer ranks or a larger --size)");
-    channel = std::make_unique<MpiHaloChannel>(*layout, width, *world);
-    options.plan.block = layout->block(world->rank());
-    options.plan.halo = channel.get();
-  }
+  if (ranked)
+    if (std::string why = split_rank_job("--ranks", a.ranks, scene, job, options); !why.empty())
+      return usage(why);
 #endif
   std::unique_ptr<Engine> engine;
   if (Status s = make_engine(scene, options, engine); !s) return usage(s.message());
@@ -497,10 +468,10 @@ int do_run(RunArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   if (ranked) {
     // Rank 0 writes; every rank leaves together when it cannot.
-    const int rc = world->rank() == 0
+    const int rc = job.world->rank() == 0
                        ? open_outputs(a, ctx, scene.name, scene.size, show, every, outputs)
                        : kExitOk;
-    if (world->any(rc != kExitOk)) return kExitUsage;
+    if (job.world->any(rc != kExitOk)) return kExitUsage;
   } else
 #endif
       if (int rc = open_outputs(a, ctx, scene.name, scene.size, show, every, outputs);
@@ -533,22 +504,23 @@ int do_run(RunArgs& a, CliContext& ctx) {
   };
 #if defined(ARDCELL_WITH_MPI)
   if (ranked) {
-    RankStepper stepper(*engine, *layout, *world, writes_frames(a, every) ? every : 0,
+    RankStepper stepper(*engine, *job.layout, *job.world, writes_frames(a, every) ? every : 0,
                         &StopSignals::requested(), playback.get());
-    if (world->any(world->rank() == 0 && !frame_field_available(stepper.frame_state(), field))) {
+    if (job.world->any(job.world->rank() == 0 &&
+                       !frame_field_available(stepper.frame_state(), field))) {
       remove_created(outputs.created);
       return usage(no_field);
     }
-    RankRun run{stepper.stop(), [&] { stepper.gather(); }, world->rank() == 0};
+    RankRun run{stepper.stop(), [&] { stepper.gather(); }, job.world->rank() == 0};
     const auto print_ranks = [&] {
       print_passes();
       // Every rank takes part in the sum; rank 0 prints.
       const double frames = double(std::max<std::int64_t>(1, engine->plan().runs()));
-      const double sent = world->sum(channel->bytes_sent());
+      const double sent = job.world->sum(job.channel->bytes_sent());
       std::fprintf(ctx.out,
                    "ranks=%s halo: sent=%.1fKiB/frame (all ranks) exchange=%.3fms/frame (rank 0, "
                    "waiting included)\n",
-                   a.ranks.c_str(), sent / frames / 1024.0, 1e3 * channel->seconds() / frames);
+                   a.ranks.c_str(), sent / frames / 1024.0, 1e3 * job.channel->seconds() / frames);
     };
     return run_and_report(a, ctx, stepper, scene, steps, every, render, outputs, print_ranks, run);
   }

@@ -21,7 +21,7 @@ namespace ardcell {
 struct Engine::Solvers {
   std::unique_ptr<FluidStep> fluid;  // when the scene has a fluid
   std::unique_ptr<RdStepper> rd;     // when config.rd.enabled (host/engine/rd_step.h)
-  // Instead of both, for a scene built as a frame plan (fluid.scene table1).
+  // Instead of both, for a scene of tile passes (fluid.scene table1).
   std::unique_ptr<Table1Plan> table1;
 };
 

@@ -332,7 +332,14 @@ void EngineSimulation::apply(const SceneConfig& config) {
   }
 }
 
-void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputMapping& input) {
+void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputMapping& input,
+                             int source) {
+  ARDCELL_CHECK(source >= 0 && source < kMaxInputSources, "paint: input source out of range");
+  if (source != source_) {  // each source continues its own stroke
+    strokes_[size_t(source_)] = painter_.stroke();
+    painter_.set_stroke(strokes_[size_t(source)]);
+    source_ = source;
+  }
   const auto lock = lock_device();
   SimState& f = engine_->state();
   RdLevel* l = level_ >= 0 ? levels_[size_t(level_)].get() : nullptr;

@@ -57,7 +57,7 @@ class EngineSimulation final : public LiveSimulation {
   // Refused changes (structural ones) keep the current parameters: the live loop switches
   // presets for those.
   void apply(const SceneConfig& config) override;
-  void paint(std::span<const StrokeSample> samples, const InputMapping& input) override;
+  void paint(std::span<const StrokeSample> samples, const InputMapping& input, int source) override;
   std::string_view backend() const override { return engine_->backend_name(); }
   double lowest_rd_scale() const override;
   void set_rd_scale(double scale) override;
@@ -79,6 +79,8 @@ class EngineSimulation final : public LiveSimulation {
   std::unique_ptr<Engine> engine_;
   PaintConfig paint_base_;
   Painter painter_;
+  int source_ = 0;  // whose stroke painter_ holds; the others' wait in strokes_
+  std::array<Painter::Stroke, kMaxInputSources> strokes_{};
   std::vector<std::unique_ptr<RdLevel>> levels_;  // coarser RD grids, finest first
   int level_ = -1;                                // -1: the engine's own RD grid
   FieldF snap_a_, snap_b_;                        // A, B before this frame's strokes

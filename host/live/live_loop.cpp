@@ -10,79 +10,10 @@
 #include <utility>
 
 #include "host/live/attract_mode.h"
-#include "host/render/frame_render.h"
+#include "host/live/live_wall.h"
 #include "host/run/offline_run.h"
 
 namespace ardcell {
-
-LiveCommand LiveCommand::make(LiveCommandKind k, double value, int param) {
-  LiveCommand c;
-  c.kind = k;
-  c.value = value;
-  c.param = param;
-  return c;
-}
-
-LiveCommand LiveCommand::with_text(LiveCommandKind k, std::string_view text) {
-  LiveCommand c;
-  c.kind = k;
-  const size_t n = std::min(text.size(), c.text.size() - 1);
-  std::memcpy(c.text.data(), text.data(), n);
-  c.text[n] = '\0';
-  return c;
-}
-
-void CommandQueue::lock() {
-  while (busy_.test_and_set(std::memory_order_acquire)) {
-  }
-}
-
-bool CommandQueue::push(const LiveCommand& c) {
-  lock();
-  const bool ok = count_ < kCapacity;
-  if (ok) {
-    slots_[(head_ + count_) % kCapacity] = c;
-    ++count_;
-  }
-  unlock();
-  if (!ok) dropped_.fetch_add(1, std::memory_order_relaxed);
-  return ok;
-}
-
-bool CommandQueue::pop(LiveCommand& c) {
-  lock();
-  const bool ok = count_ > 0;
-  if (ok) {
-    c = slots_[head_];
-    head_ = (head_ + 1) % kCapacity;
-    --count_;
-  }
-  unlock();
-  return ok;
-}
-
-void render_state(const SimState& state, const OutputConfig& output, ImageRgb8& out) {
-  const FrameField field = shown_frame_field(state, output.show);
-  RenderSettings settings = default_render_settings(field);
-  Colormap map;
-  if (parse_colormap(output.colormap, map) && !colormap_is_diverging(settings.colormap))
-    settings.colormap = map;
-  render_frame(state, settings, out);
-}
-
-void crossfade_images(const ImageRgb8& from, double t, ImageRgb8& to) {
-  if (from.empty() || to.empty()) return;
-  const int w = std::clamp(int(std::lround(t * 256.0)), 0, 256);
-  for (int y = 0; y < to.height; ++y) {
-    const uint8_t* src = from.row(int(int64_t(y) * from.height / to.height));
-    uint8_t* dst = to.row(y);
-    for (int x = 0; x < to.width; ++x) {
-      const uint8_t* s = src + size_t(int64_t(x) * from.width / to.width) * 3;
-      for (int c = 0; c < 3; ++c)
-        dst[3 * x + c] = uint8_t((dst[3 * x + c] * w + s[c] * (256 - w) + 128) >> 8);
-    }
-  }
-}
 
 // The preset switch in flight: loaded and built on a worker thread.
 // Shared by the loop and the builder thread, so that a build let go of at quit (detached) is
@@ -173,6 +104,13 @@ LiveLoop::LiveLoop(LiveOptions options, SimulationFactory factory, LiveDisplay& 
       remote_log_(options_.log, options_.time),
       quality_(QualityBounds{}) {
   message_.reserve(256);
+  if (options_.wall) {
+    ARDCELL_CHECK(!options_.pipeline, "LiveLoop: a wall does not pipeline");
+    ARDCELL_CHECK(options_.wall->screens() <= LiveSimulation::kMaxInputSources,
+                  "LiveLoop: a wall of more screens than input sources");
+    options_.adaptive = false;
+    wall_input_ = std::make_unique<WallInput>();
+  }
 }
 
 // The pipeline's stepping thread: step() on `go`, `done` after. Semaphores: no allocation.
@@ -274,7 +212,8 @@ Status LiveLoop::start(std::string_view name) {
   apply_level();
   for (size_t i = 0; i < options_.playlist.size(); ++i)
     if (options_.playlist[i] == name) playlist_index_ = int(i);
-  image_.resize(sim_->state({}).size.x, sim_->state({}).size.y);
+  const Box2 shown = options_.wall ? options_.wall->view() : box_of_size(sim_->state({}).size);
+  image_.resize(shown.width(), shown.height());
   hud_.preset.fill(0);
   std::snprintf(hud_.preset.data(), hud_.preset.size(), "%s", preset_.scene.name.c_str());
   std::snprintf(hud_.backend.data(), hud_.backend.size(), "%.*s", int(sim_->backend().size()),
@@ -370,7 +309,8 @@ void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
     fade_image_ = image_;                   // frozen last image of the old preset
     sim_ = std::move(sim);
     preset_ = next;
-    image_.resize(sim_->state({}).size.x, sim_->state({}).size.y);
+    const Box2 shown = options_.wall ? options_.wall->view() : box_of_size(sim_->state({}).size);
+    image_.resize(shown.width(), shown.height());
   }
   quality_.set_bounds(bounds_for(next));
   quality_.restore_full();
@@ -444,9 +384,14 @@ void LiveLoop::take_screenshot(std::string path) {
     path =
         options_.screenshot_dir + "/" + buf + "-" + std::to_string(screenshot_counter_++) + ".png";
   }
+  const ImageRgb8* shot = &image_;
+  if (options_.wall) {  // every screen's view, written by screen 0
+    if (!options_.wall->gather_image(image_, wall_shot_)) return;
+    shot = &wall_shot_;
+  }
   Status s = Status::ok();
-  auto writer = options_.screenshotter(path, Int2{image_.width, image_.height}, 0, s);
-  if (writer) s = writer->write(image_);
+  auto writer = options_.screenshotter(path, Int2{shot->width, shot->height}, 0, s);
+  if (writer) s = writer->write(*shot);
   if (writer && s) s = writer->finish();
   if (s)
     notice("screenshot %s", path.c_str());
@@ -454,128 +399,39 @@ void LiveLoop::take_screenshot(std::string path) {
     notice("screenshot %s: %s", path.c_str(), s.message().c_str());
 }
 
-void LiveLoop::handle(const LiveCommand& c) {
-  const auto& names = options_.playlist;
-  switch (c.kind) {
-    case LiveCommandKind::kQuit:
-      quit_ = true;
-      break;
-    case LiveCommandKind::kNextPreset:
-    case LiveCommandKind::kPrevPreset:
-      if (names.empty()) {
-        notice("no preset playlist");
-        break;
-      }
-      playlist_index_ = (playlist_index_ + (c.kind == LiveCommandKind::kNextPreset ? 1 : -1) +
-                         int(names.size())) %
-                        int(names.size());
-      request_preset(names[size_t(playlist_index_)]);
-      break;
-    case LiveCommandKind::kSelectPreset:
-      request_preset(c.text.data());
-      break;
-    case LiveCommandKind::kReset:
-      sim_->reset();
-      break;
-    case LiveCommandKind::kTogglePause:
-      paused_ = !paused_;
-      break;
-    case LiveCommandKind::kSetPause:
-      paused_ = c.value != 0;
-      break;
-    case LiveCommandKind::kSetParam: {
-      const auto params = preset_params();
-      if (c.param < 0 || size_t(c.param) >= params.size()) break;
-      const ParamSpec& spec = params[size_t(c.param)];
-      if (spec.structural) {
-        notice("%.*s: changes the grid or models; switch presets instead", int(spec.key.size()),
-               spec.key.data());
-        break;
-      }
-      char why[160] = "";
-      Preset& target = fading() && !image_fade_ ? fade_to_ : preset_;
-      if (!(c.value >= spec.min && c.value <= spec.max) || !spec.set) {
-        std::snprintf(why, sizeof why, "%.*s: out of range", int(spec.key.size()), spec.key.data());
-        notice("%s", why);
-        break;
-      }
-      (void)set_param(target, spec, c.value);
-      if (spec.key.starts_with("quality.")) quality_.set_bounds(bounds_for(preset_));
-      applied_ = preset_.scene;
-      apply_level();
-      break;
-    }
-    case LiveCommandKind::kSetMode: {
-      const ParamSpec* mode = find_param("input.mode");
-      if (mode) (void)set_param(preset_, *mode, c.value);
-      break;
-    }
-    case LiveCommandKind::kNextMode: {
-      const ParamSpec* mode = find_param("input.mode");
-      if (!mode) break;
-      const double next = std::fmod(get_param(preset_, *mode) + 1, mode->max + 1);
-      (void)set_param(preset_, *mode, next);
-      notice("mode %s", preset_.input.mode.c_str());
-      break;
-    }
-    case LiveCommandKind::kScreenshot: {
-      // A remote sender gets one screenshot a second: a flood must not fill the disk.
-      const int64_t now = clock_.frame_begin_ns();
-      if (c.remote && last_remote_screenshot_ns_ >= 0 &&
-          now - last_remote_screenshot_ns_ < kRemoteScreenshotIntervalNs) {
-        notice("screenshot refused: remote commands get at most one a second");
-        break;
-      }
-      if (c.remote) last_remote_screenshot_ns_ = now;
-      take_screenshot(c.text.data());
-      break;
-    }
-    case LiveCommandKind::kRecordStart:
-      start_recording(c.text.data());
-      break;
-    case LiveCommandKind::kRecordStop:
-      stop_recording();
-      break;
-    case LiveCommandKind::kToggleRecord:
-      if (recorder_)
-        stop_recording();
-      else
-        start_recording(options_.record_path);
-      break;
-    case LiveCommandKind::kToggleHud:
-      options_.hud = !options_.hud;
-      break;
-    case LiveCommandKind::kInputActivity:
-      break;
-  }
-}
-
 bool LiveLoop::run_frame() {
-  if (options_.stop && options_.stop->load(std::memory_order_relaxed)) quit_ = true;
+  const bool stop = options_.stop && options_.stop->load(std::memory_order_relaxed);
+  // On a wall a stop reaches every screen with the frame's input (share_wall_input).
+  if (stop && !options_.wall) quit_ = true;
   if (quit_) return false;
   clock_.begin_frame();
   if (take_report_request()) clock_.print_report(options_.log ? options_.log : stderr);
 
   // Input: window events, commands from every source, strokes.
   display_.poll(input_, commands_);
-  bool activity = false;
-  LiveCommand c;
-  while (commands_.pop(c)) {
-    if (c.kind == LiveCommandKind::kInputActivity) activity = true;
-    remote_cause_ = c.remote;
-    handle(c);
-    remote_cause_ = false;
-  }
-  remote_log_.tick();
   const double now = double(clock_.frame_begin_ns()) * 1e-9;
-  size_t n = input_.pop_many(samples_);
-  n += remote_input_.pop_many(std::span(samples_).subspan(n));
-  activity = activity || n > 0;
-  if (attract_) n += attract_->update(now, activity, std::span(samples_).subspan(n));
-  hud_.attract = attract_ && attract_->active();
-  if (n > 0) {
-    sim_->paint(std::span<const StrokeSample>(samples_.data(), n), preset_.input);
-    painted_samples_ += int64_t(n);
+  if (options_.wall) {
+    share_wall_input(stop, now);
+    remote_log_.tick();
+  } else {
+    bool activity = false;
+    LiveCommand c;
+    while (commands_.pop(c)) {
+      if (c.kind == LiveCommandKind::kInputActivity) activity = true;
+      remote_cause_ = c.remote;
+      handle(c);
+      remote_cause_ = false;
+    }
+    remote_log_.tick();
+    size_t n = input_.pop_many(samples_);
+    n += remote_input_.pop_many(std::span(samples_).subspan(n));
+    activity = activity || n > 0;
+    if (attract_) n += attract_->update(now, activity, std::span(samples_).subspan(n));
+    hud_.attract = attract_ && attract_->active();
+    if (n > 0) {
+      sim_->paint(std::span<const StrokeSample>(samples_.data(), n), preset_.input, 0);
+      painted_samples_ += int64_t(n);
+    }
   }
   clock_.mark(FrameStage::kInput);
 
@@ -601,10 +457,7 @@ bool LiveLoop::run_frame() {
   }
   clock_.mark(FrameStage::kSimulate);
 
-  // Only what the shown field is drawn from comes to the host (on OpenCL: one or two fields a
-  // frame, not the whole state).
-  const FrameField shown = shown_frame_field(sim_->state({}), preset_.scene.output.show);
-  render_state(sim_->state(frame_field_inputs(shown)), preset_.scene.output, image_);
+  render();
   if (fading() && image_fade_) {
     ++fade_frame_;
     crossfade_images(fade_image_, double(fade_frame_) / fade_frames_, image_);
@@ -632,6 +485,7 @@ void LiveLoop::present_and_record() {
   hud_.rd_scale = quality_.level().rd_scale;
   hud_.paused = paused_;
   if (frame_ > hud_.message_until_frame) hud_.message[0] = '\0';
+  if (options_.wall) options_.wall->before_present();
   display_.present(image_, options_.hud ? &hud_ : nullptr);
   clock_.mark(FrameStage::kPresent);
   if (recorder_) {
@@ -650,6 +504,16 @@ Status LiveLoop::run() {
   if (!options_.exit_screenshot.empty()) {
     ImageRgb8 shot;
     if (!display_.read_back(shot)) shot = image_;
+    // A wall's: every screen's window, placed as the views lie; screen 0 writes it.
+    if (options_.wall) {
+      ImageRgb8 screen = std::move(shot);
+      if (!options_.wall->gather_image(screen, shot)) {
+        stop_recording();
+        remote_log_.finish();
+        if (options_.log) clock_.print_report(options_.log);
+        return Status::ok();
+      }
+    }
     Status s = Status::ok();
     auto writer =
         options_.screenshotter

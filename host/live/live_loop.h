@@ -34,6 +34,8 @@
 namespace ardcell {
 
 class AttractMode;
+class LiveWall;
+struct WallInput;
 
 // What the loop runs: the engine (host/live/live_engine.h) or, in tests, something simpler.
 class LiveSimulation {
@@ -52,8 +54,12 @@ class LiveSimulation {
   // Non-structural parameters (viscosity, dt, solver iterations, ...) for the next step().
   // Must not allocate.
   virtual void apply(const SceneConfig& config) = 0;
-  // Stroke samples of this frame, painted before the next step(). Must not allocate.
-  virtual void paint(std::span<const StrokeSample> samples, const InputMapping& mapping) = 0;
+  // Stroke samples of this frame from input `source` (0 .. kMaxInputSources - 1: the screens of
+  // a video wall, each with strokes of its own), painted before the next step(). Must not
+  // allocate.
+  static constexpr int kMaxInputSources = 16;
+  virtual void paint(std::span<const StrokeSample> samples, const InputMapping& mapping,
+                     int source) = 0;
   // "threads x2", "opencl NVIDIA ...": for the HUD.
   virtual std::string_view backend() const = 0;
   // The lowest RD resolution (a rung of rd_scale_ladder) this simulation has a grid for; the
@@ -171,6 +177,12 @@ struct LiveOptions {
   TimeSource* time = nullptr;        // default: the monotonic clock
   const std::atomic<bool>* stop = nullptr;  // set asynchronously (a signal): quit as Esc does
   std::FILE* log = stderr;
+  // One screen of a video wall (host/live/live_wall.h; outlives the loop): input is shared with
+  // the other screens every frame, the view of its block drawn in the range they agree on, and
+  // a frame presented when every screen has it. A wall keeps its preset, does not record, does
+  // not adapt its quality (the screens would step different solvers) nor pipeline; a
+  // screenshot is the whole wall's, written by screen 0.
+  LiveWall* wall = nullptr;
 };
 
 class LiveLoop {
@@ -235,7 +247,10 @@ class LiveLoop {
   void poll_build();
   void abandon_switch();
   void begin_switch(std::unique_ptr<LiveSimulation> sim, Preset preset);
+  // The frame's image of the shown field (on a wall, this screen's view).
   void render();
+  // A wall's input: this screen's to every screen, and every screen's handled and painted.
+  void share_wall_input(bool stop, double now);
   void notice(const char* fmt, ...);
   void start_recording(std::string path);
   void stop_recording();
@@ -258,6 +273,8 @@ class LiveLoop {
   StrokeRing remote_input_{4096};
   std::array<StrokeSample, 512> samples_{};
   AttractMode* attract_ = nullptr;
+  std::unique_ptr<WallInput> wall_input_;  // a wall: this screen's input of the frame
+  int wall_attract_samples_ = 0;           // ... led by the attract mode's strokes (screen 0)
 
   Preset preset_;     // as running now (blended during a parameter fade)
   Preset fade_from_;  // parameter fade endpoints
@@ -270,6 +287,7 @@ class LiveLoop {
   bool image_fade_ = false;
   int fade_frame_ = 0, fade_frames_ = 0;
   ImageRgb8 image_, fade_image_;
+  ImageRgb8 wall_shot_;  // a wall's screenshot (screen 0)
   HudInfo hud_;
   int64_t frame_ = 0;
   int64_t preset_errors_ = 0;

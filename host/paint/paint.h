@@ -93,6 +93,20 @@ class Painter {
   void clear_orientation();
 
   bool pen_down() const { return down_; }
+  // Where a stroke stands between samples: several pens (the screens of a video wall) paint
+  // through one painter by swapping their strokes in and out around apply().
+  struct Stroke {
+    bool down = false;
+    double last_x = 0, last_y = 0, arc = 0, next_dab = 0;
+  };
+  Stroke stroke() const { return {down_, last_x_, last_y_, arc_, next_dab_}; }
+  void set_stroke(const Stroke& s) {
+    down_ = s.down;
+    last_x_ = s.last_x;
+    last_y_ = s.last_y;
+    arc_ = s.arc;
+    next_dab_ = s.next_dab;
+  }
   // The rasterised orientation sources: weight > 0 under orient strokes, and their direction.
   const FieldF& orientation_weight() const { return weight_; }
   const FieldF& orientation_cos() const { return dir_cos_; }

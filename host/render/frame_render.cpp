@@ -83,8 +83,9 @@ std::string_view frame_field_name(FrameField field) {
 
 std::string_view frame_field_names() { return "dye|speed|vorticity|pressure|A|B"; }
 
-bool frame_field_available(const SimState& s, FrameField field) {
-  auto sized = [&](const FieldF& f) { return !f.empty() && f.size() == s.size; };
+bool frame_field_available(const SimState& s, FrameField field, Box2 cells) {
+  if (cells.empty()) cells = box_of_size(s.size);
+  auto sized = [&](const FieldF& f) { return !f.empty() && f.interior().contains(cells); };
   switch (field) {
     case FrameField::kDye:
       return sized(s.dye);
@@ -120,11 +121,11 @@ std::span<const std::string_view> frame_field_inputs(FrameField field) {
   return kDye;
 }
 
-FrameField shown_frame_field(const SimState& state, std::string_view show) {
+FrameField shown_frame_field(const SimState& state, std::string_view show, Box2 cells) {
   FrameField field = FrameField::kDye;
-  if (parse_frame_field(show, field) && frame_field_available(state, field)) return field;
+  if (parse_frame_field(show, field) && frame_field_available(state, field, cells)) return field;
   for (FrameField f : {FrameField::kDye, FrameField::kB, FrameField::kA, FrameField::kSpeed})
-    if (frame_field_available(state, f)) return f;
+    if (frame_field_available(state, f, cells)) return f;
   return field;
 }
 
@@ -160,48 +161,59 @@ RenderSettings default_render_settings(FrameField field) {
   return r;
 }
 
-RenderStats render_frame(const SimState& state, const RenderSettings& settings, ImageRgb8& image) {
-  ARDCELL_CHECK(image.width == state.size.x && image.height == state.size.y &&
+FieldValueRange frame_value_range(const SimState& state, FrameField field, Box2 cells) {
+  const Sampler sample(state, field);
+  const bool has_obstacle = !state.obstacle.empty() && state.obstacle.interior().contains(cells);
+  FieldValueRange r;
+  for (int y = cells.min.y; y < cells.max.y; ++y)
+    for (int x = cells.min.x; x < cells.max.x; ++x) {
+      if (has_obstacle && state.obstacle(x, y) != 0) continue;
+      const float v = sample(x, y);
+      if (!is_finite(v)) continue;
+      r.lo = std::min(r.lo, v);
+      r.hi = std::max(r.hi, v);
+      r.abs_max = std::max(r.abs_max, std::fabs(v));
+    }
+  return r;
+}
+
+void range_limits(RangeMode mode, const FieldValueRange& values, float& lo, float& hi) {
+  float mn = values.lo, mx = values.hi;
+  if (mn > mx) mn = mx = 0.0f;  // nothing finite
+  switch (mode) {
+    case RangeMode::kAuto:
+      lo = mn;
+      hi = mx;
+      break;
+    case RangeMode::kAutoFromZero:
+      lo = 0.0f;
+      hi = std::max(mx, 0.0f);
+      break;
+    case RangeMode::kAutoSymmetric:
+      lo = -values.abs_max;
+      hi = values.abs_max;
+      break;
+    case RangeMode::kFixed:
+      break;
+  }
+}
+
+RenderStats render_frame(const SimState& state, const RenderSettings& settings, ImageRgb8& image,
+                         Box2 cells) {
+  if (cells.empty()) cells = box_of_size(state.size);
+  ARDCELL_CHECK(image.width == cells.width() && image.height == cells.height() &&
                     image.rgb.size() == std::size_t(image.width) * image.height * 3,
-                "render_frame: image must be sized to the grid");
-  ARDCELL_CHECK(frame_field_available(state, settings.field),
+                "render_frame: image must be sized to the cells drawn");
+  ARDCELL_CHECK(frame_field_available(state, settings.field, cells),
                 "render_frame: the state does not hold the field to draw");
-  const int nx = state.size.x, ny = state.size.y;
   const Sampler sample(state, settings.field);
-  const bool has_obstacle = !state.obstacle.empty() && state.obstacle.size() == state.size;
+  const bool has_obstacle = !state.obstacle.empty() && state.obstacle.interior().contains(cells);
   auto solid = [&](int x, int y) { return has_obstacle && state.obstacle(x, y) != 0; };
 
   RenderStats stats;
   float lo = settings.lo, hi = settings.hi;
-  if (settings.range != RangeMode::kFixed) {
-    float mn = INFINITY, mx = -INFINITY, amax = 0.0f;
-    for (int y = 0; y < ny; ++y)
-      for (int x = 0; x < nx; ++x) {
-        if (solid(x, y)) continue;
-        const float v = sample(x, y);
-        if (!is_finite(v)) continue;
-        mn = std::min(mn, v);
-        mx = std::max(mx, v);
-        amax = std::max(amax, std::fabs(v));
-      }
-    if (mn > mx) mn = mx = 0.0f;  // nothing finite
-    switch (settings.range) {
-      case RangeMode::kAuto:
-        lo = mn;
-        hi = mx;
-        break;
-      case RangeMode::kAutoFromZero:
-        lo = 0.0f;
-        hi = std::max(mx, 0.0f);
-        break;
-      case RangeMode::kAutoSymmetric:
-        lo = -amax;
-        hi = amax;
-        break;
-      case RangeMode::kFixed:
-        break;
-    }
-  }
+  if (settings.range != RangeMode::kFixed)
+    range_limits(settings.range, frame_value_range(state, settings.field, cells), lo, hi);
   stats.lo = lo;
   stats.hi = hi;
   const bool flat = !(hi > lo) || !std::isfinite(hi - lo);
@@ -209,10 +221,10 @@ RenderStats render_frame(const SimState& state, const RenderSettings& settings, 
   const float scale = flat ? 0.0f : 1.0f / (hi - lo);
 
   const std::array<Rgb8, 256>& lut = colormap_lut(settings.colormap);
-  for (int py = 0; py < ny; ++py) {
-    const int y = ny - 1 - py;
+  for (int py = 0; py < cells.height(); ++py) {
+    const int y = cells.max.y - 1 - py;
     uint8_t* out = image.row(py);
-    for (int x = 0; x < nx; ++x, out += 3) {
+    for (int x = cells.min.x; x < cells.max.x; ++x, out += 3) {
       Rgb8 c;
       if (solid(x, y)) {
         c = kObstacleRgb;

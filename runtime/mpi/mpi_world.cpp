@@ -1,5 +1,7 @@
 #include "runtime/mpi/mpi_world.h"
 
+#include <climits>
+
 // The C API only (Open MPI's mpi.h otherwise declares its deprecated C++ bindings).
 #define OMPI_SKIP_MPICXX 1
 #define MPICH_SKIP_MPICXX 1
@@ -63,6 +65,40 @@ double MpiWorld::sum(double value) const {
   double all = 0;
   MPI_Allreduce(&value, &all, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
   return all;
+}
+
+void MpiWorld::min_max(float& lo, float& hi) const {
+  float in[2] = {-lo, hi}, out[2] = {0, 0};
+  MPI_Allreduce(in, out, 2, MPI_FLOAT, MPI_MAX, MPI_COMM_WORLD);
+  lo = -out[0];
+  hi = out[1];
+}
+
+void MpiWorld::barrier() const { MPI_Barrier(MPI_COMM_WORLD); }
+
+void MpiWorld::all_gather(const void* mine, std::size_t bytes, void* all) const {
+  ARDCELL_CHECK(bytes <= std::size_t(INT_MAX), "MpiWorld::all_gather: too many bytes");
+  MPI_Allgather(mine, int(bytes), MPI_BYTE, all, int(bytes), MPI_BYTE, MPI_COMM_WORLD);
+}
+
+void MpiWorld::gather_to_root(std::span<const unsigned char> mine, std::vector<unsigned char>& all,
+                              std::vector<int>& counts) const {
+  ARDCELL_CHECK(mine.size() <= std::size_t(INT_MAX), "MpiWorld::gather_to_root: too many bytes");
+  const int count = int(mine.size());
+  counts.assign(std::size_t(size_), 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> offsets(std::size_t(size_), 0);
+  if (rank_ == 0) {
+    long long total = 0;
+    for (int r = 0; r < size_; ++r) {
+      offsets[std::size_t(r)] = int(total);
+      total += counts[std::size_t(r)];
+    }
+    ARDCELL_CHECK(total <= INT_MAX, "MpiWorld::gather_to_root: too many bytes");
+    all.resize(std::size_t(total));
+  }
+  MPI_Gatherv(mine.data(), count, MPI_BYTE, rank_ == 0 ? all.data() : nullptr, counts.data(),
+              offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
 }
 
 MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world)

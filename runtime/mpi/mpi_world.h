@@ -4,6 +4,7 @@
 // through MpiHaloChannel, and rank 0 gathers the blocks for what is written. Nothing above
 // runtime/ includes mpi.h: this header is the whole of MPI the rest of ardcell sees.
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "runtime/block_layout.h"
@@ -26,6 +27,17 @@ class MpiWorld {
   bool any(bool flag) const;
   // The sum over the ranks of `value`, on every rank (all ranks call it together).
   double sum(double value) const;
+  // The least of `lo` and the greatest of `hi` over the ranks, on every rank.
+  void min_max(float& lo, float& hi) const;
+  // Returns when every rank has called it.
+  void barrier() const;
+  // Every rank's `bytes` bytes at `mine`, in rank order, into `all` (size() * bytes), on every
+  // rank. No allocation.
+  void all_gather(const void* mine, std::size_t bytes, void* all) const;
+  // Every rank's `mine` (any length), in rank order, concatenated on rank 0 (`all`, resized;
+  // `counts`: each rank's length); the other ranks' `all` is left alone.
+  void gather_to_root(std::span<const unsigned char> mine, std::vector<unsigned char>& all,
+                      std::vector<int>& counts) const;
 
  private:
   int rank_ = 0, size_ = 1;

@@ -182,7 +182,7 @@ class TinySimulation final : public LiveSimulation {
   void reset() override {}
   const SimState& state() const override { return state_; }
   void apply(const SceneConfig&) override {}
-  void paint(std::span<const StrokeSample>, const InputMapping&) override {}
+  void paint(std::span<const StrokeSample>, const InputMapping&, int) override {}
   std::string_view backend() const override { return "tiny"; }
 
  private:

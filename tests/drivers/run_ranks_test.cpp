@@ -160,7 +160,7 @@ TEST_F(RunRanksTest, BadLayoutsExitTwoWithOneLine) {
   // Without mpirun: a singleton MPI job of one process.
   r = run_command(mpi_env() + "exec '" ARDCELL_BINARY "' run cavity --steps 1 --quiet --ranks 1x1");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--ranks applies to the scenes built as a frame plan"), std::string::npos)
+  EXPECT_NE(r.err.find("--ranks applies to the scenes built of tile passes"), std::string::npos)
       << r.err;
   r = run_ranks(2, "run table1 --size 40 --steps 1 --quiet --ranks 2x1");
   EXPECT_EQ(r.code, 2) << r.err;

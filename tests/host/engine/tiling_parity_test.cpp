@@ -1,4 +1,4 @@
-// Tiling parity: the stream and blocked schedules of a scene built as a frame plan (table1-ard on
+// Tiling parity: the stream and blocked schedules of a scene of tile passes (table1-ard on
 // the Engine) run the same kernels on tiles copied into local stores; serial runs them on whole
 // fields. Every field must agree bit for bit, on a grid
 // no tile divides (127 x 93), with tiles touching every domain edge and corner, for any number

@@ -2,22 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/fake_time.h"
+
 #include <csignal>
 
 namespace ardcell {
 namespace {
-
-// A clock that only moves when told: sleeping jumps straight to the deadline.
-class FakeTime final : public TimeSource {
- public:
-  int64_t now_ns() override { return now; }
-  void sleep_until_ns(int64_t deadline) override {
-    ++sleeps;
-    if (deadline > now) now = deadline;
-  }
-  int64_t now = 1'000'000'000;
-  int sleeps = 0;
-};
 
 constexpr int64_t kMs = 1'000'000;
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/fake_time.h"
+
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -36,15 +38,6 @@ int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile
 namespace ardcell {
 namespace {
 
-class FakeTime final : public TimeSource {
- public:
-  int64_t now_ns() override { return now; }
-  void sleep_until_ns(int64_t d) override {
-    if (d > now) now = d;
-  }
-  int64_t now = 1'000'000'000;
-};
-
 // A small "simulation": dye decays and paint deposits. Each step costs fake time in
 // proportion to the solver iterations it was told to run, plus an artificial load.
 class FakeSimulation final : public LiveSimulation {
@@ -70,7 +63,7 @@ class FakeSimulation final : public LiveSimulation {
   }
   const SimState& state() const override { return state_; }
   void apply(const SceneConfig& c) override { config_ = c; }
-  void paint(std::span<const StrokeSample> samples, const InputMapping&) override {
+  void paint(std::span<const StrokeSample> samples, const InputMapping&, int) override {
     for (const StrokeSample& s : samples) {
       ++painted;
       const int x = int(s.x * float(state_.size.x)), y = int(s.y * float(state_.size.y));
@@ -681,7 +674,7 @@ TEST(LiveEngine, PaintsExactlyLikeTheStrokePlayback) {
                           stroke.begin() + std::ptrdiff_t(std::min(stroke.size(), i + 4)));
       chunks.taken = 0;
       const long before = g_allocations.load();
-      live.paint(chunks.chunk, p.input);
+      live.paint(chunks.chunk, p.input, 0);
       live.step();
       live_allocations += g_allocations.load() - before;
       playback.before_step(offline.state(), b.time);
@@ -721,11 +714,11 @@ TEST(LiveEngine, PressureGammaShapesThePressure) {
   EngineSimulation curved(p, PaintConfig{});
   for (StrokeSample& s : stroke) s.pressure = 0.5f;
   p.input.pressure_gamma = 2.0;
-  curved.paint(stroke, p.input);
+  curved.paint(stroke, p.input, 0);
   EngineSimulation linear(p, PaintConfig{});
   for (StrokeSample& s : stroke) s.pressure = 0.25f;
   p.input.pressure_gamma = 1.0;
-  linear.paint(stroke, p.input);
+  linear.paint(stroke, p.input, 0);
   EXPECT_TRUE(same_field(curved.state().B, linear.state().B));
   EXPECT_GT(curved.state().B(12, 12), 0.0f);
 }
@@ -783,8 +776,8 @@ TEST(LiveEngine, LoweringThenRaisingRdResolutionKeepsThePattern) {
   EngineSimulation coarse(p, PaintConfig{}), full(p, PaintConfig{});
   EXPECT_DOUBLE_EQ(coarse.lowest_rd_scale(), 0.5625);  // rungs 1, 0.75, 0.5625 >= 0.5
   const std::vector<StrokeSample> stroke = wave_stroke(30, 0.3);
-  coarse.paint(stroke, p.input);
-  full.paint(stroke, p.input);
+  coarse.paint(stroke, p.input, 0);
+  full.paint(stroke, p.input, 0);
   for (int i = 0; i < 100; ++i) {
     coarse.step();
     full.step();
@@ -799,8 +792,8 @@ TEST(LiveEngine, LoweringThenRaisingRdResolutionKeepsThePattern) {
   const ReactionParams& r = p.scene.rd.reaction;
   for (int i = 0; i < 40; ++i) {
     if (i == 20) {
-      coarse.paint(stroke, p.input);
-      full.paint(stroke, p.input);
+      coarse.paint(stroke, p.input, 0);
+      full.paint(stroke, p.input, 0);
     }
     coarse.step();
     full.step();

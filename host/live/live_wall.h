@@ -1,0 +1,60 @@
+#pragma once
+// One screen of a video wall (`mpirun -np N ardcell live PRESET --wall WxH`): the N processes
+// run one simulation, each its block of the grid (runtime/block_layout.h, the frame plan's halo
+// exchange between them), and each shows its part of the grid in a window of its own, on its
+// own display. Every frame the live loop (host/live/live_loop.h) hands the wall this screen's
+// input and gets every screen's back, screen by screen, so that a stroke, a key, an OSC or a
+// GPIO command on any screen acts on every screen in the same frame; the screens agree on the
+// shown field's range, and each waits for all before presenting, so they show the same frame.
+// host/live/rank_wall.h is the wall over Open MPI; tests use an in-process one.
+#include <array>
+#include <span>
+
+#include "host/live/live_loop.h"
+#include "runtime/block_layout.h"
+#include "runtime/field.h"
+
+namespace ardcell {
+
+// One screen's input of one frame: plain data, exchanged as bytes.
+struct WallInput {
+  static constexpr int kMaxSamples = 64;
+  static constexpr int kMaxCommands = 8;
+  int samples = 0, commands = 0;
+  bool stop = false;      // a signal asked this process to stop: every screen quits
+  bool activity = false;  // someone used this screen's input (the attract mode's idle clock)
+  std::array<StrokeSample, kMaxSamples> sample{};  // normalised to the whole grid
+  std::array<LiveCommand, kMaxCommands> command{};
+};
+
+class LiveWall {
+ public:
+  virtual ~LiveWall() = default;
+  virtual int screens() const = 0;
+  virtual int screen() const = 0;  // this one: 0 .. screens() - 1
+  virtual Int2 grid() const = 0;
+  // The cells this screen computes (its block) and the cells it shows: the block less the
+  // bezel's cells at its inner edges, so that a line crossing screens stays straight across
+  // the gap between them.
+  virtual Box2 block() const = 0;
+  virtual Box2 view() const = 0;
+  // Every screen's input, in screen order (all screens call it together, once a frame).
+  virtual std::span<const WallInput> share(const WallInput& mine) = 0;
+  // The least lo and greatest hi over the screens (all screens call it together).
+  virtual void agree_range(float& lo, float& hi) = 0;
+  // Returns when every screen is ready to present its frame.
+  virtual void before_present() = 0;
+  // Every screen's image of its view, placed as the views lie on the grid (image rows top down,
+  // the bezels black), in `wall` on screen 0, which returns true; the others return false. All
+  // screens call it together; images are in window pixels, the same number per cell on each.
+  virtual bool gather_image(const ImageRgb8& mine, ImageRgb8& wall) = 0;
+};
+
+// The cells screen `b` of a wall laid out as `layout` shows: its block less `bezel_cells` cells
+// across each gap between screens (the left / lower screen hides half, the other the rest).
+Box2 wall_view(const BlockLayout& layout, int b, int bezel_cells);
+// Places `image` (a view's pixels, `scale` per cell, top row first) where `view` lies on a grid
+// of `grid` cells, in `wall` (grid * scale pixels, top row the grid's highest y).
+void place_on_wall(const ImageRgb8& image, Box2 view, Int2 grid, int scale, ImageRgb8& wall);
+
+}  // namespace ardcell

@@ -1,0 +1,54 @@
+#include "host/live/rank_wall.h"
+
+#include <algorithm>
+#include <cstring>
+#include <type_traits>
+
+#include "runtime/check.h"
+
+namespace ardcell {
+
+static_assert(std::is_trivially_copyable_v<WallInput>, "WallInput travels as bytes");
+
+RankWall::RankWall(const BlockLayout& layout, int bezel_cells, const MpiWorld& world)
+    : layout_(layout), world_(world), all_(std::size_t(layout.count())) {
+  ARDCELL_CHECK(world.size() == layout.count(), "RankWall: one rank per block");
+  for (int b = 0; b < layout.count(); ++b) {
+    views_.push_back(wall_view(layout, b, bezel_cells));
+    ARDCELL_CHECK(!views_.back().empty(), "RankWall: a screen shows no cell");
+  }
+}
+
+std::span<const WallInput> RankWall::share(const WallInput& mine) {
+  world_.all_gather(&mine, sizeof(WallInput), all_.data());
+  return all_;
+}
+
+bool RankWall::gather_image(const ImageRgb8& mine, ImageRgb8& wall) {
+  // Each rank's image: its width and height, then its pixels.
+  std::vector<unsigned char> out(2 * sizeof(int) + mine.rgb.size());
+  const int size[2] = {mine.width, mine.height};
+  std::memcpy(out.data(), size, sizeof size);
+  if (!mine.rgb.empty()) std::memcpy(out.data() + sizeof size, mine.rgb.data(), mine.rgb.size());
+  world_.gather_to_root(out, bytes_, counts_);
+  if (world_.rank() != 0) return false;
+  // Pixels per cell: screen 0's.
+  const int scale = std::max(1, mine.width / std::max(1, views_[0].width()));
+  const Int2 grid = layout_.domain();
+  wall.resize(grid.x * scale, grid.y * scale);
+  std::size_t at = 0;
+  ImageRgb8 image;
+  for (int r = 0; r < world_.size(); ++r) {
+    int wh[2];
+    std::memcpy(wh, bytes_.data() + at, sizeof wh);
+    image.width = wh[0];
+    image.height = wh[1];
+    const auto* pixels = bytes_.data() + at + sizeof wh;
+    image.rgb.assign(pixels, pixels + std::size_t(counts_[std::size_t(r)]) - sizeof wh);
+    place_on_wall(image, views_[std::size_t(r)], grid, scale, wall);
+    at += std::size_t(counts_[std::size_t(r)]);
+  }
+  return true;
+}
+
+}  // namespace ardcell

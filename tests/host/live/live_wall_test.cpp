@@ -1,0 +1,261 @@
+// The live loop as one screen of a video wall (host/live/live_wall.h), against an in-process wall
+// whose other screen's input the test writes: every screen's strokes and commands act on this
+// one in the same frame (strokes mapped from a screen's view to the grid, each screen painting
+// with a stroke of its own), a stop on any screen ends every screen after that frame, a
+// screenshot is the whole wall's, a wall keeps its preset and does not record; the views hide the
+// bezel's cells at inner edges only. Over Open MPI: tests/drivers/live_wall_cli_test.cpp.
+#include "host/live/live_wall.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/support/fake_time.h"
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace ardcell {
+namespace {
+
+struct Painted {
+  StrokeSample sample;
+  int source;
+};
+
+// Dye over the whole grid; remembers what it was asked to paint, and from which screen.
+class RecordingSimulation final : public LiveSimulation {
+ public:
+  explicit RecordingSimulation(const Preset& p) {
+    state_.size = p.scene.size;
+    state_.dye = FieldF(p.scene.size, 1);
+    for (int y = 0; y < state_.size.y; ++y)
+      for (int x = 0; x < state_.size.x; ++x) state_.dye(x, y) = float(x + y) / 32.0f;
+  }
+  void step() override { ++steps; }
+  void reset() override {}
+  const SimState& state() const override { return state_; }
+  void apply(const SceneConfig&) override {}
+  void paint(std::span<const StrokeSample> samples, const InputMapping&, int source) override {
+    for (const StrokeSample& s : samples) painted.push_back({s, source});
+  }
+  std::string_view backend() const override { return "fake"; }
+  int64_t steps = 0;
+  std::vector<Painted> painted;
+
+ private:
+  SimState state_;
+};
+
+class NullDisplay final : public LiveDisplay {
+ public:
+  void poll(StrokeRing&, CommandQueue&) override {}
+  void present(const ImageRgb8& frame, const HudInfo*) override {
+    ++presents;
+    size = {frame.width, frame.height};
+  }
+  int64_t presents = 0;
+  Int2 size{};
+};
+
+// Two screens side by side on a 16 x 16 grid, 2 bezel cells between them; this process is
+// screen `me`, the other screen's input of frame f is other[f] (none past the end).
+class TwoScreenWall final : public LiveWall {
+ public:
+  explicit TwoScreenWall(int me) : layout_(BlockLayout::split({16, 16}, {2, 1})), me_(me) {}
+  int screens() const override { return 2; }
+  int screen() const override { return me_; }
+  Int2 grid() const override { return {16, 16}; }
+  Box2 block() const override { return layout_.block(me_); }
+  Box2 view() const override { return wall_view(layout_, me_, 2); }
+  std::span<const WallInput> share(const WallInput& mine) override {
+    sent.push_back(mine);
+    all_[std::size_t(me_)] = mine;
+    all_[std::size_t(1 - me_)] = frame_ < other.size() ? other[frame_] : WallInput{};
+    ++frame_;
+    return all_;
+  }
+  void agree_range(float&, float&) override {}
+  void before_present() override { ++barriers; }
+  bool gather_image(const ImageRgb8& mine, ImageRgb8& wall) override {
+    if (me_ != 0) return false;
+    wall.resize(16, 16);
+    place_on_wall(mine, view(), grid(), 1, wall);
+    return true;
+  }
+  std::vector<WallInput> other, sent;
+  int barriers = 0;
+
+ private:
+  BlockLayout layout_;
+  int me_;
+  std::size_t frame_ = 0;
+  std::array<WallInput, 2> all_{};
+};
+
+struct WallFixture {
+  std::filesystem::path dir;
+  FakeTime time;
+  NullDisplay display;
+  RecordingSimulation* sim = nullptr;
+  int builds = 0;
+  std::vector<ImageRgb8> shots;
+
+  WallFixture() {
+    dir = std::filesystem::temp_directory_path() /
+          ("ardcell_live_wall_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "wall.toml") << "[grid]\nsize = [16, 16]\n[output]\nshow = \"dye\"\n";
+  }
+  ~WallFixture() { std::filesystem::remove_all(dir); }
+  std::string preset() const { return (dir / "wall.toml").string(); }
+  LiveOptions options(TwoScreenWall& wall) {
+    LiveOptions o;
+    o.fps = 60;
+    o.time = &time;
+    o.log = nullptr;
+    o.wall = &wall;
+    o.playlist = {preset(), "cavity"};
+    o.screenshotter = [this](const std::string&, Int2, double,
+                             Status&) -> std::unique_ptr<FrameWriter> {
+      struct Keep final : FrameWriter {
+        std::vector<ImageRgb8>* to;
+        Status write(const ImageRgb8& f) override {
+          to->push_back(f);
+          return Status::ok();
+        }
+        Status finish() override { return Status::ok(); }
+      };
+      auto w = std::make_unique<Keep>();
+      w->to = &shots;
+      return w;
+    };
+    return o;
+  }
+  SimulationFactory factory() {
+    return [this](const Preset& p) {
+      ++builds;
+      auto s = std::make_unique<RecordingSimulation>(p);
+      sim = s.get();
+      return s;
+    };
+  }
+};
+
+StrokeSample touch(float x, float y) {
+  StrokeSample s;
+  s.x = x;
+  s.y = y;
+  s.pressure = 1.0f;
+  s.buttons = kButtonTip;
+  s.in_range = true;
+  return s;
+}
+
+TEST(WallView, HidesTheBezelAtInnerEdgesOnly) {
+  const BlockLayout layout = BlockLayout::split({20, 12}, {2, 2});
+  // 5 bezel cells: the left / lower screen hides 2, the other 3.
+  EXPECT_EQ(wall_view(layout, 0, 5), (Box2{{0, 0}, {8, 4}}));
+  EXPECT_EQ(wall_view(layout, 1, 5), (Box2{{13, 0}, {20, 4}}));
+  EXPECT_EQ(wall_view(layout, 2, 5), (Box2{{0, 9}, {8, 12}}));
+  EXPECT_EQ(wall_view(layout, 3, 5), (Box2{{13, 9}, {20, 12}}));
+  EXPECT_EQ(wall_view(layout, 3, 0), layout.block(3));
+}
+
+TEST(LiveWall, EveryScreensStrokesAndCommandsActOnEveryScreen) {
+  WallFixture fx;
+  TwoScreenWall wall(1);
+  WallInput other;
+  other.samples = 1;
+  other.sample[0] = touch(0.25f, 0.75f);  // screen 0's strokes come normalised to the grid
+  other.commands = 1;
+  other.command[0] = LiveCommand::make(LiveCommandKind::kSetPause, 1);
+  other.activity = true;
+  wall.other = {other};
+  LiveLoop loop(fx.options(wall), fx.factory(), fx.display);
+  ASSERT_TRUE(loop.start(fx.preset()).is_ok());
+  // This screen shows cells x 9..15 of the grid: the middle of its window is x = 12.5 cells.
+  loop.input().push(touch(0.5f, 0.25f));
+  ASSERT_TRUE(loop.run_frame());
+  ASSERT_EQ(wall.sent.size(), 1u);
+  ASSERT_EQ(wall.sent[0].samples, 1);
+  EXPECT_FLOAT_EQ(wall.sent[0].sample[0].x, 12.5f / 16.0f);
+  EXPECT_FLOAT_EQ(wall.sent[0].sample[0].y, 0.25f);
+  EXPECT_TRUE(wall.sent[0].activity);
+  // Both screens' strokes, in screen order, each screen its own input source.
+  ASSERT_EQ(fx.sim->painted.size(), 2u);
+  EXPECT_EQ(fx.sim->painted[0].source, 0);
+  EXPECT_FLOAT_EQ(fx.sim->painted[0].sample.x, 0.25f);
+  EXPECT_EQ(fx.sim->painted[1].source, 1);
+  EXPECT_FLOAT_EQ(fx.sim->painted[1].sample.x, 12.5f / 16.0f);
+  // Screen 0's pause reached this screen; its frame showed the view, after the barrier.
+  EXPECT_TRUE(loop.paused());
+  EXPECT_EQ(fx.display.size, (Int2{7, 16}));
+  EXPECT_EQ(wall.barriers, 1);
+}
+
+TEST(LiveWall, AStopOnAnyScreenEndsEveryScreenAfterThatFrame) {
+  WallFixture fx;
+  TwoScreenWall wall(0);
+  wall.other.resize(3);
+  wall.other[2].stop = true;  // a signal on the other screen in the third frame
+  LiveOptions o = fx.options(wall);
+  std::atomic<bool> stop{false};
+  o.stop = &stop;
+  LiveLoop loop(o, fx.factory(), fx.display);
+  ASSERT_TRUE(loop.start(fx.preset()).is_ok());
+  ASSERT_TRUE(loop.run().is_ok());
+  EXPECT_EQ(loop.frames(), 3);
+  EXPECT_EQ(fx.display.presents, 3);
+  EXPECT_EQ(wall.barriers, 3);
+  // This screen's own signal goes to the others with the frame's input instead of quitting.
+  TwoScreenWall second(1);
+  LiveOptions o2 = fx.options(second);
+  o2.stop = &stop;
+  LiveLoop loop2(o2, fx.factory(), fx.display);
+  ASSERT_TRUE(loop2.start(fx.preset()).is_ok());
+  stop = true;
+  EXPECT_FALSE(loop2.run_frame());  // the frame runs to its end on every screen, the last
+  ASSERT_EQ(second.sent.size(), 1u);
+  EXPECT_TRUE(second.sent[0].stop);
+  EXPECT_EQ(loop2.frames(), 1);
+  EXPECT_EQ(second.barriers, 1);
+}
+
+TEST(LiveWall, KeepsItsPresetRecordsNothingAndShootsTheWholeWall) {
+  WallFixture fx;
+  TwoScreenWall wall(0);
+  LiveLoop loop(fx.options(wall), fx.factory(), fx.display);
+  ASSERT_TRUE(loop.start(fx.preset()).is_ok());
+  loop.commands().push(LiveCommand::make(LiveCommandKind::kNextPreset));
+  loop.run_frame();
+  EXPECT_NE(loop.last_message().find("a wall keeps its preset"), std::string::npos);
+  EXPECT_FALSE(loop.switch_pending());
+  EXPECT_EQ(fx.builds, 1);
+  loop.commands().push(LiveCommand::make(LiveCommandKind::kToggleRecord));
+  loop.run_frame();
+  EXPECT_NE(loop.last_message().find("recording: not on a wall"), std::string::npos);
+  EXPECT_FALSE(loop.recording());
+  loop.commands().push(LiveCommand::with_text(LiveCommandKind::kScreenshot, "wall.png"));
+  loop.run_frame();
+  ASSERT_EQ(fx.shots.size(), 1u);
+  const ImageRgb8& shot = fx.shots[0];
+  ASSERT_EQ(shot.width, 16);
+  ASSERT_EQ(shot.height, 16);
+  // This screen's view (x 0..6) drawn; the bezel cell x = 7 and the other screen left black.
+  const auto black = [&](int x, int y) {
+    const uint8_t* p = shot.row(y) + 3 * x;
+    return p[0] == 0 && p[1] == 0 && p[2] == 0;
+  };
+  for (int y = 0; y < 16; ++y) {
+    EXPECT_FALSE(black(3, y)) << y;
+    EXPECT_TRUE(black(7, y)) << y;
+    EXPECT_TRUE(black(12, y)) << y;
+  }
+  EXPECT_EQ(std::memcmp(shot.row(0), loop.image().row(0), 7 * 3), 0);
+}
+
+}  // namespace
+}  // namespace ardcell
