@@ -58,6 +58,22 @@ bool CommandQueue::pop(LiveCommand& c) {
 }
 
 void LiveLoop::handle(const LiveCommand& c) {
+  // A wall keeps the preset its blocks were cut for, and records nothing.
+  if (options_.wall) {
+    switch (c.kind) {
+      case LiveCommandKind::kNextPreset:
+      case LiveCommandKind::kPrevPreset:
+      case LiveCommandKind::kSelectPreset:
+        notice("a wall keeps its preset (start the wall again to change it)");
+        return;
+      case LiveCommandKind::kRecordStart:
+      case LiveCommandKind::kToggleRecord:
+        notice("recording: not on a wall (record a screen's output instead)");
+        return;
+      default:
+        break;
+    }
+  }
   const auto& names = options_.playlist;
   switch (c.kind) {
     case LiveCommandKind::kQuit:
@@ -65,10 +81,6 @@ void LiveLoop::handle(const LiveCommand& c) {
       break;
     case LiveCommandKind::kNextPreset:
     case LiveCommandKind::kPrevPreset:
-      if (options_.wall) {
-        notice("a wall keeps its preset (start the wall again to change it)");
-        break;
-      }
       if (names.empty()) {
         notice("no preset playlist");
         break;
@@ -79,10 +91,6 @@ void LiveLoop::handle(const LiveCommand& c) {
       request_preset(names[size_t(playlist_index_)]);
       break;
     case LiveCommandKind::kSelectPreset:
-      if (options_.wall) {
-        notice("a wall keeps its preset (start the wall again to change it)");
-        break;
-      }
       request_preset(c.text.data());
       break;
     case LiveCommandKind::kReset:
@@ -144,20 +152,12 @@ void LiveLoop::handle(const LiveCommand& c) {
       break;
     }
     case LiveCommandKind::kRecordStart:
-      if (options_.wall) {
-        notice("recording: not on a wall (record a screen's output instead)");
-        break;
-      }
       start_recording(c.text.data());
       break;
     case LiveCommandKind::kRecordStop:
       stop_recording();
       break;
     case LiveCommandKind::kToggleRecord:
-      if (options_.wall) {
-        notice("recording: not on a wall (record a screen's output instead)");
-        break;
-      }
       if (recorder_)
         stop_recording();
       else
