@@ -189,16 +189,47 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (std::string why = check_wall_args(a, backend); !why.empty())
     return cli_usage_error(ctx, "live", why);
   const bool walled = a.wall_opt->count() > 0;
-  int screen = 0;  // on a wall, this process's screen (its rank)
+  [[maybe_unused]] int screen = 0;  // on a wall, this process's screen (its rank)
+  [[maybe_unused]] std::FILE* const own_err = ctx.err;  // before a wall quiets screens but 0
+  // Once MPI runs, every screen of a wall agrees once whether all of them could start (an
+  // all-reduce): one that cannot (a preset file, a display, a GPIO chip or an OSC port missing on
+  // its host) must not leave the others waiting for it in their first frame. What every screen
+  // checks alike, screen 0 says; what failed on one host, that screen says on its own stderr.
+  [[maybe_unused]] bool agreed = false;
+#if defined(ARDCELL_WITH_MPI)
+  RankJob job;
+#endif
+  const auto fail = [&](int code, const std::string& line, bool local) {
+#if defined(ARDCELL_WITH_MPI)
+    if (walled && !agreed) {
+      if (local && screen != 0)
+        std::fprintf(own_err, "ardcell live: screen %d: %s\n", screen, line.c_str());
+      else
+        std::fprintf(ctx.err, "ardcell live: %s\n", line.c_str());
+      agreed = true;
+      job.world->any(true);
+      return code;
+    }
+#endif
+    (void)local;
+    if (code == kExitUsage) return cli_usage_error(ctx, "live", line);
+    std::fprintf(ctx.err, "ardcell live: %s\n", line.c_str());
+    return code;
+  };
 #if defined(ARDCELL_WITH_MPI)
   // --wall: this process is one screen of an mpirun, showing the block of the grid it runs.
-  RankJob job;
   if (walled) {
     if (backend == BackendKind::kAuto) backend = BackendKind::kThreads;
     opencl_asked = false;
+    // A wrong layout or process count is every screen's: they leave together at once.
     if (std::string why = start_rank_job("--wall", a.wall, ctx, job); !why.empty())
       return cli_usage_error(ctx, "live", why);
     screen = job.world->rank();
+    if (job.world->size() > LiveSimulation::kMaxInputSources)
+      return fail(kExitUsage,
+                  "--wall " + a.wall + ": at most " +
+                      std::to_string(LiveSimulation::kMaxInputSources) + " screens",
+                  false);
   }
 #else
   if (walled)
@@ -207,19 +238,19 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                            "-DARDCELL_WITH_MPI=ON and libopenmpi-dev)");
 #endif
   if (a.osc_port >= 0 && !a.osc_remote && is_remote_address(a.osc_bind))
-    return cli_usage_error(ctx, "live",
-                           "--osc-bind " + a.osc_bind +
-                               ": listening beyond 127.0.0.0/8 lets anyone on the network "
-                               "control the display (expected a loopback address, or "
-                               "--osc-remote to allow it)");
+    return fail(kExitUsage,
+                "--osc-bind " + a.osc_bind +
+                    ": listening beyond 127.0.0.0/8 lets anyone on the network "
+                    "control the display (expected a loopback address, or "
+                    "--osc-remote to allow it)",
+                false);
   for (const std::string& dir : a.preset_dirs)
     if (std::error_code ec; !std::filesystem::is_directory(dir, ec))
-      return cli_usage_error(ctx, "live",
-                             "--preset-dir " + dir +
-                                 ": not a folder (expected a "
-                                 "folder of .toml presets)");
+      return fail(kExitUsage,
+                  "--preset-dir " + dir + ": not a folder (expected a folder of .toml presets)",
+                  true);
 #ifndef ARDCELL_WITH_SDL2
-  return cli_usage_error(ctx, "live", "this build has no SDL2 display (ARDCELL_WITH_SDL2=OFF)");
+  return fail(kExitUsage, "this build has no SDL2 display (ARDCELL_WITH_SDL2=OFF)", false);
 #else
   LiveOptions o;
   o.playlist = a.playlist.empty() ? preset_names() : a.playlist;
@@ -228,25 +259,26 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                                                  : o.playlist.front();
   Preset preset;
   if (Status s = load_live_preset(first, preset, a.realtime_solvers); !s)
-    return cli_usage_error(ctx, "live", s.message());
+    return fail(kExitUsage, s.message(), true);
   for (const std::string& name : a.playlist) {
     Preset p;
     if (Status s = load_live_preset(name, p); !s)
-      return cli_usage_error(ctx, "live", "--playlist " + name + ": " + s.message());
+      return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
   }
-  // Every destination is checked before the window opens.
+  // Every destination is checked before the window opens (on a wall, screen 0 writes them).
   if (!a.record.empty())
     if (Status s = check_output_path(a.record, false); !s)
-      return cli_usage_error(ctx, "live", "--record " + s.message());
-  if (!a.screenshot.empty())
+      return fail(kExitUsage, "--record " + s.message(), true);
+  if (!a.screenshot.empty() && screen == 0)
     if (Status s = check_output_path(a.screenshot, false); !s)
-      return cli_usage_error(ctx, "live", "--screenshot " + s.message());
-  if (std::error_code ec; !std::filesystem::is_directory(a.screenshot_dir, ec))
-    return cli_usage_error(
-        ctx, "live",
-        "--screenshot-dir " + a.screenshot_dir + ": not a folder (expected an existing folder)");
-  if (Status s = check_output_path(a.screenshot_dir, true); !s)
-    return cli_usage_error(ctx, "live", "--screenshot-dir " + s.message());
+      return fail(kExitUsage, "--screenshot " + s.message(), true);
+  if (std::error_code ec; screen == 0 && !std::filesystem::is_directory(a.screenshot_dir, ec))
+    return fail(
+        kExitUsage,
+        "--screenshot-dir " + a.screenshot_dir + ": not a folder (expected an existing folder)",
+        true);
+  if (Status s = check_output_path(a.screenshot_dir, true); screen == 0 && !s)
+    return fail(kExitUsage, "--screenshot-dir " + s.message(), true);
   if (a.rt) request_realtime(ctx.err);
 
   // Declared before the loop: the simulations it makes must outlive it.
@@ -258,15 +290,16 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (walled) {
     if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);
         !why.empty())
-      return cli_usage_error(ctx, "live", why);
+      return fail(kExitUsage, why, false);
     const int bezel_cells = a.bezel > 0 ? (a.bezel + a.scale - 1) / a.scale : 0;
     for (int b = 0; b < job.layout->count(); ++b)
       if (wall_view(*job.layout, b, bezel_cells).empty())
-        return cli_usage_error(ctx, "live",
-                               "--bezel " + std::to_string(a.bezel) + ": hides every cell of a " +
-                                   std::to_string(job.layout->block(b).width()) + "x" +
-                                   std::to_string(job.layout->block(b).height()) +
-                                   " screen (expected a smaller bezel or a larger grid)");
+        return fail(kExitUsage,
+                    "--bezel " + std::to_string(a.bezel) + ": hides every cell of a " +
+                        std::to_string(job.layout->block(b).width()) + "x" +
+                        std::to_string(job.layout->block(b).height()) +
+                        " screen (expected a smaller bezel or a larger grid)",
+                    false);
     wall = std::make_unique<RankWall>(*job.layout, bezel_cells, *job.world);
     window_cells = wall->view().size();
   }
@@ -281,11 +314,11 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                                    .scale = a.scale,
                                    .title = title},
                                   window_cells, error);
-  if (!display) {
-    std::fprintf(ctx.err, "ardcell live: %s\n", error.message().c_str());
-    return kExitFailure;
-  }
-  o.fps = a.fps > 0 ? a.fps : (display->refresh_rate() > 0 ? display->refresh_rate() : 60.0);
+  if (!display) return fail(kExitFailure, error.message(), true);
+  // A wall's screens pace alike (a barrier joins their frames anyway): 60 Hz unless told.
+  o.fps = a.fps > 0                                ? a.fps
+          : !walled && display->refresh_rate() > 0 ? display->refresh_rate()
+                                                   : 60.0;
   o.max_frames = a.frames;
   o.hud = a.hud;
   o.adaptive = !a.no_adaptive;
@@ -321,7 +354,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   StopSignals signals;
   o.stop = &StopSignals::requested();
   LiveLoop loop(o, factory, *display);
-  if (Status s = loop.start(first); !s) return cli_usage_error(ctx, "live", s.message());
+  if (Status s = loop.start(first); !s) return fail(kExitUsage, s.message(), true);
   std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
                loop.simulation().backend().data());
   install_report_signal();
@@ -343,7 +376,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (!a.gpio_config.empty()) {
     GpioConfig cfg;
     if (Status s = load_gpio_config(a.gpio_config, cfg); !s)
-      return cli_usage_error(ctx, "live", s.message());
+      return fail(kExitUsage, s.message(), true);
     Status gs = Status::ok();
     auto src = open_gpiod_source(cfg, gs);
     if (src)
@@ -362,7 +395,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     Status os = Status::ok();
     osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(),
                            loop.remote_log(), os, a.preset_dirs);
-    if (!osc) return cli_usage_error(ctx, "live", os.message());
+    if (!osc) return fail(kExitUsage, os.message(), true);
     std::fprintf(ctx.err, "ardcell live: OSC on udp://%s:%d\n", a.osc_bind.c_str(), osc->port());
     if (is_remote_address(a.osc_bind))
       std::fprintf(ctx.err,
@@ -373,7 +406,15 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   }
 #else
   if (a.osc_port >= 0)
-    return cli_usage_error(ctx, "live", "--osc: this build has no liblo (ARDCELL_WITH_LIBLO=OFF)");
+    return fail(kExitUsage, "--osc: this build has no liblo (ARDCELL_WITH_LIBLO=OFF)", false);
+#endif
+#if defined(ARDCELL_WITH_MPI)
+  // Every screen started, or every screen leaves (the one that could not said why).
+  if (walled && job.world->any(false)) {
+    std::fprintf(ctx.err,
+                 "ardcell live: another screen of the wall could not start (its line above)\n");
+    return kExitFailure;
+  }
 #endif
 
   // The watchdog thread waits on `stopped` between pings, so that the end of the loop wakes it

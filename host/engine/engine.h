@@ -65,8 +65,9 @@ class Engine {
   // before the frame is done: finish() waits (state() does too).
   void step();
   void finish();
-  // The same frame without the RD stage (fluid, time and step count only): for a caller that
-  // advances A and B itself, as the live display does on a coarser RD grid.
+  // The same frame without the plan's rd stages (fluid, time and step count only): for a caller
+  // that advances A and B itself, as the live display does on a coarser RD grid. A plan whose
+  // RD rides in its fluid passes (table1) runs all of them.
   void step_without_rd();
 
   // Applies the non-structural parameters of `next` from the next frame on, with no reset and

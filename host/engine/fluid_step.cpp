@@ -176,7 +176,7 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
       fill_u_ = fill_v_ = BoundaryFill::copy();
       break;
     case FluidSceneKind::kTable1:  // a frame plan of its own (host/engine/table1_plan.h)
-      ARDCELL_CHECK(false, "FluidStep: the table1 scene runs as a frame plan");
+      ARDCELL_CHECK(false, "FluidStep: the table1 scene runs as tile passes (Table1Plan)");
       break;
   }
 

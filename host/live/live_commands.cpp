@@ -139,9 +139,9 @@ void LiveLoop::handle(const LiveCommand& c) {
     }
     case LiveCommandKind::kScreenshot: {
       // A remote sender gets one screenshot a second: a flood must not fill the disk. A wall's
-      // screens count frames, so that all of them decide alike.
-      const int64_t now = options_.wall ? frame_ * std::max<int64_t>(clock_.period_ns(), 16'666'667)
-                                        : clock_.frame_begin_ns();
+      // screens count frames (at a nominal 60 Hz, whatever each paces at), so that all of them
+      // decide alike and gather the screenshot together.
+      const int64_t now = options_.wall ? frame_ * kWallFrameNs : clock_.frame_begin_ns();
       if (c.remote && last_remote_screenshot_ns_ >= 0 &&
           now - last_remote_screenshot_ns_ < kRemoteScreenshotIntervalNs) {
         notice("screenshot refused: remote commands get at most one a second");
@@ -186,17 +186,24 @@ void LiveLoop::share_wall_input(bool stop, double now) {
     else
       mine.command[size_t(mine.commands++)] = c;
   }
-  // This screen's strokes, normalised to its view, normalised to the grid (y from the top).
+  // This screen's pointer strokes, normalised to its view, normalised to the grid (y from the
+  // top); a sample off the view (a drag past the window's edge) lifts the pen rather than paint
+  // another screen's cells. Remote strokes (OSC) come normalised to the whole canvas already.
   const Box2 view = wall.view();
   const Int2 grid = wall.grid();
   const std::span<StrokeSample> free = std::span(mine.sample).subspan(size_t(mine.samples));
   size_t n = input_.pop_many(free);
-  n += remote_input_.pop_many(free.subspan(n));
   for (size_t i = 0; i < n; ++i) {
     StrokeSample& s = free[i];
+    if (!(s.x >= 0.0f && s.x <= 1.0f && s.y >= 0.0f && s.y <= 1.0f)) {
+      s.buttons = 0;
+      s.pressure = 0.0f;
+      s.in_range = false;
+    }
     s.x = float((view.min.x + double(s.x) * view.width()) / grid.x);
     s.y = float((grid.y - view.max.y + double(s.y) * view.height()) / grid.y);
   }
+  n += remote_input_.pop_many(free.subspan(n));
   mine.samples += int(n);
   mine.activity = mine.activity || n > 0;
 

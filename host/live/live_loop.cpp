@@ -503,16 +503,17 @@ Status LiveLoop::run() {
   abandon_switch();                       // quitting never waits for a preset still loading
   if (!options_.exit_screenshot.empty()) {
     ImageRgb8 shot;
-    if (!display_.read_back(shot)) shot = image_;
-    // A wall's: every screen's window, placed as the views lie; screen 0 writes it.
+    // A wall's: every screen's frame (not its window, whose size and letterbox are its own),
+    // placed as the views lie; screen 0 writes it.
     if (options_.wall) {
-      ImageRgb8 screen = std::move(shot);
-      if (!options_.wall->gather_image(screen, shot)) {
+      if (!options_.wall->gather_image(image_, shot)) {
         stop_recording();
         remote_log_.finish();
         if (options_.log) clock_.print_report(options_.log);
         return Status::ok();
       }
+    } else if (!display_.read_back(shot)) {
+      shot = image_;
     }
     Status s = Status::ok();
     auto writer =

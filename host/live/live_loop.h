@@ -181,7 +181,8 @@ struct LiveOptions {
   // the other screens every frame, the view of its block drawn in the range they agree on, and
   // a frame presented when every screen has it. A wall keeps its preset, does not record, does
   // not adapt its quality (the screens would step different solvers) nor pipeline; a
-  // screenshot is the whole wall's, written by screen 0.
+  // screenshot (S, OSC, --screenshot) is the whole wall's frame, one pixel a cell, the bezels'
+  // cells black, written by screen 0.
   LiveWall* wall = nullptr;
 };
 
@@ -266,6 +267,7 @@ class LiveLoop {
   RemoteLog remote_log_;
   bool remote_cause_ = false;  // the command or switch being handled came from a remote sender
   static constexpr int64_t kRemoteScreenshotIntervalNs = 1'000'000'000;
+  static constexpr int64_t kWallFrameNs = 16'666'667;
   int64_t last_remote_screenshot_ns_ = -1;  // frame clock time of the last remote screenshot
   AdaptiveQuality quality_;
   CommandQueue commands_;

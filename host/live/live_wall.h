@@ -46,7 +46,8 @@ class LiveWall {
   virtual void before_present() = 0;
   // Every screen's image of its view, placed as the views lie on the grid (image rows top down,
   // the bezels black), in `wall` on screen 0, which returns true; the others return false. All
-  // screens call it together; images are in window pixels, the same number per cell on each.
+  // screens call it together, each image at the same number of pixels per cell (the live loop's
+  // frames: one).
   virtual bool gather_image(const ImageRgb8& mine, ImageRgb8& wall) = 0;
 };
 

@@ -7,7 +7,10 @@ namespace ardcell {
 namespace {
 
 // Reads one field's value at a cell. Vorticity and speed are derived from u and v with
-// one-sided differences at the border so that no halo value is ever read.
+// one-sided differences at the grid's border, so that no ghost cell is read. On a block of a
+// decomposed grid, vorticity at an inner edge reads the neighbour's cells in the block's halo:
+// as current as the plan's last exchange of u and v (the table1 plans exchange them after their
+// last write, for the dye's advection).
 class Sampler {
  public:
   Sampler(const SimState& s, FrameField f) : s_(s), f_(f) {}

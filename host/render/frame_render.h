@@ -58,7 +58,7 @@ struct RenderStats {
 };
 
 // The value drawn at cell (x, y) (speed and vorticity derived from u, v; vorticity by
-// central differences, one-sided at the border, so no halo cell is read).
+// central differences, one-sided at the grid's border, so no ghost cell is read).
 float frame_field_value(const SimState& state, FrameField field, int x, int y);
 
 // The least and greatest finite value of the field over `cells` (solid cells left out) and its

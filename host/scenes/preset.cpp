@@ -152,7 +152,7 @@ const ParamSpec kParams[] = {
     ARD_INTEGER("grid.steps", scene.default_steps, 1, 1e9, false,
                 "frames for `ardcell run` without --steps"),
     ARD_ENUM("fluid.scene", scene.fluid.kind, kFluidScenes, true,
-             "none | cavity | obstacle | ink | table1 (the Table 1 workload as a frame plan)"),
+             "none | cavity | obstacle | ink | table1 (the Table 1 workload, of tile passes)"),
     ARD_NUMBER("fluid.viscosity", scene.fluid.viscosity, 0, 1e3, false, "kinematic viscosity"),
     ARD_NUMBER("fluid.lid_speed", scene.fluid.lid_speed, -1e3, 1e3, false, "cavity lid speed"),
     ARD_NUMBER("fluid.dye_diffusion", scene.fluid.dye_diffusion, 0, 1e3, false,

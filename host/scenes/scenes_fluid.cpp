@@ -112,7 +112,7 @@ SceneConfig ink_scene() {
 // seed 000's Table 1 workload (section 7.2; bench/README.md): Stam's stable fluid in a free-slip
 // box, 20 Jacobi sweeps a solve, stirred by four turning splats; with `rd`, Gray-Scott riding on
 // it (F 0.055, k 0.062, one RD time unit a frame, D_A 1 and D_B 0.5 cells^2 per unit). The
-// engine runs it as a frame plan (host/engine/table1_plan.h; `--schedule`).
+// engine runs it as a frame plan of tile passes (host/engine/table1_plan.h; `--schedule`).
 SceneConfig table1_scene(bool rd) {
   SceneConfig s;
   s.name = rd ? "table1-ard" : "table1";

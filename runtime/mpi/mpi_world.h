@@ -1,7 +1,9 @@
 #pragma once
-// The processes of one run through Open MPI (`mpirun -np N ardcell run ... --ranks WxH`): each
-// rank runs one block of the grid (runtime/block_layout.h), its frame plan's halo exchange going
-// through MpiHaloChannel, and rank 0 gathers the blocks for what is written. Nothing above
+// The processes of one run through Open MPI (`mpirun -np N ardcell run ... --ranks WxH`, and the
+// screens of `ardcell live --wall WxH`): each rank runs one block of the grid
+// (runtime/block_layout.h), its frame plan's halo exchange going through MpiHaloChannel, and
+// rank 0 gathers the blocks for what is written; a wall's screens also share their input and
+// wait for each other through MpiWorld's collectives. Nothing above
 // runtime/ includes mpi.h: this header is the whole of MPI the rest of ardcell sees.
 #include <cstddef>
 #include <span>

@@ -1,10 +1,10 @@
 // `mpirun -np N ardcell live PRESET --wall WxH` through the real binary, Open MPI's mpirun
 // (ARDCELL_MPIEXEC) and SDL windows under the test's X display (Xvfb in CI): each rank shows its
-// block of one table1-ard simulation in a window of its own, and the wall's screenshot (every
-// window, gathered on rank 0 and placed as the views lie) is the bytes of one process's window
-// after the same frames, for 2 and 4 screens (2x1, 1x2, 2x2); with a bezel the hidden cells are
-// black and every other pixel is one process's. A signal to one screen ends every screen; bad
-// wall settings exit 2 with one line.
+// block of one table1-ard simulation in a window of its own (2 pixels a cell), and the wall's
+// screenshot (every screen's frame, gathered on rank 0 and placed as the views lie) is the bytes
+// of one process's window at one pixel a cell after the same frames, for 2 and 4 screens (2x1,
+// 1x2, 2x2); with a bezel the hidden cells are black and every other pixel is one process's. A
+// signal to one screen ends every screen; bad wall settings exit 2 with one line.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -32,8 +32,9 @@ class LiveWallCliTest : public BinaryRunTest {
     std::ofstream(work() / "wall.toml") << preset;
   }
   bool has_display() const { return std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"); }
+  // One process's window at one pixel a cell: the frame a wall's screenshot shows.
   BinaryRunResult live(const std::string& args) {
-    return run("live wall.toml --fps 0 --no-vsync --scale 2 " + args);
+    return run("live wall.toml --fps 0 --no-vsync --scale 1 " + args);
   }
   BinaryRunResult wall(int ranks, const std::string& args) {
     return run_command(mpi_env() + "exec '" ARDCELL_MPIEXEC "' --oversubscribe -np " +
@@ -71,9 +72,11 @@ TEST_F(LiveWallCliTest, BezelCellsAreHiddenAndTheRestIsOneProcesssFrame) {
   ASSERT_EQ(r.code, 0) << r.err;
   const PngInfo one = read_png(work() / "one.png"), w = read_png(work() / "wall.png");
   ASSERT_TRUE(one.ok && w.ok);
+  ASSERT_EQ(w.width, 96);
+  ASSERT_EQ(w.height, 64);
   ASSERT_EQ(w.width, one.width);
   ASSERT_EQ(w.height, one.height);
-  const int gap_lo = (48 - 2) * 2, gap_hi = (48 + 2) * 2;  // pixel columns of cells 46..49
+  const int gap_lo = 48 - 2, gap_hi = 48 + 2;  // the hidden cells' columns
   int black = 0, same = 0, others = 0;
   for (int y = 0; y < w.height; ++y)
     for (int x = 0; x < w.width; ++x) {
@@ -104,6 +107,25 @@ TEST_F(LiveWallCliTest, ASignalToOneScreenEndsTheWall) {
   EXPECT_NE(r.out.find("ended=0"), std::string::npos) << r.out << r.err;
   // Rank 0 printed its report: it left its loop as after Esc.
   EXPECT_NE(r.err.find("deadline misses"), std::string::npos) << r.err;
+}
+
+// A screen that cannot start (here screen 1's GPIO file is missing: what differs between hosts)
+// says so, naming itself, and every screen leaves instead of waiting for it.
+TEST_F(LiveWallCliTest, AScreenThatCannotStartEndsTheWall) {
+  if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
+  const std::string screen =
+      "'" ARDCELL_BINARY "' live wall.toml --fps 0 --no-vsync --scale 1 --wall 2x1 --frames 5 ";
+  const BinaryRunResult r =
+      run_command(mpi_env() + "exec timeout 60 '" ARDCELL_MPIEXEC "' --oversubscribe -np 1 " +
+                  screen + ": -np 1 " + screen + "--gpio missing.toml");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.code, 124) << "the wall hung: " << r.err;
+  EXPECT_NE(r.err.find("ardcell live: screen 1: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("missing.toml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ardcell live: another screen of the wall could not start"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("deadline misses"), std::string::npos) << r.err;
 }
 
 // Under mpirun every rank checks alike and rank 0 says it in one line, then mpirun says that a
