@@ -49,7 +49,7 @@ namespace {
 
 struct LiveArgs {
   std::string preset;
-  double fps = 0;
+  double fps = -1;  // -1: not given
   bool rt = false;
   int osc_port = -1;
   std::string osc_bind = "127.0.0.1";
@@ -316,7 +316,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                                   window_cells, error);
   if (!display) return fail(kExitFailure, error.message(), true);
   // A wall's screens pace alike (a barrier joins their frames anyway): 60 Hz unless told.
-  o.fps = a.fps > 0                                ? a.fps
+  o.fps = a.fps >= 0                               ? a.fps
           : !walled && display->refresh_rate() > 0 ? display->refresh_rate()
                                                    : 60.0;
   o.max_frames = a.frames;
@@ -467,7 +467,8 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   CLI::App* live = app.add_subcommand(
       "live", "Real-time window: paint with mouse, touch or pen; presets, kiosk, OSC");
   live->add_option("preset", args->preset, "Preset name or .toml path (`--list`)");
-  live->add_option("--fps", args->fps, "Target frame rate (default: the display's refresh)")
+  live->add_option("--fps", args->fps,
+                   "Target frame rate, 0 unpaced (default: the display's refresh; a wall's 60)")
       ->check(finite_range(0.0, 1000.0));
   live->add_flag("--rt", args->rt, "Ask for SCHED_FIFO and mlockall (goes on when refused)");
   live->add_option("--osc", args->osc_port, "Listen for OSC on this UDP port")
