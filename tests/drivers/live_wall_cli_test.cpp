@@ -109,7 +109,8 @@ TEST_F(LiveWallCliTest, ASignalToOneScreenEndsTheWall) {
                   // place by then) and the first frames have joined both screens.
                   "for i in $(seq 600); do grep -q 'ardcell live: backend' ../stderr && break; "
                   "sleep 0.1; done; sleep 1; "
-                  "pkill -TERM -n -f 'live wall.toml .*--wall 2x1'; "
+                  // The newest of this mpirun's own ranks (other tests run walls beside it).
+                  "pkill -TERM -n -P $job; "
                   "timeout 60 tail --pid=$job -f /dev/null; echo ended=$? )");
   EXPECT_NE(r.out.find("ended=0"), std::string::npos) << r.out << r.err;
   // Rank 0 printed its report: it left its loop as after Esc.
