@@ -318,14 +318,19 @@ int FramePlan::add_stage(StageDesc desc) {
 
 bool FramePlan::is_stage(int i) const { return passes_.at(std::size_t(i))->stage != nullptr; }
 
-void FramePlan::run(Backend& backend, bool with_rd) {
-  using Clock = std::chrono::steady_clock;
-  auto start = Clock::now();
-  const auto charge = [&](std::size_t i) {
-    const auto now = Clock::now();
-    pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
+// Charges the time since the last charge to step i.
+struct FramePlan::StepClock {
+  std::array<std::int64_t, kMaxPasses>& ns;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  void operator()(std::size_t i) {
+    const auto now = std::chrono::steady_clock::now();
+    ns[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
     start = now;
-  };
+  }
+};
+
+void FramePlan::run(Backend& backend, bool with_rd) {
+  StepClock charge{pass_ns_};
   bool synced = true;
   std::size_t unsynced = 0;  // the last pass dispatched without a barrier
   for (std::size_t i = 0; i < passes_.size(); ++i) {
@@ -365,8 +370,7 @@ void FramePlan::run(Backend& backend, bool with_rd) {
 
 void FramePlan::run(Device& device, bool with_rd) {
   ARDCELL_CHECK(!options_.halo, "FramePlan: a block plan runs on a back end, not a device");
-  using Clock = std::chrono::steady_clock;
-  auto start = Clock::now();
+  StepClock charge{pass_ns_};
   for (std::size_t i = 0; i < passes_.size(); ++i) {
     const PassProgram& p = *passes_[i];
     if (p.stage) {
@@ -375,9 +379,7 @@ void FramePlan::run(Device& device, bool with_rd) {
     } else {
       p.run_on(device);
     }
-    const auto now = Clock::now();
-    pass_ns_[i] += std::chrono::duration_cast<std::chrono::nanoseconds>(now - start).count();
-    start = now;
+    charge(i);
   }
   ++runs_;
 }

@@ -195,6 +195,7 @@ class FramePlan {
 
  private:
   struct PassProgram;
+  struct StepClock;
   FramePlanOptions options_;
   std::vector<std::unique_ptr<PassProgram>> passes_;
   // While building: fields whose halos are current, and how deep.

@@ -212,8 +212,7 @@ Status LiveLoop::start(std::string_view name) {
   apply_level();
   for (size_t i = 0; i < options_.playlist.size(); ++i)
     if (options_.playlist[i] == name) playlist_index_ = int(i);
-  const Box2 shown = options_.wall ? options_.wall->view() : box_of_size(sim_->state({}).size);
-  image_.resize(shown.width(), shown.height());
+  size_image();
   hud_.preset.fill(0);
   std::snprintf(hud_.preset.data(), hud_.preset.size(), "%s", preset_.scene.name.c_str());
   std::snprintf(hud_.backend.data(), hud_.backend.size(), "%.*s", int(sim_->backend().size()),
@@ -221,6 +220,12 @@ Status LiveLoop::start(std::string_view name) {
   hud_.frame = 0;
   if (!options_.record_path.empty()) start_recording(options_.record_path);
   return Status::ok();
+}
+
+void LiveLoop::size_image() {
+  // The cells drawn: the grid, or on a wall this screen's view.
+  const Box2 shown = options_.wall ? options_.wall->view() : box_of_size(sim_->state({}).size);
+  image_.resize(shown.width(), shown.height());
 }
 
 QualityBounds LiveLoop::bounds_for(const Preset& preset) const {
@@ -309,8 +314,7 @@ void LiveLoop::begin_switch(std::unique_ptr<LiveSimulation> sim, Preset next) {
     fade_image_ = image_;                   // frozen last image of the old preset
     sim_ = std::move(sim);
     preset_ = next;
-    const Box2 shown = options_.wall ? options_.wall->view() : box_of_size(sim_->state({}).size);
-    image_.resize(shown.width(), shown.height());
+    size_image();
   }
   quality_.set_bounds(bounds_for(next));
   quality_.restore_full();

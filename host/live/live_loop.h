@@ -248,8 +248,9 @@ class LiveLoop {
   void poll_build();
   void abandon_switch();
   void begin_switch(std::unique_ptr<LiveSimulation> sim, Preset preset);
-  // The frame's image of the shown field (on a wall, this screen's view).
+  // The frame's image of the shown field (on a wall, this screen's view), and its size.
   void render();
+  void size_image();
   // A wall's input: this screen's to every screen, and every screen's handled and painted.
   void share_wall_input(bool stop, double now);
   void notice(const char* fmt, ...);

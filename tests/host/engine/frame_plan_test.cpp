@@ -53,6 +53,22 @@ FieldF pattern(Int2 size, int seed) {
 
 const SweepParams kParams{0.7f, 1.0f + 4 * 0.7f};
 
+// A pass that scales a in place (halo 0, test_scale), refilling its boundary when asked.
+PassDesc scale_pass(FieldF& a, bool refill) {
+  PassDesc d;
+  d.name = "scale";
+  d.buffers = {{&a, &a, 0, false}};
+  PassOpDesc scale;
+  scale.map = test_scale;
+  scale.writes = {0, -1, -1, -1};
+  if (refill) {
+    scale.fill_buffers = {0, -1, -1, -1};
+    scale.fills[0] = BoundaryFill::stam(2);
+  }
+  d.ops.push_back(scale);
+  return d;
+}
+
 // x_out = k Jacobi sweeps from x (initial guess) with rhs, in one pass of k sweeps.
 void add_blocked_solve(FramePlan& plan, const FieldF& x, const FieldF& rhs, FieldF& out, int k) {
   PassDesc d;
@@ -112,16 +128,7 @@ TEST(FramePlan, FusedMapOpsMatchSerialForAnyWorkerCount) {
   const FieldF src = pattern(grid, 3);
   auto build = [&](FramePlan& plan, FieldF& a, FieldF& g) {
     // Pass 1: scale a in place (halo 0), refill its boundary.
-    PassDesc p1;
-    p1.name = "scale";
-    p1.buffers = {{&a, &a, 0, false}};
-    PassOpDesc scale;
-    scale.map = test_scale;
-    scale.writes = {0, -1, -1, -1};
-    scale.fill_buffers = {0, -1, -1, -1};
-    scale.fills[0] = BoundaryFill::stam(2);
-    p1.ops.push_back(scale);
-    plan.add_pass(p1);
+    plan.add_pass(scale_pass(a, true));
     // Pass 2: g = gradient(a) (reads halo 1), boundary of g refilled.
     PassDesc p2;
     p2.name = "gradient";
@@ -170,13 +177,7 @@ TEST(FramePlan, StagesRunInOrderBetweenPassesAndRdStagesCanBeLeftOut) {
                     for (int y = 0; y < grid.y; ++y)
                       for (int x = 0; x < grid.x; ++x) a(x, y) *= 2.0f;
                   }});
-  PassDesc d;
-  d.name = "scale";
-  d.buffers = {{&a, &a, 0, false}};
-  PassOpDesc scale;
-  scale.map = test_scale;
-  scale.writes = {0, -1, -1, -1};
-  d.ops.push_back(scale);
+  PassDesc d = scale_pass(a, false);
   d.barrier_after = false;  // the stage after it still sees its result
   plan.add_pass(d);
   plan.add_stage({"read", [&] {
