@@ -87,17 +87,13 @@ struct LiveArgs {
 };
 
 // --wall: the flags a wall's screens cannot honour. "" when none, else the usage line.
-std::string check_wall_args(const LiveArgs& a, BackendKind backend) {
+std::string check_wall_args(const LiveArgs& a) {
   if (a.wall_opt->count() == 0) return a.bezel > 0 ? "--bezel applies to a --wall" : "";
   const auto refuse = [](const char* flag, const char* why) {
     return std::string(flag) + " does not run on a --wall (" + why + ")";
   };
   if (a.pipeline) return refuse("--pipeline", "the screens step in lockstep");
   if (!a.record.empty()) return refuse("--record", "record one screen's output instead");
-  if (a.playlist_opt->count()) return refuse("--playlist", "a wall keeps its preset");
-  if (backend == BackendKind::kOpenCl)
-    return "--wall runs each screen's block on the threads or serial back end (expected no "
-           "--backend opencl)";
   if (a.bezel > 0 && a.scale == 0)
     return "--bezel " + std::to_string(a.bezel) +
            " needs --scale (the window pixels per cell that turn the bezel into cells)";
@@ -186,8 +182,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   bool opencl_asked = false;
   if (std::string why = check_backend_args(a, backend, opencl_asked); !why.empty())
     return cli_usage_error(ctx, "live", why);
-  if (std::string why = check_wall_args(a, backend); !why.empty())
-    return cli_usage_error(ctx, "live", why);
+  if (std::string why = check_wall_args(a); !why.empty()) return cli_usage_error(ctx, "live", why);
   const bool walled = a.wall_opt->count() > 0;
   [[maybe_unused]] int screen = 0;  // on a wall, this process's screen (its rank)
   [[maybe_unused]] std::FILE* const own_err = ctx.err;  // before a wall quiets screens but 0
@@ -219,8 +214,9 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   // --wall: this process is one screen of an mpirun, showing the block of the grid it runs.
   if (walled) {
+    // Mirrored screens step alike on the same kind of back end: auto is the CPU's threads.
     if (backend == BackendKind::kAuto) backend = BackendKind::kThreads;
-    opencl_asked = false;
+    opencl_asked = backend == BackendKind::kOpenCl;
     // A wrong layout or process count is every screen's: they leave together at once.
     if (std::string why = start_rank_job("--wall", a.wall, ctx, job); !why.empty())
       return cli_usage_error(ctx, "live", why);
@@ -288,9 +284,30 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   std::unique_ptr<RankWall> wall;
   if (walled) {
-    if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);
-        !why.empty())
-      return fail(kExitUsage, why, false);
+    // A scene of tile passes splits its grid between the screens; any other runs whole on
+    // every screen (host/live/live_wall.h).
+    const bool split = preset.scene.fluid.kind == FluidSceneKind::kTable1;
+    if (split && a.playlist_opt->count())
+      return fail(kExitUsage,
+                  "--playlist does not run on a --wall of blocks (scene '" + preset.scene.name +
+                      "': its blocks are cut for one preset)",
+                  false);
+    if (split && backend == BackendKind::kOpenCl)
+      return fail(kExitUsage,
+                  "--wall runs the blocks of scene '" + preset.scene.name +
+                      "' on the threads or serial back end (expected no --backend opencl)",
+                  false);
+    if (split) {
+      if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);
+          !why.empty())
+        return fail(kExitUsage, why, false);
+    } else {
+      try {
+        job.layout = BlockLayout::split(preset.scene.size, job.parts);
+      } catch (const std::invalid_argument& e) {
+        return fail(kExitUsage, "--wall " + a.wall + ": " + e.what(), false);
+      }
+    }
     const int bezel_cells = a.bezel > 0 ? (a.bezel + a.scale - 1) / a.scale : 0;
     for (int b = 0; b < job.layout->count(); ++b)
       if (wall_view(*job.layout, b, bezel_cells).empty())
@@ -300,7 +317,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                         std::to_string(job.layout->block(b).height()) +
                         " screen (expected a smaller bezel or a larger grid)",
                     false);
-    wall = std::make_unique<RankWall>(*job.layout, bezel_cells, *job.world);
+    wall = std::make_unique<RankWall>(*job.layout, bezel_cells, *job.world, !split);
     window_cells = wall->view().size();
   }
 #endif
@@ -357,6 +374,12 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (Status s = loop.start(first); !s) return fail(kExitUsage, s.message(), true);
   std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
                loop.simulation().backend().data());
+#if defined(ARDCELL_WITH_MPI)
+  if (wall)
+    std::fprintf(ctx.err, "ardcell live: wall %s: %s\n", a.wall.c_str(),
+                 wall->mirrored() ? "every screen steps the whole grid (mirrored)"
+                                  : "each screen steps its block of the grid (split)");
+#endif
   install_report_signal();
 
   std::unique_ptr<AttractMode> attract;
@@ -521,8 +544,8 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
       live->add_option("--cl-device", args->cl_device, "OpenCL device index (see ardcell devices)");
   args->wall_opt = live->add_option(
       "--wall", args->wall,
-      "WxH: one screen of a video wall under mpirun -np W*H, showing its block of one "
-      "simulation (table1 scenes)");
+      "WxH: one screen of a video wall under mpirun -np W*H, showing its part of one "
+      "simulation");
   live->add_option("--bezel", args->bezel,
                    "--wall: window pixels hidden between screens (needs --scale)")
       ->check(CLI::Range(0, 100000));

@@ -58,13 +58,14 @@ bool CommandQueue::pop(LiveCommand& c) {
 }
 
 void LiveLoop::handle(const LiveCommand& c) {
-  // A wall keeps the preset its blocks were cut for, and records nothing.
+  // A split wall keeps the preset its blocks were cut for; no wall records.
   if (options_.wall) {
     switch (c.kind) {
       case LiveCommandKind::kNextPreset:
       case LiveCommandKind::kPrevPreset:
       case LiveCommandKind::kSelectPreset:
-        notice("a wall keeps its preset (start the wall again to change it)");
+        if (options_.wall->mirrored()) break;
+        notice("a wall of blocks keeps its preset (start the wall again to change it)");
         return;
       case LiveCommandKind::kRecordStart:
       case LiveCommandKind::kToggleRecord:
@@ -179,6 +180,7 @@ void LiveLoop::share_wall_input(bool stop, double now) {
   mine.commands = 0;
   mine.stop = stop;
   mine.activity = false;
+  mine.build_done = build_finished(mine.build_ok);
   LiveCommand c;
   while (mine.commands < WallInput::kMaxCommands && commands_.pop(c)) {
     if (c.kind == LiveCommandKind::kInputActivity)
@@ -208,6 +210,12 @@ void LiveLoop::share_wall_input(bool stop, double now) {
   mine.activity = mine.activity || n > 0;
 
   const std::span<const WallInput> all = wall.share(mine);
+  // Whether every screen's preset switch is ready (poll_build switches then, on every screen).
+  wall_build_done_ = wall_build_ok_ = true;
+  for (const WallInput& in : all) {
+    wall_build_done_ = wall_build_done_ && in.build_done;
+    wall_build_ok_ = wall_build_ok_ && in.build_ok;
+  }
   bool activity = false;
   for (const WallInput& in : all) {
     if (in.stop) quit_ = true;
@@ -231,6 +239,18 @@ void LiveLoop::share_wall_input(bool stop, double now) {
     wall_attract_samples_ = int(attract_->update(
         now, activity, std::span(mine.sample).first(size_t(WallInput::kMaxSamples / 2))));
   hud_.attract = attract_ && attract_->active();
+}
+
+void LiveLoop::keep_wall_in_step() {
+  LiveWall& wall = *options_.wall;
+  const int drifted = wall.first_drifted(state_fingerprint(sim_->state()));
+  if (drifted < 0) return;
+  wall.send_state(sim_->state_to_write());
+  ++wall_resyncs_;
+  notice(
+      "wall: screen %d drifted from screen 0 by frame %lld (rounding on another CPU or GPU); "
+      "every screen goes on from screen 0's state",
+      drifted, static_cast<long long>(frame_ + 1));
 }
 
 }  // namespace ardcell

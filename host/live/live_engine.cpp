@@ -229,6 +229,12 @@ const SimState& EngineSimulation::state(std::span<const std::string_view> fields
   return std::as_const(*engine_).state(fields);
 }
 
+SimState& EngineSimulation::state_to_write() {
+  const auto lock = lock_device();
+  fine_written_ = level_ >= 0;
+  return engine_->state();
+}
+
 double EngineSimulation::lowest_rd_scale() const {
   return levels_.empty() ? 1.0 : levels_.back()->scale;
 }
@@ -262,6 +268,7 @@ void EngineSimulation::sync_coarse_from_fine(RdLevel& l, bool chemicals) {
 
 void EngineSimulation::to_level(int level) {
   if (level == level_) return;
+  fine_written_ = false;  // the new level starts from the scene's grid anyway
   // The scene's grid holds the running chemicals: the engine's own, or the coarse ones
   // prolongated after every step and paint.
   level_ = level;
@@ -284,6 +291,8 @@ void EngineSimulation::step() {
     return;
   }
   RdLevel& l = *levels_[size_t(level_)];
+  if (fine_written_) sync_coarse_from_fine(l, true);
+  fine_written_ = false;
   engine_->step_without_rd();
   // The coarse grid reads the velocity and gives back A and B (written whole on the host): only
   // those move, and only A and B go back to the device.

@@ -54,6 +54,7 @@ class EngineSimulation final : public LiveSimulation {
   void reset() override;
   const SimState& state() const override;
   const SimState& state(std::span<const std::string_view> fields) const override;
+  SimState& state_to_write() override;
   // Refused changes (structural ones) keep the current parameters: the live loop switches
   // presets for those.
   void apply(const SceneConfig& config) override;
@@ -83,8 +84,9 @@ class EngineSimulation final : public LiveSimulation {
   std::array<Painter::Stroke, kMaxInputSources> strokes_{};
   std::vector<std::unique_ptr<RdLevel>> levels_;  // coarser RD grids, finest first
   int level_ = -1;                                // -1: the engine's own RD grid
-  FieldF snap_a_, snap_b_;                        // A, B before this frame's strokes
-  std::array<StrokeSample, 512> pressured_{};     // samples with pressure^gamma
+  bool fine_written_ = false;  // state_to_write() below full RD resolution: re-restrict A, B
+  FieldF snap_a_, snap_b_;     // A, B before this frame's strokes
+  std::array<StrokeSample, 512> pressured_{};  // samples with pressure^gamma
 };
 
 // What `ardcell live` runs: an EngineSimulation whose painter starts from the scene's defaults

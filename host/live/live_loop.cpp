@@ -272,7 +272,15 @@ void LiveLoop::request_preset(std::string name) {
   });
 }
 
+bool LiveLoop::build_finished(bool& ok) const {
+  const bool done = builder_busy_ && build_->done.load(std::memory_order_acquire);
+  ok = done && build_->status.is_ok();
+  return done;
+}
+
 void LiveLoop::wait_for_switch() {
+  ARDCELL_CHECK(!options_.wall,
+                "LiveLoop::wait_for_switch: a wall switches in step, frame by frame");
   while (builder_busy_) {
     if (build_ && build_->thread.joinable()) build_->thread.join();
     poll_build();
@@ -280,16 +288,27 @@ void LiveLoop::wait_for_switch() {
 }
 
 void LiveLoop::poll_build() {
-  if (!builder_busy_ || !build_->done.load(std::memory_order_acquire)) return;
+  // A wall's screens switch together: in the frame where every screen's build is done.
+  if (!builder_busy_) return;
+  if (options_.wall ? !wall_build_done_ : !build_->done.load(std::memory_order_acquire)) return;
+  wall_build_done_ = false;
   if (build_->thread.joinable()) build_->thread.join();
   builder_busy_ = false;
   std::shared_ptr<Build> b = std::move(build_);
   // What the switch's outcome prints counts as caused by whoever asked for it.
   const bool outer_cause = std::exchange(remote_cause_, b->remote);
-  if (!b->status) {
+  Status status = b->status;
+  if (status && options_.wall && !wall_build_ok_)
+    status = Status::error(b->name + ": another screen of the wall could not load it");
+  if (status && options_.wall && pending_preset_.empty() &&
+      !options_.wall->regrid(b->preset.scene.size))
+    status = Status::error(b->name + ": its " + std::to_string(b->preset.scene.size.x) + "x" +
+                           std::to_string(b->preset.scene.size.y) +
+                           " grid leaves a screen of the wall no cell");
+  if (!status) {
     // A bad preset never takes the running one down: keep it, say why.
     ++preset_errors_;
-    notice("keeping %s: %s", preset_.scene.name.c_str(), b->status.message().c_str());
+    notice("keeping %s: %s", preset_.scene.name.c_str(), status.message().c_str());
   } else if (pending_preset_.empty()) {
     begin_switch(std::move(b->sim), std::move(b->preset));
   }
@@ -459,6 +478,8 @@ bool LiveLoop::run_frame() {
   } else if (!paused_) {
     sim_->step();
   }
+  if (options_.wall && options_.wall->mirrored() && frame_ % LiveWall::kCheckFrames == 0)
+    keep_wall_in_step();
   clock_.mark(FrameStage::kSimulate);
 
   render();
@@ -505,20 +526,17 @@ Status LiveLoop::run() {
   }
   if (!presented_) present_and_record();  // the pipeline's last frame
   abandon_switch();                       // quitting never waits for a preset still loading
-  if (!options_.exit_screenshot.empty()) {
-    ImageRgb8 shot;
-    // A wall's: every screen's frame (not its window, whose size and letterbox are its own),
-    // placed as the views lie; screen 0 writes it.
-    if (options_.wall) {
-      if (!options_.wall->gather_image(image_, shot)) {
-        stop_recording();
-        remote_log_.finish();
-        if (options_.log) clock_.print_report(options_.log);
-        return Status::ok();
-      }
-    } else if (!display_.read_back(shot)) {
-      shot = image_;
-    }
+  // --screenshot: the window's pixels; a wall's, every screen's frame (not its window, whose
+  // size and letterbox are its own) placed as the views lie, written by screen 0. Every screen
+  // takes part in the gather, also one not given --screenshot (a wall started with other flags
+  // on some screens must not leave them waiting).
+  ImageRgb8 shot;
+  bool write = !options_.exit_screenshot.empty();
+  if (options_.wall)
+    write = options_.wall->gather_image(image_, shot) && write;
+  else if (write && !display_.read_back(shot))
+    shot = image_;
+  if (write) {
     Status s = Status::ok();
     auto writer =
         options_.screenshotter

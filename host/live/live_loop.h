@@ -51,6 +51,10 @@ class LiveSimulation {
     (void)fields;
     return state();
   }
+  // The state for the caller to overwrite (a mirrored video wall bringing this screen back in
+  // step with screen 0, host/live/live_wall.h): every field current on the host; the next
+  // step() starts from what the caller wrote.
+  virtual SimState& state_to_write() = 0;
   // Non-structural parameters (viscosity, dt, solver iterations, ...) for the next step().
   // Must not allocate.
   virtual void apply(const SceneConfig& config) = 0;
@@ -220,6 +224,8 @@ class LiveLoop {
   bool fading() const { return fade_frame_ < fade_frames_; }
   bool switch_pending() const { return builder_busy_; }
   int64_t frames() const { return frame_; }
+  // A mirrored wall: how often a screen drifted and screen 0's state was sent to all.
+  int64_t wall_resyncs() const { return wall_resyncs_; }
   int64_t preset_errors() const { return preset_errors_; }
   int64_t painted_samples() const { return painted_samples_; }
   int64_t recorded_frames() const { return recorded_frames_.load(); }
@@ -253,6 +259,11 @@ class LiveLoop {
   void size_image();
   // A wall's input: this screen's to every screen, and every screen's handled and painted.
   void share_wall_input(bool stop, double now);
+  // Whether the preset being loaded has finished building (ok: without error).
+  bool build_finished(bool& ok) const;
+  // A mirrored wall, every LiveWall::kCheckFrames frames: the screens compare their states and
+  // continue from screen 0's when one drifted.
+  void keep_wall_in_step();
   void notice(const char* fmt, ...);
   void start_recording(std::string path);
   void stop_recording();
@@ -278,6 +289,8 @@ class LiveLoop {
   AttractMode* attract_ = nullptr;
   std::unique_ptr<WallInput> wall_input_;  // a wall: this screen's input of the frame
   int wall_attract_samples_ = 0;           // ... led by the attract mode's strokes (screen 0)
+  int64_t wall_resyncs_ = 0;               // a mirrored wall: times screen 0's state was sent
+  bool wall_build_done_ = false, wall_build_ok_ = false;  // every screen's switch, this frame
 
   Preset preset_;     // as running now (blended during a parameter fade)
   Preset fade_from_;  // parameter fade endpoints

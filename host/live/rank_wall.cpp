@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 
 #include "runtime/check.h"
@@ -10,8 +11,13 @@ namespace ardcell {
 
 static_assert(std::is_trivially_copyable_v<WallInput>, "WallInput travels as bytes");
 
-RankWall::RankWall(const BlockLayout& layout, int bezel_cells, const MpiWorld& world)
-    : layout_(layout), world_(world), all_(std::size_t(layout.count())) {
+RankWall::RankWall(const BlockLayout& layout, int bezel_cells, const MpiWorld& world, bool mirrored)
+    : layout_(layout),
+      world_(world),
+      bezel_cells_(bezel_cells),
+      mirrored_(mirrored),
+      fingerprints_(std::size_t(layout.count())),
+      all_(std::size_t(layout.count())) {
   ARDCELL_CHECK(world.size() == layout.count(), "RankWall: one rank per block");
   for (int b = 0; b < layout.count(); ++b) {
     views_.push_back(wall_view(layout, b, bezel_cells));
@@ -48,6 +54,45 @@ bool RankWall::gather_image(const ImageRgb8& mine, ImageRgb8& wall) {
     place_on_wall(image, views_[std::size_t(r)], grid, scale, wall);
     at += std::size_t(counts_[std::size_t(r)]);
   }
+  return true;
+}
+
+int RankWall::first_drifted(std::uint64_t fingerprint) {
+  world_.all_gather(&fingerprint, sizeof fingerprint, fingerprints_.data());
+  for (std::size_t r = 1; r < fingerprints_.size(); ++r)
+    if (fingerprints_[r] != fingerprints_[0]) return int(r);
+  return -1;
+}
+
+void RankWall::send_state(SimState& state) {
+  state.for_each_field([&](std::string_view, FieldF& f) {
+    world_.broadcast(f.raw(), f.raw_size() * sizeof(float));
+  });
+  struct Clock {
+    double time, rd_time;
+    std::int64_t step;
+  } clock{state.time, state.rd_time, state.step};
+  world_.broadcast(&clock, sizeof clock);
+  state.time = clock.time;
+  state.rd_time = clock.rd_time;
+  state.step = clock.step;
+}
+
+bool RankWall::regrid(Int2 grid) {
+  if (!mirrored_) return grid == layout_.domain();
+  BlockLayout layout;
+  try {
+    layout = BlockLayout::split(grid, layout_.parts());
+  } catch (const std::invalid_argument&) {
+    return false;  // fewer cells than screens along an axis
+  }
+  std::vector<Box2> views;
+  for (int b = 0; b < layout.count(); ++b) {
+    views.push_back(wall_view(layout, b, bezel_cells_));
+    if (views.back().empty()) return false;
+  }
+  layout_ = layout;
+  views_ = std::move(views);
   return true;
 }
 

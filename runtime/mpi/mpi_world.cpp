@@ -81,6 +81,16 @@ void MpiWorld::all_gather(const void* mine, std::size_t bytes, void* all) const 
   MPI_Allgather(mine, int(bytes), MPI_BYTE, all, int(bytes), MPI_BYTE, MPI_COMM_WORLD);
 }
 
+void MpiWorld::broadcast(void* data, std::size_t bytes) const {
+  // In pieces of at most INT_MAX bytes (MPI counts are ints).
+  auto* at = static_cast<unsigned char*>(data);
+  for (std::size_t done = 0; done < bytes;) {
+    const std::size_t n = std::min<std::size_t>(bytes - done, std::size_t(INT_MAX));
+    MPI_Bcast(at + done, int(n), MPI_BYTE, 0, MPI_COMM_WORLD);
+    done += n;
+  }
+}
+
 void MpiWorld::gather_to_root(std::span<const unsigned char> mine, std::vector<unsigned char>& all,
                               std::vector<int>& counts) const {
   ARDCELL_CHECK(mine.size() <= std::size_t(INT_MAX), "MpiWorld::gather_to_root: too many bytes");

@@ -36,6 +36,8 @@ class MpiWorld {
   // Every rank's `bytes` bytes at `mine`, in rank order, into `all` (size() * bytes), on every
   // rank. No allocation.
   void all_gather(const void* mine, std::size_t bytes, void* all) const;
+  // Rank 0's `bytes` bytes at `data` into `data` on every other rank. No allocation.
+  void broadcast(void* data, std::size_t bytes) const;
   // Every rank's `mine` (any length), in rank order, concatenated on rank 0 (`all`, resized;
   // `counts`: each rank's length); the other ranks' `all` is left alone.
   void gather_to_root(std::span<const unsigned char> mine, std::vector<unsigned char>& all,

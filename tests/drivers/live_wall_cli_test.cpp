@@ -4,13 +4,18 @@
 // screenshot (every screen's frame, gathered on rank 0 and placed as the views lie) is the bytes
 // of one process's window at one pixel a cell after the same frames, for 2 and 4 screens (2x1,
 // 1x2, 2x2); with a bezel the hidden cells are black and every other pixel is one process's. A
+// mirrored wall (cavity-gray-scott: every screen steps the whole grid) shows one process's frame
+// too, and screens on different back ends (PoCL and the CPU) are brought back in step. A
 // signal to one screen ends every screen; bad wall settings exit 2 with one line.
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 
+#include "runtime/block_layout.h"
 #include "tests/drivers/binary_run_fixture.h"
 #include "tests/drivers/png_read_back.h"
 
@@ -30,6 +35,15 @@ class LiveWallCliTest : public BinaryRunTest {
     ASSERT_NE(at, std::string::npos);
     preset.replace(at, 17, "size = [96, 64]");
     std::ofstream(work() / "wall.toml") << preset;
+    // cavity-gray-scott (fluid and anisotropic RD as stages on whole fields) on 96 x 64 cells.
+    std::ifstream in_cgs(ARDCELL_SOURCE_DIR "/presets/cavity-gray-scott.toml");
+    std::stringstream cgs;
+    cgs << in_cgs.rdbuf();
+    preset = cgs.str();
+    const std::size_t at_cgs = preset.find("size = [256, 256]");
+    ASSERT_NE(at_cgs, std::string::npos);
+    preset.replace(at_cgs, 17, "size = [96, 64]");
+    std::ofstream(work() / "mirrored.toml") << preset;
   }
   bool has_display() const { return std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"); }
   // An Open MPI job's environment (mpi_env) with Mesa's softpipe for SDL's GL: llvmpipe's JIT
@@ -37,6 +51,31 @@ class LiveWallCliTest : public BinaryRunTest {
   // unwinder that a sanitizer build needs for Open MPI (mpi_env) takes that lock again on
   // malloc: the process deadlocks.
   static std::string wall_env() { return mpi_env() + "GALLIUM_DRIVER=softpipe "; }
+  // `preset` for `frames` frames in one process's window at one pixel a cell, then on a wall of
+  // each of `layouts` (2 pixels a cell): the wall's screenshot is the same bytes; `check` looks
+  // at each wall's run.
+  void walls_show_one_frame(const std::string& preset, int frames,
+                            std::initializer_list<const char*> layouts,
+                            const std::function<void(const BinaryRunResult&)>& check) {
+    const std::string common = preset + " --fps 0 --no-vsync --backend threads --frames " +
+                               std::to_string(frames) + " --screenshot ";
+    const BinaryRunResult one = run("live " + common + "one.png --scale 1");
+    ASSERT_EQ(one.code, 0) << one.err;
+    const std::string single = slurp(work() / "one.png");
+    ASSERT_FALSE(single.empty());
+    for (const char* parts : layouts) {
+      Int2 n{};
+      ASSERT_TRUE(parse_block_parts(parts, n));
+      const std::string shot = "wall-" + preset + "-" + parts + ".png";
+      const BinaryRunResult r =
+          run_command(wall_env() + "exec '" ARDCELL_MPIEXEC "' --oversubscribe -np " +
+                      std::to_string(n.x * n.y) + " '" ARDCELL_BINARY "' live " + common + shot +
+                      " --scale 2 --wall " + parts);
+      ASSERT_EQ(r.code, 0) << parts << ": " << r.err;
+      check(r);
+      EXPECT_EQ(slurp(work() / shot), single) << parts;
+    }
+  }
   // One process's window at one pixel a cell: the frame a wall's screenshot shows.
   BinaryRunResult live(const std::string& args) {
     return run("live wall.toml --fps 0 --no-vsync --scale 1 " + args);
@@ -50,24 +89,82 @@ class LiveWallCliTest : public BinaryRunTest {
 
 TEST_F(LiveWallCliTest, TheWallShowsOneProcesssFrame) {
   if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
-  const BinaryRunResult one = live("--frames 30 --screenshot one.png");
-  ASSERT_EQ(one.code, 0) << one.err;
-  const std::string single = slurp(work() / "one.png");
-  ASSERT_FALSE(single.empty());
-  struct Layout {
-    int ranks;
-    const char* parts;
-  };
-  for (const Layout l : {Layout{2, "2x1"}, Layout{2, "1x2"}, Layout{4, "2x2"}}) {
-    const std::string shot = std::string("wall-") + l.parts + ".png";
-    const BinaryRunResult r =
-        wall(l.ranks, std::string("--wall ") + l.parts + " --frames 30 --screenshot " + shot);
-    ASSERT_EQ(r.code, 0) << l.parts << ": " << r.err;
-    // Rank 0 alone reports.
-    EXPECT_EQ(count_lines(r.err.substr(0, r.err.find("frames 30,"))), 1) << r.err;
-    EXPECT_EQ(slurp(work() / shot), single) << l.parts;
-  }
+  walls_show_one_frame("wall.toml", 30, {"2x1", "1x2", "2x2"}, [](const BinaryRunResult& r) {
+    // Rank 0 alone reports: its back end and how the wall runs.
+    EXPECT_EQ(count_lines(r.err.substr(0, r.err.find("frames 30,"))), 2) << r.err;
+    EXPECT_NE(r.err.find("each screen steps its block of the grid (split)"), std::string::npos)
+        << r.err;
+  });
 }
+
+// A scene of stages runs whole on every screen: the screens compute the same bits (no drift is
+// found at the checks of frames 1 and 61), and the wall's screenshot is one process's frame.
+TEST_F(LiveWallCliTest, AMirroredWallShowsOneProcesssFrame) {
+  if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
+  walls_show_one_frame("mirrored.toml", 62, {"2x1", "2x2"}, [](const BinaryRunResult& r) {
+    EXPECT_NE(r.err.find("every screen steps the whole grid (mirrored)"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("drifted"), std::string::npos) << r.err;
+  });
+}
+
+#if defined(ARDCELL_WITH_LIBLO)
+// A mirrored wall switches presets live: an OSC /ardcell/preset/next to screen 0 (sent from
+// bash's /dev/udp) reaches every screen, they switch in the same frame (the checks after it find
+// no drift), and the last frame is the new preset's grid.
+TEST_F(LiveWallCliTest, AMirroredWallSwitchesPresetsInStep) {
+  if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
+  std::string next = slurp(work() / "mirrored.toml");
+  next.replace(next.find("size = [96, 64]"), 15, "size = [80, 48]");
+  std::ofstream(work() / "next.toml") << next;
+  // "/ardcell/preset/next" and the type tags "," as OSC pads them (to 4 bytes, NUL-ended).
+  std::ofstream(work() / "switch.sh")
+      << "ardcell() { " << wall_env()
+      << "'" ARDCELL_MPIEXEC "' --oversubscribe -np 2 '" ARDCELL_BINARY
+         "' live mirrored.toml --playlist mirrored.toml next.toml --osc 0 --fps 30 --no-vsync "
+         "--scale 1 --wall 2x1 --frames 200 --screenshot wall.png; }\n"
+         "ardcell 2> err.txt & job=$!\n"
+         "for i in $(seq 600); do grep -q 'OSC on udp://127.0.0.1:' err.txt && break; "
+         "sleep 0.1; done\n"
+         "port=$(sed -n 's|.*OSC on udp://127.0.0.1:\\([0-9]*\\).*|\\1|p' err.txt)\n"
+         "printf '/ardcell/preset/next\\0\\0\\0\\0,\\0\\0\\0' > /dev/udp/127.0.0.1/$port\n"
+         "wait $job; code=$?; cat err.txt >&2; exit $code\n";
+  const BinaryRunResult r = run_command("exec timeout 300 bash switch.sh");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("live: preset cavity-gray-scott"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("drifted"), std::string::npos) << r.err;
+  const PngInfo w = read_png(work() / "wall.png");
+  ASSERT_TRUE(w.ok);
+  EXPECT_EQ(w.width, 80);
+  EXPECT_EQ(w.height, 48);
+}
+#endif
+
+#if defined(ARDCELL_WITH_OPENCL)
+// Screen 0 steps on OpenCL (PoCL), screen 1 on the CPU's threads: their rounding differs, the
+// checks find it (after frame 1, then every 60 frames) and both go on from screen 0's state.
+// Only screen 0 is given --screenshot: screen 1 still takes part in gathering it.
+TEST_F(LiveWallCliTest, ScreensOnDifferentBackEndsAreBroughtBackInStep) {
+  if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
+  const BinaryRunResult devices = run("devices");
+  if (devices.out.find("device 0:") == std::string::npos)
+    GTEST_SKIP() << "no OpenCL device: " << devices.out;
+  const std::string screen = "'" ARDCELL_BINARY
+                             "' live mirrored.toml --fps 0 --no-vsync --scale 1 --wall 2x1 "
+                             "--frames 62 ";
+  const BinaryRunResult r = run_command(
+      wall_env() + "exec timeout 300 '" ARDCELL_MPIEXEC "' --oversubscribe -np 1 " + screen +
+      "--backend opencl --screenshot wall.png : -np 1 " + screen + "--backend threads");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("ardcell live: backend opencl"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("wall: screen 1 drifted from screen 0 by frame 1 "), std::string::npos)
+      << r.err;
+  const PngInfo w = read_png(work() / "wall.png");
+  ASSERT_TRUE(w.ok);
+  EXPECT_EQ(w.width, 96);
+  EXPECT_EQ(w.height, 64);
+}
+#endif
 
 TEST_F(LiveWallCliTest, BezelCellsAreHiddenAndTheRestIsOneProcesssFrame) {
   if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
@@ -152,10 +249,10 @@ TEST_F(LiveWallCliTest, BadWallSettingsExit2WithOneLine) {
   one_line(run("live wall.toml --wall 2x1 --bezel 4"), "--bezel 4 needs --scale");
   one_line(live("--wall two"), "--wall 'two': expected WxH");
   one_line(wall(2, "--wall 2x2"), "--wall 2x2 needs 4 processes (mpirun -np 4); this run has 2");
-  one_line(
-      run_command(wall_env() + "exec '" ARDCELL_MPIEXEC "' --oversubscribe -np 2 '" ARDCELL_BINARY
-                               "' live cavity --wall 2x1"),
-      "--wall applies to the scenes built of tile passes");
+  one_line(wall(2, "--wall 2x1 --playlist wall.toml"),
+           "--playlist does not run on a --wall of blocks (scene 'table1-ard'");
+  one_line(wall(2, "--wall 2x1 --backend opencl"),
+           "--wall runs the blocks of scene 'table1-ard' on the threads or serial back end");
   one_line(wall(2, "--wall 2x1 --bezel 200"), "--bezel 200: hides every cell of a 48x64 screen");
 }
 

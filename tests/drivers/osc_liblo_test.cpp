@@ -181,6 +181,7 @@ class TinySimulation final : public LiveSimulation {
   void step() override {}
   void reset() override {}
   const SimState& state() const override { return state_; }
+  SimState& state_to_write() override { return state_; }
   void apply(const SceneConfig&) override {}
   void paint(std::span<const StrokeSample>, const InputMapping&, int) override {}
   std::string_view backend() const override { return "tiny"; }

@@ -62,6 +62,7 @@ class FakeSimulation final : public LiveSimulation {
       for (int x = 0; x < state_.size.x; ++x) state_.dye(x, y) = float(x) / float(state_.size.x);
   }
   const SimState& state() const override { return state_; }
+  SimState& state_to_write() override { return state_; }
   void apply(const SceneConfig& c) override { config_ = c; }
   void paint(std::span<const StrokeSample> samples, const InputMapping&, int) override {
     for (const StrokeSample& s : samples) {

@@ -10,9 +10,13 @@
 
 #include "tests/support/fake_time.h"
 
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <unistd.h>
@@ -37,6 +41,7 @@ class RecordingSimulation final : public LiveSimulation {
   void step() override { ++steps; }
   void reset() override {}
   const SimState& state() const override { return state_; }
+  SimState& state_to_write() override { return state_; }
   void apply(const SceneConfig&) override {}
   void paint(std::span<const StrokeSample> samples, const InputMapping&, int source) override {
     for (const StrokeSample& s : samples) painted.push_back({s, source});
@@ -61,14 +66,17 @@ class NullDisplay final : public LiveDisplay {
 };
 
 // Two screens side by side on a 16 x 16 grid, 2 bezel cells between them; this process is
-// screen `me`, the other screen's input of frame f is other[f] (none past the end).
+// screen `me`, the other screen's input of frame f is other[f] (none past the end). Mirrored,
+// screen 0's state is `screen0` (this screen's is compared with it; a drift copies it here).
 class TwoScreenWall final : public LiveWall {
  public:
-  explicit TwoScreenWall(int me) : layout_(BlockLayout::split({16, 16}, {2, 1})), me_(me) {}
+  explicit TwoScreenWall(int me, bool mirrored = false)
+      : layout_(BlockLayout::split({16, 16}, {2, 1})), me_(me), mirrored_(mirrored) {}
   int screens() const override { return 2; }
   int screen() const override { return me_; }
-  Int2 grid() const override { return {16, 16}; }
-  Box2 block() const override { return layout_.block(me_); }
+  Int2 grid() const override { return layout_.domain(); }
+  Box2 block() const override { return mirrored_ ? box_of_size(grid()) : layout_.block(me_); }
+  bool mirrored() const override { return mirrored_; }
   Box2 view() const override { return wall_view(layout_, me_, 2); }
   std::span<const WallInput> share(const WallInput& mine) override {
     sent.push_back(mine);
@@ -85,12 +93,28 @@ class TwoScreenWall final : public LiveWall {
     place_on_wall(mine, view(), grid(), 1, wall);
     return true;
   }
+  int first_drifted(std::uint64_t fingerprint) override {
+    ++checks;
+    // Screen 0 is the reference (the other screen's state is not modelled).
+    return me_ == 0 || fingerprint == state_fingerprint(screen0) ? -1 : me_;
+  }
+  void send_state(SimState& state) override {
+    ++sends;
+    state.dye = screen0.dye;
+  }
+  bool regrid(Int2 grid) override {
+    if (!mirrored_) return grid == layout_.domain();
+    layout_ = BlockLayout::split(grid, {2, 1});
+    return true;
+  }
   std::vector<WallInput> other, sent;
-  int barriers = 0;
+  int barriers = 0, checks = 0, sends = 0;
+  SimState screen0;
 
  private:
   BlockLayout layout_;
   int me_;
+  bool mirrored_;
   std::size_t frame_ = 0;
   std::array<WallInput, 2> all_{};
 };
@@ -196,6 +220,76 @@ TEST(LiveWall, EveryScreensStrokesAndCommandsActOnEveryScreen) {
   EXPECT_EQ(wall.barriers, 1);
 }
 
+TEST(WallFingerprint, DiffersWhenAnyCellOrTheStepDiffers) {
+  SimState a;
+  a.size = {13, 7};
+  a.A = FieldF(a.size, 1);
+  a.B = FieldF(a.size, 1);
+  for (int y = 0; y < 7; ++y)
+    for (int x = 0; x < 13; ++x) a.A(x, y) = float(x * 7 + y) * 0.1f;
+  SimState b = a;
+  EXPECT_EQ(state_fingerprint(a), state_fingerprint(b));
+  // A halo cell is not the state's: it does not count.
+  b.A(-1, 3) = 5.0f;
+  EXPECT_EQ(state_fingerprint(a), state_fingerprint(b));
+  for (Int2 cell : {Int2{0, 0}, Int2{12, 6}, Int2{5, 3}, Int2{12, 0}}) {
+    SimState c = a;
+    c.A(cell.x, cell.y) = std::nextafter(c.A(cell.x, cell.y), 2.0f);  // one ulp
+    EXPECT_NE(state_fingerprint(a), state_fingerprint(c)) << cell.x << "," << cell.y;
+    SimState d = a;
+    d.B(cell.x, cell.y) = -0.0f;  // the bits, not the value
+    EXPECT_NE(state_fingerprint(a), state_fingerprint(d)) << cell.x << "," << cell.y;
+  }
+  // The same cells in the other field.
+  SimState swapped = a;
+  std::swap(swapped.A, swapped.B);
+  EXPECT_NE(state_fingerprint(a), state_fingerprint(swapped));
+  b = a;
+  ++b.step;
+  EXPECT_NE(state_fingerprint(a), state_fingerprint(b));
+}
+
+// A mirrored wall (every screen steps the whole grid) compares the screens' states after the
+// first frame and then every kCheckFrames frames; a screen that drifted goes on from screen 0's
+// state, in the frame of the check, and says so. A split wall never compares.
+TEST(LiveWall, AMirroredScreenThatDriftedGoesOnFromScreen0sState) {
+  WallFixture fx;
+  TwoScreenWall wall(1, /*mirrored=*/true);
+  wall.screen0.size = {16, 16};
+  wall.screen0.dye = FieldF({16, 16}, 1);
+  wall.screen0.dye.fill(0.75f);
+  LiveOptions o = fx.options(wall);
+  char log[512] = {};
+  std::FILE* log_file = fmemopen(log, sizeof log - 1, "w");
+  ASSERT_NE(log_file, nullptr);
+  o.log = log_file;
+  LiveLoop loop(o, fx.factory(), fx.display);
+  ASSERT_TRUE(loop.start(fx.preset()).is_ok());
+  ASSERT_TRUE(loop.run_frame());
+  EXPECT_EQ(wall.checks, 1);
+  EXPECT_EQ(wall.sends, 1);
+  EXPECT_EQ(loop.wall_resyncs(), 1);
+  EXPECT_EQ(fx.sim->state().dye(3, 5), 0.75f);
+  EXPECT_EQ(fx.sim->state().dye(15, 15), 0.75f);
+  // The whole grid is this screen's block: it shows its view of it.
+  EXPECT_EQ(fx.display.size, (Int2{7, 16}));
+  // In step now: the next check (after kCheckFrames frames) sends nothing.
+  for (int f = 1; f <= LiveWall::kCheckFrames; ++f) ASSERT_TRUE(loop.run_frame());
+  EXPECT_EQ(wall.checks, 2);
+  EXPECT_EQ(wall.sends, 1);
+  std::fclose(log_file);
+  EXPECT_NE(std::string(log).find("wall: screen 1 drifted from screen 0 by frame 1"),
+            std::string::npos)
+      << log;
+
+  WallFixture split_fx;
+  TwoScreenWall split(1);
+  LiveLoop split_loop(split_fx.options(split), split_fx.factory(), split_fx.display);
+  ASSERT_TRUE(split_loop.start(split_fx.preset()).is_ok());
+  for (int f = 0; f <= LiveWall::kCheckFrames; ++f) ASSERT_TRUE(split_loop.run_frame());
+  EXPECT_EQ(split.checks, 0);
+}
+
 TEST(LiveWall, AStopOnAnyScreenEndsEveryScreenAfterThatFrame) {
   WallFixture fx;
   TwoScreenWall wall(0);
@@ -224,6 +318,59 @@ TEST(LiveWall, AStopOnAnyScreenEndsEveryScreenAfterThatFrame) {
   EXPECT_EQ(second.barriers, 1);
 }
 
+// A mirrored wall switches presets in step: the frame the command reaches every screen starts
+// each screen's build, and the switch happens in the first frame where every screen's build is
+// done (this one's alone is not enough), over the new preset's grid; a build that failed on any
+// screen keeps the preset on every screen.
+TEST(LiveWall, AMirroredWallSwitchesPresetsWhenEveryScreenHasBuiltTheNext) {
+  WallFixture fx;
+  TwoScreenWall wall(0, /*mirrored=*/true);
+  const std::string next = (fx.dir / "wide.toml").string();
+  std::ofstream(next) << "[grid]\nsize = [24, 20]\n[output]\nshow = \"dye\"\n";
+  LiveOptions o = fx.options(wall);
+  o.playlist = {fx.preset(), next};
+  LiveLoop loop(o, fx.factory(), fx.display);
+  ASSERT_TRUE(loop.start(fx.preset()).is_ok());
+  const auto other_next_frame = [&](bool done, bool ok) {
+    wall.other.resize(wall.sent.size() + 1);
+    wall.other.back().build_done = done;
+    wall.other.back().build_ok = ok;
+  };
+  // Until this screen's build is done (it says so in its input), the other screen's is not.
+  const auto build_here = [&] {
+    loop.commands().push(LiveCommand::with_text(LiveCommandKind::kSelectPreset, next));
+    const std::size_t before = wall.sent.size();
+    for (int f = 0; f < 1000 && (wall.sent.size() == before || !wall.sent.back().build_done); ++f) {
+      ASSERT_TRUE(loop.run_frame());
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_TRUE(wall.sent.back().build_done);
+    EXPECT_TRUE(wall.sent.back().build_ok);
+    ASSERT_TRUE(loop.run_frame());
+    EXPECT_TRUE(loop.switch_pending());
+  };
+  build_here();
+  EXPECT_EQ(wall.grid(), (Int2{16, 16}));
+  other_next_frame(true, false);  // the other screen could not load it
+  ASSERT_TRUE(loop.run_frame());
+  EXPECT_FALSE(loop.switch_pending());
+  EXPECT_NE(loop.last_message().find("another screen of the wall could not load it"),
+            std::string::npos)
+      << loop.last_message();
+  EXPECT_EQ(wall.grid(), (Int2{16, 16}));
+
+  build_here();
+  other_next_frame(true, true);
+  ASSERT_TRUE(loop.run_frame());
+  EXPECT_FALSE(loop.switch_pending());
+  EXPECT_NE(loop.last_message().find("preset wide"), std::string::npos) << loop.last_message();
+  EXPECT_EQ(wall.grid(), (Int2{24, 20}));
+  EXPECT_EQ(fx.sim->state().size, (Int2{24, 20}));
+  // The new view: cells 0..10 of the left half (the bezel's cell 11 hidden).
+  EXPECT_EQ(fx.display.size, (Int2{11, 20}));
+  EXPECT_EQ(fx.builds, 3);
+}
+
 TEST(LiveWall, KeepsItsPresetRecordsNothingAndShootsTheWholeWall) {
   WallFixture fx;
   TwoScreenWall wall(0);
@@ -231,7 +378,7 @@ TEST(LiveWall, KeepsItsPresetRecordsNothingAndShootsTheWholeWall) {
   ASSERT_TRUE(loop.start(fx.preset()).is_ok());
   loop.commands().push(LiveCommand::make(LiveCommandKind::kNextPreset));
   loop.run_frame();
-  EXPECT_NE(loop.last_message().find("a wall keeps its preset"), std::string::npos);
+  EXPECT_NE(loop.last_message().find("a wall of blocks keeps its preset"), std::string::npos);
   EXPECT_FALSE(loop.switch_pending());
   EXPECT_EQ(fx.builds, 1);
   loop.commands().push(LiveCommand::make(LiveCommandKind::kToggleRecord));
