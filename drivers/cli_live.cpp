@@ -193,6 +193,18 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   [[maybe_unused]] bool agreed = false;
 #if defined(ARDCELL_WITH_MPI)
   RankJob job;
+  // The agreement is one all-gather of every screen's vote: whether it failed, and a digest of
+  // what it runs (the preset as TOML, --realtime-solvers in it, --crossfade and --frames).
+  struct StartVote {
+    std::uint32_t failed = 0, unused = 0;
+    std::uint64_t digest = 0;
+  };
+  std::vector<StartVote> votes;
+  const auto vote = [&](bool failed, std::uint64_t digest) {
+    const StartVote mine{failed ? 1u : 0u, 0, digest};
+    votes.resize(std::size_t(job.world->size()));
+    job.world->all_gather(&mine, sizeof mine, votes.data());
+  };
 #endif
   const auto fail = [&](int code, const std::string& line, bool local) {
 #if defined(ARDCELL_WITH_MPI)
@@ -202,7 +214,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
       else
         std::fprintf(ctx.err, "ardcell live: %s\n", line.c_str());
       agreed = true;
-      job.world->any(true);
+      vote(true, 0);
       return code;
     }
 #endif
@@ -214,9 +226,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   // --wall: this process is one screen of an mpirun, showing the block of the grid it runs.
   if (walled) {
-    // Mirrored screens step alike on the same kind of back end: auto is the CPU's threads.
-    if (backend == BackendKind::kAuto) backend = BackendKind::kThreads;
-    opencl_asked = backend == BackendKind::kOpenCl;
+    // Mirrored screens step alike on one kind of back end: auto is the CPU's threads (OpenCL
+    // when --cl-device names a device).
+    if (backend == BackendKind::kAuto)
+      backend = a.cl_device_opt->count() ? BackendKind::kOpenCl : BackendKind::kThreads;
     // A wrong layout or process count is every screen's: they leave together at once.
     if (std::string why = start_rank_job("--wall", a.wall, ctx, job); !why.empty())
       return cli_usage_error(ctx, "live", why);
@@ -372,14 +385,6 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   o.stop = &StopSignals::requested();
   LiveLoop loop(o, factory, *display);
   if (Status s = loop.start(first); !s) return fail(kExitUsage, s.message(), true);
-  std::fprintf(ctx.err, "ardcell live: backend %.*s\n", int(loop.simulation().backend().size()),
-               loop.simulation().backend().data());
-#if defined(ARDCELL_WITH_MPI)
-  if (wall)
-    std::fprintf(ctx.err, "ardcell live: wall %s: %s\n", a.wall.c_str(),
-                 wall->mirrored() ? "every screen steps the whole grid (mirrored)"
-                                  : "each screen steps its block of the grid (split)");
-#endif
   install_report_signal();
 
   std::unique_ptr<AttractMode> attract;
@@ -432,13 +437,40 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     return fail(kExitUsage, "--osc: this build has no liblo (ARDCELL_WITH_LIBLO=OFF)", false);
 #endif
 #if defined(ARDCELL_WITH_MPI)
-  // Every screen started, or every screen leaves (the one that could not said why).
-  if (walled && job.world->any(false)) {
-    std::fprintf(ctx.err,
-                 "ardcell live: another screen of the wall could not start (its line above)\n");
-    return kExitFailure;
+  // Every screen started, or every screen leaves (the one that could not said why); and every
+  // screen runs the same, or a mirrored wall's screens would step different simulations.
+  if (walled) {
+    vote(false,
+         text_fingerprint(preset_to_toml(preset) + "crossfade=" + std::to_string(a.crossfade) +
+                          " frames=" + std::to_string(a.frames)));
+    int other = -1;
+    for (std::size_t r = 0; r < votes.size(); ++r) {
+      if (votes[r].failed) {
+        std::fprintf(ctx.err,
+                     "ardcell live: another screen of the wall could not start (its line above)\n");
+        return kExitFailure;
+      }
+      if (other < 0 && votes[r].digest != votes[0].digest) other = int(r);
+    }
+    if (other >= 0) {
+      std::fprintf(ctx.err,
+                   "ardcell live: --wall: screen %d runs another preset or other settings than "
+                   "screen 0 (expected the same preset, --realtime-solvers, --crossfade and "
+                   "--frames on every screen)\n",
+                   other);
+      return kExitUsage;
+    }
   }
 #endif
+  std::string wall_line;  // on a wall, how it runs
+#if defined(ARDCELL_WITH_MPI)
+  if (wall)
+    wall_line = "; wall " + a.wall + ": " +
+                (wall->mirrored() ? "every screen steps the whole grid (mirrored)"
+                                  : "each screen steps its block of the grid (split)");
+#endif
+  std::fprintf(ctx.err, "ardcell live: backend %.*s%s\n", int(loop.simulation().backend().size()),
+               loop.simulation().backend().data(), wall_line.c_str());
 
   // The watchdog thread waits on `stopped` between pings, so that the end of the loop wakes it
   // at once (a plain sleep held the exit up to half of WatchdogSec).
@@ -470,6 +502,11 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   }
   stopped.notify_all();
   if (watchdog.joinable()) watchdog.join();
+  if (loop.wall_resyncs() > 0)
+    std::fprintf(ctx.err,
+                 "ardcell live: wall: the screens drifted apart %lld times; each time they went "
+                 "on from screen 0's state\n",
+                 static_cast<long long>(loop.wall_resyncs()));
   const int code = s ? StopSignals::exit_code(kExitOk) : kExitFailure;
   if (!s) std::fprintf(ctx.err, "ardcell live: %s\n", s.message().c_str());
   if (loop.switch_abandoned()) {

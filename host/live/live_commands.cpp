@@ -180,7 +180,7 @@ void LiveLoop::share_wall_input(bool stop, double now) {
   mine.commands = 0;
   mine.stop = stop;
   mine.activity = false;
-  mine.build_done = build_finished(mine.build_ok);
+  mine.build_done = build_finished(mine.build_ok, mine.build_digest);
   LiveCommand c;
   while (mine.commands < WallInput::kMaxCommands && commands_.pop(c)) {
     if (c.kind == LiveCommandKind::kInputActivity)
@@ -211,10 +211,11 @@ void LiveLoop::share_wall_input(bool stop, double now) {
 
   const std::span<const WallInput> all = wall.share(mine);
   // Whether every screen's preset switch is ready (poll_build switches then, on every screen).
-  wall_build_done_ = wall_build_ok_ = true;
+  wall_build_done_ = wall_build_ok_ = wall_build_same_ = true;
   for (const WallInput& in : all) {
     wall_build_done_ = wall_build_done_ && in.build_done;
     wall_build_ok_ = wall_build_ok_ && in.build_ok;
+    wall_build_same_ = wall_build_same_ && in.build_digest == all[0].build_digest;
   }
   bool activity = false;
   for (const WallInput& in : all) {
@@ -246,11 +247,13 @@ void LiveLoop::keep_wall_in_step() {
   const int drifted = wall.first_drifted(state_fingerprint(sim_->state()));
   if (drifted < 0) return;
   wall.send_state(sim_->state_to_write());
-  ++wall_resyncs_;
-  notice(
-      "wall: screen %d drifted from screen 0 by frame %lld (rounding on another CPU or GPU); "
-      "every screen goes on from screen 0's state",
-      drifted, static_cast<long long>(frame_ + 1));
+  // The first drift is said; screens that keep drifting (other CPUs or GPUs) are counted
+  // (wall_resyncs(), printed when the wall ends).
+  if (wall_resyncs_++ == 0)
+    notice(
+        "wall: screen %d drifted from screen 0 by frame %lld (rounding on another CPU or GPU); "
+        "every screen goes on from screen 0's state",
+        drifted, static_cast<long long>(frame_ + 1));
 }
 
 }  // namespace ardcell

@@ -25,6 +25,7 @@ struct LiveLoop::Build {
   std::string name;
   bool remote = false;  // asked for by a remote sender: its outcome is logged as remote
   Preset preset;
+  std::uint64_t digest = 0;  // text_fingerprint of the preset as TOML (a wall's screens compare)
   std::unique_ptr<LiveSimulation> sim;
   Status status = Status::ok();
   ~Build() {
@@ -260,6 +261,7 @@ void LiveLoop::request_preset(std::string name) {
   build_->thread = std::thread([b, factory, realtime_solvers] {
     b->status = load_live_preset(b->name, b->preset, realtime_solvers);
     if (b->status && b->cancelled.load()) b->status = Status::error(b->name + ": cancelled");
+    if (b->status) b->digest = text_fingerprint(preset_to_toml(b->preset));
     if (b->status) {
       try {
         b->sim = factory(b->preset);
@@ -272,9 +274,10 @@ void LiveLoop::request_preset(std::string name) {
   });
 }
 
-bool LiveLoop::build_finished(bool& ok) const {
+bool LiveLoop::build_finished(bool& ok, std::uint64_t& digest) const {
   const bool done = builder_busy_ && build_->done.load(std::memory_order_acquire);
   ok = done && build_->status.is_ok();
+  digest = ok ? build_->digest : 0;
   return done;
 }
 
@@ -300,6 +303,10 @@ void LiveLoop::poll_build() {
   Status status = b->status;
   if (status && options_.wall && !wall_build_ok_)
     status = Status::error(b->name + ": another screen of the wall could not load it");
+  if (status && options_.wall && !wall_build_same_)
+    status = Status::error(b->name +
+                           ": the screens of the wall loaded different presets by that name "
+                           "(expected the same preset files on every screen)");
   if (status && options_.wall && pending_preset_.empty() &&
       !options_.wall->regrid(b->preset.scene.size))
     status = Status::error(b->name + ": its " + std::to_string(b->preset.scene.size.x) + "x" +

@@ -259,8 +259,9 @@ class LiveLoop {
   void size_image();
   // A wall's input: this screen's to every screen, and every screen's handled and painted.
   void share_wall_input(bool stop, double now);
-  // Whether the preset being loaded has finished building (ok: without error).
-  bool build_finished(bool& ok) const;
+  // Whether the preset being loaded has finished building (ok: without error; digest: its
+  // text_fingerprint, 0 unless ok).
+  bool build_finished(bool& ok, std::uint64_t& digest) const;
   // A mirrored wall, every LiveWall::kCheckFrames frames: the screens compare their states and
   // continue from screen 0's when one drifted.
   void keep_wall_in_step();
@@ -290,7 +291,8 @@ class LiveLoop {
   std::unique_ptr<WallInput> wall_input_;  // a wall: this screen's input of the frame
   int wall_attract_samples_ = 0;           // ... led by the attract mode's strokes (screen 0)
   int64_t wall_resyncs_ = 0;               // a mirrored wall: times screen 0's state was sent
-  bool wall_build_done_ = false, wall_build_ok_ = false;  // every screen's switch, this frame
+  // Every screen's switch, this frame: built, without error, the same preset.
+  bool wall_build_done_ = false, wall_build_ok_ = false, wall_build_same_ = false;
 
   Preset preset_;     // as running now (blended during a parameter fade)
   Preset fade_from_;  // parameter fade endpoints

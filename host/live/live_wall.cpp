@@ -27,27 +27,51 @@ void place_on_wall(const ImageRgb8& image, Box2 view, Int2 grid, int scale, Imag
     std::memcpy(wall.row(y0 + y) + std::size_t(x0) * 3, image.row(y), std::size_t(w) * 3);
 }
 
+std::uint64_t text_fingerprint(std::string_view text) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+namespace {
+// Eight 32-bit lanes (GCC's vector extension: one AVX2 register, or two SSE ones).
+typedef std::uint32_t Lanes8 __attribute__((vector_size(32)));
+}  // namespace
+
 std::uint64_t state_fingerprint(const SimState& state) {
-  // Four independent multiply-xorshift lanes over the cells' bits (no carried dependence from
-  // one cell to the next: the CPU hashes four at a time), folded with the field's size.
-  constexpr std::uint64_t kMul = 0x9e3779b97f4a7c15ull;
-  std::uint64_t lane[4] = {1, 2, 3, std::uint64_t(state.step)};
+  // Sixteen independent 32-bit multiply-xorshift lanes over the cells' bits (no carried
+  // dependence from one cell to the next: sixteen cells at a time), each field's size folded in,
+  // the lanes folded into 64 bits at the end.
+  constexpr std::uint32_t kMul = 0x9e3779b1u;
+  Lanes8 lo = {1, 2, 3, 4, 5, 6, 7, 8}, hi = {9, 10, 11, 12, 13, 14, 15, 16};
+  std::uint32_t tail = std::uint32_t(state.step) ^ std::uint32_t(std::uint64_t(state.step) >> 32);
+  const auto mix = [](Lanes8 h, const float* cells) {
+    Lanes8 bits;
+    std::memcpy(&bits, cells, sizeof bits);
+    h = (h ^ bits) * kMul;
+    return h ^ (h >> 15);
+  };
   state.for_each_field([&](std::string_view, const FieldF& f) {
     const Int2 n = f.size();
-    lane[0] ^= std::uint64_t(std::uint32_t(n.x)) << 32 | std::uint32_t(n.y);
+    tail = ((tail ^ std::uint32_t(n.x)) * kMul ^ std::uint32_t(n.y)) * kMul;
     for (int y = f.origin().y; y < f.origin().y + n.y; ++y) {
       const float* row = f.row(y) + f.origin().x;
       int x = 0;
-      for (; x + 4 <= n.x; x += 4)
-        for (int k = 0; k < 4; ++k) {
-          lane[k] = (lane[k] ^ std::bit_cast<std::uint32_t>(row[x + k])) * kMul;
-          lane[k] ^= lane[k] >> 29;
-        }
-      for (; x < n.x; ++x) lane[0] = (lane[0] ^ std::bit_cast<std::uint32_t>(row[x])) * kMul;
+      for (; x + 16 <= n.x; x += 16) {
+        lo = mix(lo, row + x);
+        hi = mix(hi, row + x + 8);
+      }
+      for (; x < n.x; ++x) tail = (tail ^ std::bit_cast<std::uint32_t>(row[x])) * kMul;
     }
   });
-  std::uint64_t h = 0;
-  for (std::uint64_t l : lane) h = (h ^ l) * kMul;
+  const Field<std::uint8_t>& solid = state.obstacle;  // painted obstacles (rare): bytes
+  for (int y = solid.origin().y; !solid.empty() && y < solid.origin().y + solid.ny(); ++y) {
+    const std::uint8_t* row = solid.row(y) + solid.origin().x;
+    for (int x = 0; x < solid.nx(); ++x) tail = (tail ^ row[x]) * kMul;
+  }
+  std::uint64_t h = tail;
+  for (int k = 0; k < 8; ++k)
+    h = ((h ^ lo[k]) * 0x9e3779b97f4a7c15ull ^ hi[k]) * 0x9e3779b97f4a7c15ull;
   return h ^ (h >> 31);
 }
 

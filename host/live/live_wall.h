@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "host/config/sim_state.h"
 #include "host/live/live_loop.h"
@@ -33,9 +34,11 @@ struct WallInput {
   int samples = 0, commands = 0;
   bool stop = false;      // a signal asked this process to stop: every screen quits
   bool activity = false;  // someone used this screen's input (the attract mode's idle clock)
-  // This screen's preset switch has loaded and built (ok: without error). A mirrored wall
-  // switches in the frame where every screen's has, and only when every screen's is ok.
+  // This screen's preset switch has loaded and built (ok: without error; digest: the preset's
+  // text_fingerprint). A mirrored wall switches in the frame where every screen's has, and only
+  // when every screen's is ok and every screen loaded the same preset.
   bool build_done = false, build_ok = false;
+  std::uint64_t build_digest = 0;
   std::array<StrokeSample, kMaxSamples> sample{};  // normalised to the whole grid
   std::array<LiveCommand, kMaxCommands> command{};
 };
@@ -70,8 +73,9 @@ class LiveWall {
   // A mirrored wall's check (all screens call it together): the first screen whose state's
   // fingerprint (state_fingerprint) differs from screen 0's, or -1 when all agree.
   virtual int first_drifted(std::uint64_t fingerprint) = 0;
-  // Screen 0's fields, time and step into `state` on every screen (all screens call it together,
-  // each with a state of the same preset: the same fields, sizes and halos).
+  // Screen 0's fields (their interior cells; the obstacle mask too), time and step into `state`
+  // on every screen (all screens call it together, each with a state of the same preset: the
+  // same fields and sizes; halos may differ).
   virtual void send_state(SimState& state) = 0;
   // A mirrored wall switching presets: the views over a grid of `grid` cells from now on; false
   // (nothing changes) when a view would keep no cell, or on a split wall unless the grid is the
@@ -79,9 +83,13 @@ class LiveWall {
   virtual bool regrid(Int2 grid) = 0;
 };
 
-// A fingerprint of every field's interior cells (their bits) and the step: equal states give
-// equal fingerprints, and states that differ in any cell almost surely do not. No allocation.
+// A fingerprint of every field's interior cells (their bits; the obstacle mask's too) and the
+// step: equal states give equal fingerprints, and states that differ in any cell almost surely
+// do not. Halos are left out (their width may differ between back ends). No allocation.
 std::uint64_t state_fingerprint(const SimState& state);
+// A fingerprint of `text` (FNV-1a, 64 bits): the screens compare the presets they load as
+// preset_to_toml text.
+std::uint64_t text_fingerprint(std::string_view text);
 
 // The cells screen `b` of a wall laid out as `layout` shows: its block less `bezel_cells` cells
 // across each gap between screens (the left / lower screen hides half, the other the rest).

@@ -64,10 +64,25 @@ int RankWall::first_drifted(std::uint64_t fingerprint) {
   return -1;
 }
 
+template <class T>
+void RankWall::send_cells(Field<T>& f) {
+  if (f.empty()) return;
+  // The interior only, through one buffer: a field's halo may be wider on one screen's back end
+  // than on another's.
+  const Int2 n = f.size(), o = f.origin();
+  const std::size_t row = std::size_t(n.x) * sizeof(T), bytes = row * std::size_t(n.y);
+  if (staging_.size() < bytes) staging_.resize(bytes);  // at a drift, which is rare
+  const bool root = world_.rank() == 0;
+  for (int y = 0; root && y < n.y; ++y)
+    std::memcpy(staging_.data() + row * std::size_t(y), f.row(o.y + y) + o.x, row);
+  world_.broadcast(staging_.data(), bytes);
+  for (int y = 0; !root && y < n.y; ++y)
+    std::memcpy(f.row(o.y + y) + o.x, staging_.data() + row * std::size_t(y), row);
+}
+
 void RankWall::send_state(SimState& state) {
-  state.for_each_field([&](std::string_view, FieldF& f) {
-    world_.broadcast(f.raw(), f.raw_size() * sizeof(float));
-  });
+  state.for_each_field([&](std::string_view, FieldF& f) { send_cells(f); });
+  send_cells(state.obstacle);
   struct Clock {
     double time, rd_time;
     std::int64_t step;

@@ -36,11 +36,15 @@ class RankWall final : public LiveWall {
   bool regrid(Int2 grid) override;
 
  private:
+  template <class T>
+  void send_cells(Field<T>& f);
+
   BlockLayout layout_;
   const MpiWorld& world_;
   int bezel_cells_;
   bool mirrored_;
   std::vector<std::uint64_t> fingerprints_;
+  std::vector<unsigned char> staging_;  // a field's interior on its way from screen 0
   std::vector<Box2> views_;
   std::vector<WallInput> all_;  // every screen's input of the frame
   std::vector<unsigned char> bytes_;

@@ -77,7 +77,7 @@ class TwoScreenWall final : public LiveWall {
   Int2 grid() const override { return layout_.domain(); }
   Box2 block() const override { return mirrored_ ? box_of_size(grid()) : layout_.block(me_); }
   bool mirrored() const override { return mirrored_; }
-  Box2 view() const override { return wall_view(layout_, me_, 2); }
+  Box2 view() const override { return wall_view(layout_, me_, bezel); }
   std::span<const WallInput> share(const WallInput& mine) override {
     sent.push_back(mine);
     all_[std::size_t(me_)] = mine;
@@ -102,13 +102,17 @@ class TwoScreenWall final : public LiveWall {
     ++sends;
     state.dye = screen0.dye;
   }
+  // As RankWall: a grid whose views would hide a screen's every cell is refused.
   bool regrid(Int2 grid) override {
     if (!mirrored_) return grid == layout_.domain();
-    layout_ = BlockLayout::split(grid, {2, 1});
+    const BlockLayout next = BlockLayout::split(grid, {2, 1});
+    if (wall_view(next, 0, bezel).empty() || wall_view(next, 1, bezel).empty()) return false;
+    layout_ = next;
     return true;
   }
   std::vector<WallInput> other, sent;
   int barriers = 0, checks = 0, sends = 0;
+  int bezel = 2;  // cells
   SimState screen0;
 
  private:
@@ -222,17 +226,17 @@ TEST(LiveWall, EveryScreensStrokesAndCommandsActOnEveryScreen) {
 
 TEST(WallFingerprint, DiffersWhenAnyCellOrTheStepDiffers) {
   SimState a;
-  a.size = {13, 7};
+  a.size = {37, 7};  // two runs of sixteen cells a row and five more
   a.A = FieldF(a.size, 1);
   a.B = FieldF(a.size, 1);
   for (int y = 0; y < 7; ++y)
-    for (int x = 0; x < 13; ++x) a.A(x, y) = float(x * 7 + y) * 0.1f;
+    for (int x = 0; x < 37; ++x) a.A(x, y) = float(x * 7 + y) * 0.1f;
   SimState b = a;
   EXPECT_EQ(state_fingerprint(a), state_fingerprint(b));
   // A halo cell is not the state's: it does not count.
   b.A(-1, 3) = 5.0f;
   EXPECT_EQ(state_fingerprint(a), state_fingerprint(b));
-  for (Int2 cell : {Int2{0, 0}, Int2{12, 6}, Int2{5, 3}, Int2{12, 0}}) {
+  for (Int2 cell : {Int2{0, 0}, Int2{12, 6}, Int2{21, 3}, Int2{31, 0}, Int2{36, 6}}) {
     SimState c = a;
     c.A(cell.x, cell.y) = std::nextafter(c.A(cell.x, cell.y), 2.0f);  // one ulp
     EXPECT_NE(state_fingerprint(a), state_fingerprint(c)) << cell.x << "," << cell.y;
@@ -325,20 +329,26 @@ TEST(LiveWall, AStopOnAnyScreenEndsEveryScreenAfterThatFrame) {
 TEST(LiveWall, AMirroredWallSwitchesPresetsWhenEveryScreenHasBuiltTheNext) {
   WallFixture fx;
   TwoScreenWall wall(0, /*mirrored=*/true);
+  wall.bezel = 4;
   const std::string next = (fx.dir / "wide.toml").string();
   std::ofstream(next) << "[grid]\nsize = [24, 20]\n[output]\nshow = \"dye\"\n";
   LiveOptions o = fx.options(wall);
   o.playlist = {fx.preset(), next};
   LiveLoop loop(o, fx.factory(), fx.display);
   ASSERT_TRUE(loop.start(fx.preset()).is_ok());
-  const auto other_next_frame = [&](bool done, bool ok) {
+  const std::string tiny = (fx.dir / "tiny.toml").string();
+  std::ofstream(tiny) << "[grid]\nsize = [4, 4]\n[output]\nshow = \"dye\"\n";
+  // The other screen's input of the next frame: its build done, ok, of the same preset as this
+  // screen's or not.
+  const auto other_next_frame = [&](bool done, bool ok, bool same = true) {
     wall.other.resize(wall.sent.size() + 1);
     wall.other.back().build_done = done;
     wall.other.back().build_ok = ok;
+    wall.other.back().build_digest = wall.sent.back().build_digest + (same ? 0 : 1);
   };
   // Until this screen's build is done (it says so in its input), the other screen's is not.
-  const auto build_here = [&] {
-    loop.commands().push(LiveCommand::with_text(LiveCommandKind::kSelectPreset, next));
+  const auto build_here = [&](const std::string& name) {
+    loop.commands().push(LiveCommand::with_text(LiveCommandKind::kSelectPreset, name));
     const std::size_t before = wall.sent.size();
     for (int f = 0; f < 1000 && (wall.sent.size() == before || !wall.sent.back().build_done); ++f) {
       ASSERT_TRUE(loop.run_frame());
@@ -349,7 +359,7 @@ TEST(LiveWall, AMirroredWallSwitchesPresetsWhenEveryScreenHasBuiltTheNext) {
     ASSERT_TRUE(loop.run_frame());
     EXPECT_TRUE(loop.switch_pending());
   };
-  build_here();
+  build_here(next);
   EXPECT_EQ(wall.grid(), (Int2{16, 16}));
   other_next_frame(true, false);  // the other screen could not load it
   ASSERT_TRUE(loop.run_frame());
@@ -358,17 +368,30 @@ TEST(LiveWall, AMirroredWallSwitchesPresetsWhenEveryScreenHasBuiltTheNext) {
             std::string::npos)
       << loop.last_message();
   EXPECT_EQ(wall.grid(), (Int2{16, 16}));
+  build_here(next);
+  other_next_frame(true, true, /*same=*/false);  // another file of that name over there
+  ASSERT_TRUE(loop.run_frame());
+  EXPECT_FALSE(loop.switch_pending());
+  EXPECT_NE(loop.last_message().find("loaded different presets by that name"), std::string::npos)
+      << loop.last_message();
+  build_here(tiny);  // 4 x 4 cells: the 4 bezel cells leave each screen none
+  other_next_frame(true, true);
+  ASSERT_TRUE(loop.run_frame());
+  EXPECT_NE(loop.last_message().find("its 4x4 grid leaves a screen of the wall no cell"),
+            std::string::npos)
+      << loop.last_message();
+  EXPECT_EQ(wall.grid(), (Int2{16, 16}));
 
-  build_here();
+  build_here(next);
   other_next_frame(true, true);
   ASSERT_TRUE(loop.run_frame());
   EXPECT_FALSE(loop.switch_pending());
   EXPECT_NE(loop.last_message().find("preset wide"), std::string::npos) << loop.last_message();
   EXPECT_EQ(wall.grid(), (Int2{24, 20}));
   EXPECT_EQ(fx.sim->state().size, (Int2{24, 20}));
-  // The new view: cells 0..10 of the left half (the bezel's cell 11 hidden).
-  EXPECT_EQ(fx.display.size, (Int2{11, 20}));
-  EXPECT_EQ(fx.builds, 3);
+  // The new view: cells 0..9 of the left half (the bezel's cells 10 and 11 hidden).
+  EXPECT_EQ(fx.display.size, (Int2{10, 20}));
+  EXPECT_EQ(fx.builds, 5);
 }
 
 TEST(LiveWall, KeepsItsPresetRecordsNothingAndShootsTheWholeWall) {
