@@ -297,19 +297,11 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   std::unique_ptr<RankWall> wall;
   if (walled) {
-    // A scene of tile passes splits its grid between the screens; any other runs whole on
-    // every screen (host/live/live_wall.h).
-    const bool split = preset.scene.fluid.kind == FluidSceneKind::kTable1;
-    if (split && a.playlist_opt->count())
-      return fail(kExitUsage,
-                  "--playlist does not run on a --wall of blocks (scene '" + preset.scene.name +
-                      "': its blocks are cut for one preset)",
-                  false);
-    if (split && backend == BackendKind::kOpenCl)
-      return fail(kExitUsage,
-                  "--wall runs the blocks of scene '" + preset.scene.name +
-                      "' on the threads or serial back end (expected no --backend opencl)",
-                  false);
+    // A scene of tile passes splits its grid between the screens, unless the wall switches
+    // presets (--playlist) or steps on OpenCL; every other scene, and those, run whole on every
+    // screen (host/live/live_wall.h).
+    const bool split = preset.scene.fluid.kind == FluidSceneKind::kTable1 &&
+                       backend != BackendKind::kOpenCl && a.playlist_opt->count() == 0;
     if (split) {
       if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);
           !why.empty())
