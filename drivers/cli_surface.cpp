@@ -26,6 +26,7 @@
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
 #include "host/surface/surface_gray_scott.h"
+#include "host/surface/surface_multigrid.h"
 #include "host/surface/surface_render.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
@@ -46,6 +47,7 @@ struct SurfaceArgs {
   int patch_cells = 16, steps = 3000, workers = 0;
   unsigned seed = 1;
   double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
+  std::string solver = "jacobi";
   std::string preset;
   CLI::Option *mesh_opt, *shape_opt, *scale_opt, *reaction_opt, *field_opt, *f_opt, *k_opt, *dt_opt,
       *seed_opt;
@@ -140,6 +142,8 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (const char* problem = reaction_params_problem(params.reaction)) return usage(problem);
   if (a.reaction != "euler" && a.reaction != "implicit")
     return usage("--reaction '" + a.reaction + "': expected euler (the seed's) or implicit");
+  if (a.solver != "jacobi" && a.solver != "mg")
+    return usage("--solver '" + a.solver + "': expected jacobi (the seed's sweeps) or mg");
   // The seed's forward Euler by default; with a preset, Kim & Lin's implicit reaction (any model
   // at the preset's step).
   const bool implicit = a.reaction_opt->count() ? a.reaction == "implicit" : from_preset;
@@ -218,7 +222,9 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
                params.scheme == SurfaceReaction::kImplicit ? "implicit" : "euler",
                backend.workers());
   std::fflush(ctx.out);
-  SurfaceGrayScott rd(op, params);
+  std::unique_ptr<SurfaceMultigrid> multigrid;
+  if (a.solver == "mg") multigrid = std::make_unique<SurfaceMultigrid>(surface, op);
+  SurfaceGrayScott rd(op, params, multigrid.get());
   if (from_preset) {
     // The preset's spots at the same density per flat cell, their radius in surface units.
     SurfaceGrayScott::Start start = flat.start;
@@ -233,8 +239,12 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
 
   StopSignals signals;
   int done = 0;
-  int sweeps = 0;
-  for (; done < a.steps && !StopSignals::requested(); ++done) sweeps += rd.step().sweeps;
+  int sweeps = 0, cycles = 0;
+  for (; done < a.steps && !StopSignals::requested(); ++done) {
+    const DiffusionReport r = rd.step();
+    sweeps += r.sweeps;
+    cycles += r.cycles;
+  }
   if (done < a.steps) {
     std::fprintf(ctx.err, "ardcell surface: interrupted after %d of %d steps; nothing written\n",
                  done, a.steps);
@@ -282,11 +292,15 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   };
   const auto [a_lo, a_hi] = range(rd.a());
   const auto [b_lo, b_hi] = range(rd.b());
+  char mean_cycles[48] = "";  // multigrid's V-cycles a solve
+  if (multigrid)
+    std::snprintf(mean_cycles, sizeof mean_cycles, " mean_cycles=%.1f",
+                  done ? double(cycles) / done : 0.0);
   std::fprintf(ctx.out,
-               "steps=%d mean_sweeps=%.1f seconds=%.2f a=[%.4g, %.4g] b=[%.4g, %.4g] "
+               "steps=%d mean_sweeps=%.1f%s seconds=%.2f a=[%.4g, %.4g] b=[%.4g, %.4g] "
                "out=%s%s%s%s%s\n",
-               done, done ? double(sweeps) / done : 0.0, seconds, a_lo, a_hi, b_lo, b_hi,
-               a.out.empty() ? "-" : a.out.c_str(),
+               done, done ? double(sweeps) / done : 0.0, mean_cycles, seconds, a_lo, a_hi, b_lo,
+               b_hi, a.out.empty() ? "-" : a.out.c_str(),
                a.atlas.empty() ? "" : " atlas=", a.atlas.empty() ? "" : (a.atlas + ".obj").c_str(),
                a.render.empty() ? "" : " render=", a.render.c_str());
   std::fflush(ctx.out);
@@ -341,6 +355,8 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
                     ->check(finite_range(1e-9, 1e9));
   cmd->add_option("--tolerance", a.tolerance, "implicit diffusion's relative residual (1e-6)")
       ->check(finite_range(1e-14, 1));
+  cmd->add_option("--solver", a.solver,
+                  "implicit diffusion: jacobi (the seed's sweeps) or mg (multigrid V-cycles)");
   a.seed_opt = cmd->add_option("--seed", a.seed, "random start (1; with --preset the preset's)");
   a.field_opt = cmd->add_option("--field", a.field, "a or b (b; with --preset a)");
   cmd->add_option("--colormap", a.colormap, std::string(colormap_names()) + " (magma)");

@@ -42,7 +42,8 @@ void surface_laplacian_diagonal(const PatchStencil& s, View<double> diag, int n)
 
 // One Jacobi sweep of (I - c lap) x = b from lap x (computed from x by the two kernels above):
 //   r = b - x + c lap x,  x' = x + r / (1 - c diag),   per cell (x_out may be x);
-// returns max |r| over the patch (the residual of x, before the sweep).
+// returns max |r| over the patch (the residual of x, before the sweep). diag is lap's diagonal
+// (plain Jacobi), or minus its row's absolute sum (the l1 smoother of multigrid).
 double surface_jacobi_update(View<const double> b, View<const double> lap_x,
                              View<const double> diag, View<const double> x, View<double> x_out,
                              double c, int n);

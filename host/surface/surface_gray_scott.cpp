@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <random>
 
+#include "host/surface/surface_multigrid.h"
+
 namespace ardcell {
 
 SurfaceRdParams gray_scott_for_length(double length) {
@@ -12,8 +14,10 @@ SurfaceRdParams gray_scott_for_length(double length) {
   return p;
 }
 
-SurfaceGrayScott::SurfaceGrayScott(const SurfaceLaplacian& op, const SurfaceRdParams& params)
+SurfaceGrayScott::SurfaceGrayScott(const SurfaceLaplacian& op, const SurfaceRdParams& params,
+                                   const SurfaceMultigrid* multigrid)
     : op_(op),
+      multigrid_(multigrid),
       params_(params),
       a_(op.grid().make_field(1.0)),
       b_(op.grid().make_field(0.0)),
@@ -103,9 +107,15 @@ DiffusionReport SurfaceGrayScott::step() {
   });
   // The reaction's result is the right-hand side and the first guess of each solve.
   rhs_ = a_;
-  op_.implicit_diffusion(a_, rhs_, dt * params_.diffusion_a, params_.solve);
+  diffuse(a_, dt * params_.diffusion_a);
   rhs_ = b_;
-  return op_.implicit_diffusion(b_, rhs_, dt * params_.diffusion_b, params_.solve);
+  return diffuse(b_, dt * params_.diffusion_b);
+}
+
+// x from rhs_ (x the first guess).
+DiffusionReport SurfaceGrayScott::diffuse(PatchField& x, double c) {
+  return multigrid_ ? multigrid_->implicit_diffusion(x, rhs_, c, params_.solve)
+                    : op_.implicit_diffusion(x, rhs_, c, params_.solve);
 }
 
 }  // namespace ardcell

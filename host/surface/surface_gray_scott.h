@@ -4,6 +4,7 @@
 // operator:
 //   a^L = a^n + dt F(a^n, b^n),  b^L = b^n + dt G(a^n, b^n)       (the seed's forward Euler)
 //   (I - dt r_a lap) a^{n+1} = a^L,  (I - dt r_b lap) b^{n+1} = b^L
+// (by Jacobi sweeps as the seed does, or by multigrid V-cycles)
 // with the seed's Gray-Scott F = -a b^2 + f (1 - a), G = a b^2 - (f + k) b. kImplicit replaces
 // the forward Euler reaction by ardcell's per-cell backward Euler (kernels/reaction.h, seed 000
 // Eqn 6: any reaction model, unconditionally stable, Kim & Lin's splitting).
@@ -17,6 +18,8 @@
 #include "kernels/reaction.h"
 
 namespace ardcell {
+
+class SurfaceMultigrid;
 
 enum class SurfaceReaction : std::uint8_t { kForwardEuler, kImplicit };
 
@@ -34,8 +37,10 @@ SurfaceRdParams gray_scott_for_length(double length);
 
 class SurfaceGrayScott {
  public:
-  // Keeps a reference to `op`, which must outlive it.
-  SurfaceGrayScott(const SurfaceLaplacian& op, const SurfaceRdParams& params);
+  // Keeps a reference to `op` (and to `multigrid`, which then solves the implicit diffusion
+  // instead of op's Jacobi sweeps: host/surface/surface_multigrid.h); both must outlive it.
+  SurfaceGrayScott(const SurfaceLaplacian& op, const SurfaceRdParams& params,
+                   const SurfaceMultigrid* multigrid = nullptr);
 
   // The seed's start (Sec. 8): a = 1, b = 0, except in random discs where a = 0.5, b = 0.25,
   // each with +-1% noise. The seed draws its discs in the patches' domains, where they stop at
@@ -66,7 +71,10 @@ class SurfaceGrayScott {
   const SurfaceRdParams& params() const { return params_; }
 
  private:
+  DiffusionReport diffuse(PatchField& x, double c);
+
   const SurfaceLaplacian& op_;
+  const SurfaceMultigrid* multigrid_;
   SurfaceRdParams params_;
   PatchField a_, b_, rhs_;
 };

@@ -35,6 +35,20 @@ SurfaceLaplacian::SurfaceLaplacian(const PatchTopology& topo, const PatchMetric&
         area_[(std::size_t(p) * n + j) * n + i] = metric.at(p, 2 * i + 2, 2 * j + 2).sqrt_g * h * h;
     surface_laplacian_diagonal(stencil(p), cells(diag_, p), n);
   }
+  // Row sums of |coefficient| of lap (kernels/surface_laplacian.h): the four faces' a terms twice
+  // (the cell and its neighbour), each face's cross term b / 4 on four cells.
+  l1_diag_.resize(area_.size());
+  for (int p = 0; p < patches; ++p)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::size_t x0 = p * faces + std::size_t(j) * (n + 1) + i, x1 = x0 + 1;
+        const std::size_t y0 = p * faces + std::size_t(j) * n + i, y1 = y0 + n;
+        const double a = ax_[x0] + ax_[x1] + ay_[y0] + ay_[y1];
+        const double b =
+            std::abs(bx_[x0]) + std::abs(bx_[x1]) + std::abs(by_[y0]) + std::abs(by_[y1]);
+        const std::size_t k = (std::size_t(p) * n + j) * n + i;
+        l1_diag_[k] = -(2 * a + b) / area_[k];
+      }
 }
 
 PatchStencil SurfaceLaplacian::stencil(int p) const {
@@ -151,54 +165,97 @@ double SurfaceLaplacian::area() const {
   return sum;
 }
 
-DiffusionReport SurfaceLaplacian::implicit_diffusion(PatchField& x, const PatchField& b, double c,
-                                                     const DiffusionSolve& solve) const {
-  const int n = grid_.n();
-  if (lap_interior_.size() != x.size()) lap_interior_.assign(x.size(), 0.0);
-  PatchField& lap = lap_interior_;
-  // max |b| over the interior cells, per patch on the executor (a maximum is the same in any
-  // order); the sweeps below fill patch_max_ with the residual's the same way.
-  const int patches = grid_.patches();
+double SurfaceLaplacian::max_abs(const PatchField& f) const {
+  // Per patch on the executor (a maximum is the same in any order).
+  const int n = grid_.n(), patches = grid_.patches();
   if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
   executor_->for_rows(patches, n * n, [&](int p0, int p1) {
     for (int p = p0; p < p1; ++p) {
       double m = 0;
       for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) m = std::max(m, std::abs(b[grid_.index(p, i, j)]));
+        for (int i = 0; i < n; ++i) m = std::max(m, std::abs(f[grid_.index(p, i, j)]));
       patch_max_[std::size_t(p)] = m;
     }
   });
-  double bmax = *std::max_element(patch_max_.begin(), patch_max_.end());
-  if (bmax == 0) bmax = 1;
+  return *std::max_element(patch_max_.begin(), patch_max_.end());
+}
+
+void SurfaceLaplacian::add(PatchField& x, double s) const {
+  const int n = grid_.n();
+  executor_->for_rows(grid_.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) x[grid_.index(p, i, j)] += s;
+  });
+}
+
+double SurfaceLaplacian::sweep_into_next(PatchField& x, const PatchField& b, double c,
+                                         const std::vector<double>& diag) const {
+  const int n = grid_.n(), patches = grid_.patches();
+  if (lap_interior_.size() != x.size()) lap_interior_.assign(x.size(), 0.0);
   if (next_.size() != x.size()) next_.assign(x.size(), 0.0);
+  if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
+  PatchField& lap = lap_interior_;
+  // Two passes: the fluxes of x (stitched across the edges), then per patch lap x, the residual
+  // of x and the swept iterate into next_.
+  fluxes(x);
+  executor_->for_rows(patches, n * n, [&](int p0, int p1) {
+    const Box2 inner{{0, 0}, {n, n}};
+    for (int p = p0; p < p1; ++p) {
+      divergence(p, lap);
+      patch_max_[std::size_t(p)] = surface_jacobi_update(
+          grid_.view(b, p).crop(inner), grid_.view(std::as_const(lap), p).crop(inner),
+          cells(diag, p), grid_.view(std::as_const(x), p).crop(inner),
+          grid_.view(next_, p).crop(inner), c, n);
+    }
+  });
+  return *std::max_element(patch_max_.begin(), patch_max_.end());
+}
+
+void SurfaceLaplacian::smoothing_sweeps(PatchField& x, const PatchField& b, double c,
+                                        int sweeps) const {
+  for (int s = 0; s < sweeps; ++s) {
+    sweep_into_next(x, b, c, l1_diag_);
+    std::swap(x, next_);  // buffers only: x's ghosts are filled by the next exchange
+  }
+}
+
+double SurfaceLaplacian::residual(PatchField& x, const PatchField& b, double c,
+                                  PatchField& r) const {
+  const int n = grid_.n(), patches = grid_.patches();
+  if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
+  fluxes(x);
+  executor_->for_rows(patches, n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p) {
+      divergence(p, r);  // r holds lap x, then the residual
+      double m = 0;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const std::size_t k = grid_.index(p, i, j);
+          r[k] = b[k] - x[k] + c * r[k];
+          m = std::max(m, std::abs(r[k]));
+        }
+      patch_max_[std::size_t(p)] = m;
+    }
+  });
+  return *std::max_element(patch_max_.begin(), patch_max_.end());
+}
+
+DiffusionReport SurfaceLaplacian::implicit_diffusion(PatchField& x, const PatchField& b, double c,
+                                                     const DiffusionSolve& solve) const {
+  double bmax = max_abs(b);
+  if (bmax == 0) bmax = 1;
   DiffusionReport report;
   for (;;) {
-    // Two passes a sweep: the fluxes of x (stitched across the edges), then per patch lap x, the
-    // residual of x and the swept iterate into next_, which replaces x unless x is the answer.
-    fluxes(x);
-    executor_->for_rows(patches, n * n, [&](int p0, int p1) {
-      const Box2 inner{{0, 0}, {n, n}};
-      for (int p = p0; p < p1; ++p) {
-        divergence(p, lap);
-        patch_max_[std::size_t(p)] = surface_jacobi_update(
-            grid_.view(b, p).crop(inner), grid_.view(std::as_const(lap), p).crop(inner),
-            cells(diag_, p), grid_.view(std::as_const(x), p).crop(inner),
-            grid_.view(next_, p).crop(inner), c, n);
-      }
-    });
-    report.residual = *std::max_element(patch_max_.begin(), patch_max_.end()) / bmax;
+    // The swept iterate replaces x unless x is the answer.
+    report.residual = sweep_into_next(x, b, c, diag_) / bmax;
     if (report.residual <= solve.tolerance || report.sweeps >= solve.max_sweeps) break;
     std::swap(x, next_);  // buffers only: x's ghosts are filled by the next exchange
     ++report.sweeps;
   }
   // The exact solution has total(x) = total(b) (lap is conservative); a Jacobi iterate has it
   // only to its residual. A constant is in lap's null space: shift by the difference.
-  const double shift = (total(b) - total(x)) / area();
-  executor_->for_rows(grid_.patches(), n * n, [&](int p0, int p1) {
-    for (int p = p0; p < p1; ++p)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) x[grid_.index(p, i, j)] += shift;
-  });
+  add(x, (total(b) - total(x)) / area());
   return report;
 }
 

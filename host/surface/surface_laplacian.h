@@ -34,8 +34,9 @@ struct DiffusionSolve {
 };
 
 struct DiffusionReport {
-  int sweeps = 0;
-  double residual = 0;  // relative, of the last Jacobi iterate
+  int sweeps = 0;       // Jacobi sweeps (multigrid: smoothing sweeps on the finest grid)
+  int cycles = 0;       // multigrid V-cycles (host/surface/surface_multigrid.h); 0 for Jacobi
+  double residual = 0;  // relative, of the last iterate
 };
 
 class SurfaceLaplacian {
@@ -65,6 +66,18 @@ class SurfaceLaplacian {
   // buffer may come back exchanged with the operator's scratch (same size), its ghosts stale.
   DiffusionReport implicit_diffusion(PatchField& x, const PatchField& b, double c,
                                      const DiffusionSolve& solve) const;
+  // `sweeps` l1-Jacobi sweeps of (I - c lap) x = b (multigrid's smoother): each cell's update
+  // divided by its row's diagonal plus the magnitudes of its off-diagonal coefficients, which
+  // converges for any c, where plain Jacobi diverges once c lap's cross terms (g^12) outweigh
+  // its diagonal. x's buffer exchanged as by implicit_diffusion.
+  void smoothing_sweeps(PatchField& x, const PatchField& b, double c, int sweeps) const;
+  // r = b - (I - c lap) x on every interior cell (x's ghost ring is filled first); returns
+  // max |r|.
+  double residual(PatchField& x, const PatchField& b, double c, PatchField& r) const;
+  // max |f| over the interior cells.
+  double max_abs(const PatchField& f) const;
+  // x += s on every interior cell.
+  void add(PatchField& x, double s) const;
 
  private:
   PatchStencil stencil(int p) const;
@@ -75,10 +88,16 @@ class SurfaceLaplacian {
   void fluxes(PatchField& phi) const;
   // out = the divergence of the fluxes on patch p's interior (after fluxes()).
   void divergence(int p, PatchField& out) const;
+  // One Jacobi sweep of x into next_ (the fluxes of x, then per patch its lap, residual and
+  // update); returns x's max |r|.
+  double sweep_into_next(PatchField& x, const PatchField& b, double c,
+                         const std::vector<double>& diag) const;
 
   PatchGrid grid_;
   RowExecutor* executor_ = &RowExecutor::serial();
   std::vector<double> ax_, bx_, ay_, by_, area_, diag_;
+  // -(the diagonal's and the off-diagonals' magnitudes) / area: the l1 smoother's diagonal.
+  std::vector<double> l1_diag_;
   // Scratch (the operator is used from one thread at a time).
   mutable std::vector<double> f1_, f2_, lap_, lap_interior_, patch_max_, next_;
 };

@@ -50,6 +50,20 @@ TEST_F(SurfaceCli, BuiltInTorusToPly) {
   EXPECT_TRUE(only_file("t.ply"));  // no temporary left behind
 }
 
+// Multigrid solves the same steps: the same pattern as Jacobi to the solves' tolerance.
+TEST_F(SurfaceCli, MultigridSolvesTheSameSteps) {
+  const char* common = "surface --patch-cells 8 --steps 40 --reaction implicit --tolerance 1e-10 ";
+  const BinaryRunResult jacobi = run(std::string(common) + "--out j.ply");
+  const BinaryRunResult mg = run(std::string(common) + "--solver mg --out m.ply");
+  ASSERT_EQ(jacobi.code, 0) << jacobi.err;
+  ASSERT_EQ(mg.code, 0) << mg.err;
+  EXPECT_EQ(jacobi.out.find("mean_cycles="), std::string::npos) << jacobi.out;
+  EXPECT_NE(mg.out.find(" mean_cycles="), std::string::npos) << mg.out;
+  // The chemicals' ranges, printed to 4 digits, agree.
+  const auto ranges = [](const std::string& out) { return out.substr(out.find(" a=[")); };
+  EXPECT_EQ(ranges(jacobi.out).substr(0, 40), ranges(mg.out).substr(0, 40)) << jacobi.out << mg.out;
+}
+
 TEST_F(SurfaceCli, AtlasIsAnObjAMaterialAndAPng) {
   const BinaryRunResult r =
       run("surface --shape genus2 --patch-cells 4 --steps 20 --atlas t --render r.png --view 0,90");
@@ -161,6 +175,8 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
        "ardcell surface: --shape 'klein': expected torus, cube-sphere or genus2\n"},
       {"surface --reaction rk4 --out x.ply",
        "ardcell surface: --reaction 'rk4': expected euler (the seed's) or implicit\n"},
+      {"surface --solver cg --out x.ply",
+       "ardcell surface: --solver 'cg': expected jacobi (the seed's sweeps) or mg\n"},
       {"surface --patch-cells 1024 --out x.ply", nullptr},
       {"surface --out no/such/folder/x.ply", nullptr},
       {"surface --atlas no/such/folder/x", nullptr},

@@ -1,0 +1,183 @@
+#include "host/surface/surface_multigrid.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/check.h"
+
+namespace ardcell {
+
+// One grid of the hierarchy: its operator (the finest is the caller's), and the right-hand
+// side, iterate and residual of the correction equation solved on it.
+struct SurfaceMultigrid::Level {
+  std::unique_ptr<SurfaceLaplacian> own;  // coarser levels
+  const SurfaceLaplacian* op = nullptr;
+  mutable PatchField b, x, r;
+};
+
+SurfaceMultigrid::SurfaceMultigrid(const LimitSurface& surface, const SurfaceLaplacian& fine,
+                                   CornerGhosts corners) {
+  const int n = fine.n();
+  ARDCELL_CHECK(n >= 1 && (n & (n - 1)) == 0, "SurfaceMultigrid: N must be a power of two");
+  for (int m = n; m >= std::min(n, kCoarsestCells); m /= 2) {
+    auto l = std::make_unique<Level>();
+    if (m == n) {
+      l->op = &fine;
+    } else {
+      l->own = std::make_unique<SurfaceLaplacian>(surface.topology(),
+                                                  sample_limit_metric(surface, m), corners);
+      l->own->set_executor(fine.executor());
+      l->op = l->own.get();
+    }
+    l->b = l->op->grid().make_field();
+    l->x = l->op->grid().make_field();
+    l->r = l->op->grid().make_field();
+    levels_.push_back(std::move(l));
+    if (m == kCoarsestCells || m == 1) break;
+  }
+}
+
+SurfaceMultigrid::~SurfaceMultigrid() = default;
+
+namespace {
+
+// coarse = the area-weighted mean of each 2 x 2 block of fine (interior cells, per patch).
+void restrict_mean(const SurfaceLaplacian& fine_op, const PatchField& fine,
+                   const SurfaceLaplacian& coarse_op, PatchField& coarse) {
+  const PatchGrid &fg = fine_op.grid(), &cg = coarse_op.grid();
+  const int m = cg.n();
+  fine_op.executor().for_rows(cg.patches(), m * m * 4, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i) {
+          double sum = 0, area = 0;
+          for (int dj = 0; dj < 2; ++dj)
+            for (int di = 0; di < 2; ++di) {
+              const double a = fine_op.cell_area(p, 2 * i + di, 2 * j + dj);
+              sum += a * fine[fg.index(p, 2 * i + di, 2 * j + dj)];
+              area += a;
+            }
+          coarse[cg.index(p, i, j)] = sum / area;
+        }
+  });
+}
+
+// fine += coarse, bilinear: a fine cell takes 9/16 of its coarse parent, 3/16 of the parent's
+// neighbours on its side along each axis and 1/16 of the one diagonally on its side (the coarse
+// ghost ring, filled first, across patch edges).
+void prolong_add(const SurfaceLaplacian& coarse_op, PatchField& coarse,
+                 const SurfaceLaplacian& fine_op, PatchField& fine) {
+  const PatchGrid &fg = fine_op.grid(), &cg = coarse_op.grid();
+  cg.exchange(coarse);
+  const int n = fg.n();
+  fine_op.executor().for_rows(fg.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const int ci = i / 2, cj = j / 2;
+          const int si = (i % 2) ? 1 : -1, sj = (j % 2) ? 1 : -1;
+          fine[fg.index(p, i, j)] +=
+              (9 * coarse[cg.index(p, ci, cj)] + 3 * coarse[cg.index(p, ci + si, cj)] +
+               3 * coarse[cg.index(p, ci, cj + sj)] + coarse[cg.index(p, ci + si, cj + sj)]) /
+              16;
+        }
+  });
+}
+
+}  // namespace
+
+void SurfaceMultigrid::cycle(int level, double c) const {
+  const Level& l = *levels_[std::size_t(level)];
+  if (level + 1 == levels()) {
+    if (!solve_coarsest(c)) l.op->smoothing_sweeps(l.x, l.b, c, kCoarseSweeps);
+    return;
+  }
+  l.op->smoothing_sweeps(l.x, l.b, c, kPreSweeps);
+  l.op->residual(l.x, l.b, c, l.r);
+  const Level& next = *levels_[std::size_t(level) + 1];
+  restrict_mean(*l.op, l.r, *next.op, next.b);
+  std::fill(next.x.begin(), next.x.end(), 0.0);
+  cycle(level + 1, c);
+  prolong_add(*next.op, next.x, *l.op, l.x);
+  l.op->smoothing_sweeps(l.x, l.b, c, kPostSweeps);
+}
+
+bool SurfaceMultigrid::solve_coarsest(double c) const {
+  const Level& l = *levels_.back();
+  const PatchGrid& g = l.op->grid();
+  const int m = g.n();
+  const int k = g.patches() * m * m;
+  if (k > kMaxDirectCells) return false;
+  const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
+  if (c != coarse_c_) {
+    // Column q of I - c lap: the operator applied to the q-th unit field.
+    lu_.assign(std::size_t(k) * k, 0.0);
+    PatchField unit = g.make_field(), lap = g.make_field();
+    for (int q = 0; q < k; ++q) {
+      std::fill(unit.begin(), unit.end(), 0.0);
+      unit[cell(q)] = 1;
+      l.op->apply(unit, lap);
+      for (int r = 0; r < k; ++r)
+        lu_[std::size_t(r) * k + q] = (r == q ? 1.0 : 0.0) - c * lap[cell(r)];
+    }
+    pivot_.assign(std::size_t(k), 0);
+    for (int col = 0; col < k; ++col) {
+      int best = col;
+      for (int r = col + 1; r < k; ++r)
+        if (std::abs(lu_[std::size_t(r) * k + col]) > std::abs(lu_[std::size_t(best) * k + col]))
+          best = r;
+      pivot_[std::size_t(col)] = best;
+      if (best != col)
+        std::swap_ranges(lu_.begin() + std::ptrdiff_t(col) * k,
+                         lu_.begin() + std::ptrdiff_t(col + 1) * k,
+                         lu_.begin() + std::ptrdiff_t(best) * k);
+      const double d = lu_[std::size_t(col) * k + col];
+      for (int r = col + 1; r < k; ++r) {
+        double& f = lu_[std::size_t(r) * k + col];
+        f /= d;
+        for (int j = col + 1; j < k; ++j)
+          lu_[std::size_t(r) * k + j] -= f * lu_[std::size_t(col) * k + j];
+      }
+    }
+    coarse_c_ = c;
+  }
+  rhs_.resize(std::size_t(k));
+  for (int q = 0; q < k; ++q) rhs_[std::size_t(q)] = l.b[cell(q)];
+  for (int q = 0; q < k; ++q) std::swap(rhs_[std::size_t(q)], rhs_[std::size_t(pivot_[q])]);
+  for (int r = 0; r < k; ++r)
+    for (int j = 0; j < r; ++j)
+      rhs_[std::size_t(r)] -= lu_[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
+  for (int r = k - 1; r >= 0; --r) {
+    for (int j = r + 1; j < k; ++j)
+      rhs_[std::size_t(r)] -= lu_[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
+    rhs_[std::size_t(r)] /= lu_[std::size_t(r) * k + r];
+  }
+  for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
+  return true;
+}
+
+DiffusionReport SurfaceMultigrid::implicit_diffusion(PatchField& x, const PatchField& b, double c,
+                                                     const DiffusionSolve& solve) const {
+  const SurfaceLaplacian& op = *levels_.front()->op;
+  Level& top = *levels_.front();
+  double bmax = op.max_abs(b);
+  if (bmax == 0) bmax = 1;
+  // The finest level solves for x itself: its right-hand side is b, its iterate x.
+  std::swap(top.x, x);
+  top.b = b;  // same size: a copy into the level's storage
+  DiffusionReport report;
+  for (;;) {
+    report.residual = op.residual(top.x, top.b, c, top.r) / bmax;
+    if (report.residual <= solve.tolerance || report.cycles >= solve.max_sweeps) break;
+    cycle(0, c);
+    ++report.cycles;
+    report.sweeps += kPreSweeps + kPostSweeps;
+  }
+  std::swap(top.x, x);
+  // As SurfaceLaplacian::implicit_diffusion: the total of the exact solution, which a finished
+  // iterate keeps only to its residual (a constant is in lap's null space).
+  op.add(x, (op.total(b) - op.total(x)) / op.area());
+  return report;
+}
+
+}  // namespace ardcell

@@ -1,0 +1,61 @@
+#pragma once
+// Implicit diffusion on a patched surface by multigrid V-cycles (seed 004, Sec. 7.3.2 solves by
+// Jacobi sweeps; its fluid's projection asks for multigrid): (I - c lap) x = b as
+// SurfaceLaplacian::implicit_diffusion solves it, with the same stopping rule (relative residual
+// max |b - (I - c lap) x| / max |b|) and the same conservation shift at the end, in far fewer
+// passes over the cells when c lap is stiff (a step dt much larger than h^2 / r).
+//
+// Levels: the patches of N x N cells, then N/2, ... down to 2 x 2 cells a patch (every patch
+// coarsens alike, N a power of two), each with its own Laplace-Beltrami operator built from the
+// limit surface's metric sampled at that resolution (rediscretisation), its ghost exchange
+// across patch edges before every sweep. Cycle: two l1-Jacobi sweeps (convergent for any step,
+// where plain Jacobi diverges once the metric's cross terms outweigh the diagonal:
+// SurfaceLaplacian::smoothing_sweeps), the residual restricted to the coarser grid as the
+// area-weighted mean of each 2 x 2 block (what leaves a fine cell's integral leaves the coarse
+// cell's), the correction solved there and added back bilinearly (the coarse ghost ring
+// exchanged first), two more sweeps. The coarsest grid is solved exactly (a dense LU of its
+// matrix, built column by column from the operator and kept while c stays the same) when it has
+// at most kMaxDirectCells cells, else by kCoarseSweeps sweeps: the global modes a stiff step
+// leaves there would take Jacobi thousands of sweeps.
+// Work runs per patch on the fine operator's executor: the same bits for any number of workers.
+#include <memory>
+#include <vector>
+
+#include "host/surface/limit_surface.h"
+#include "host/surface/surface_laplacian.h"
+
+namespace ardcell {
+
+class SurfaceMultigrid {
+ public:
+  static constexpr int kPreSweeps = 2, kPostSweeps = 2, kCoarseSweeps = 200;
+  static constexpr int kMaxDirectCells = 1536;
+  static constexpr int kCoarsestCells = 2;  // cells along a patch's side on the coarsest grid
+
+  // `fine` is the operator on N x N cells a patch (kept by reference; it must outlive this);
+  // the coarser operators are built from `surface`'s metric. Allocates every level's fields.
+  SurfaceMultigrid(const LimitSurface& surface, const SurfaceLaplacian& fine,
+                   CornerGhosts corners = CornerGhosts::kDiagonalExtrapolate);
+  ~SurfaceMultigrid();
+
+  int levels() const { return int(levels_.size()); }
+  // Solves (I - c lap) x = b (x the first guess) to solve.tolerance or solve.max_sweeps V-cycles;
+  // x's buffer may come back exchanged with the fine operator's scratch, as by
+  // SurfaceLaplacian::implicit_diffusion.
+  DiffusionReport implicit_diffusion(PatchField& x, const PatchField& b, double c,
+                                     const DiffusionSolve& solve) const;
+
+ private:
+  struct Level;
+  void cycle(int level, double c) const;
+  // The coarsest level's x from its b, exactly (false: too many cells for a dense solve).
+  bool solve_coarsest(double c) const;
+
+  std::vector<std::unique_ptr<Level>> levels_;  // finest first
+  // The coarsest matrix I - c lap factored (row-major LU, partial pivoting) for coarse_c_.
+  mutable double coarse_c_ = -1;
+  mutable std::vector<double> lu_, rhs_;
+  mutable std::vector<int> pivot_;
+};
+
+}  // namespace ardcell
