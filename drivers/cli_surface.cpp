@@ -240,10 +240,21 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   StopSignals signals;
   int done = 0;
   int sweeps = 0, cycles = 0;
+  bool warned = false;  // a solve that stopped short of the tolerance is said once
   for (; done < a.steps && !StopSignals::requested(); ++done) {
     const DiffusionReport r = rd.step();
     sweeps += r.sweeps;
     cycles += r.cycles;
+    if (!warned && !(r.residual <= params.solve.tolerance)) {
+      warned = true;
+      std::fprintf(ctx.err,
+                   "ardcell surface: step %d: the implicit diffusion stopped at relative residual "
+                   "%.3g, above --tolerance %g%s\n",
+                   done + 1, r.residual, params.solve.tolerance,
+                   multigrid ? ""
+                             : " (Jacobi diverges when a step spreads over hundreds of cells: "
+                               "--solver mg)");
+    }
   }
   if (done < a.steps) {
     std::fprintf(ctx.err, "ardcell surface: interrupted after %d of %d steps; nothing written\n",

@@ -59,6 +59,20 @@ TEST_F(SurfaceCli, MultigridSolvesTheSameSteps) {
   ASSERT_EQ(mg.code, 0) << mg.err;
   EXPECT_EQ(jacobi.out.find("mean_cycles="), std::string::npos) << jacobi.out;
   EXPECT_NE(mg.out.find(" mean_cycles="), std::string::npos) << mg.out;
+  EXPECT_EQ(jacobi.err, "");
+  EXPECT_EQ(mg.err, "");
+  // A step over hundreds of cells: Jacobi diverges and says so once; multigrid converges.
+  const char* stiff = "surface --patch-cells 8 --steps 3 --dt 100 --scale 2 --reaction implicit ";
+  const BinaryRunResult jacobi_stiff = run(std::string(stiff) + "--out js.ply");
+  EXPECT_EQ(jacobi_stiff.code, 0);
+  EXPECT_EQ(count_lines(jacobi_stiff.err), 1) << jacobi_stiff.err;
+  EXPECT_NE(jacobi_stiff.err.find("ardcell surface: step 1: the implicit diffusion stopped at"),
+            std::string::npos)
+      << jacobi_stiff.err;
+  EXPECT_NE(jacobi_stiff.err.find("--solver mg"), std::string::npos) << jacobi_stiff.err;
+  const BinaryRunResult mg_stiff = run(std::string(stiff) + "--solver mg --out ms.ply");
+  EXPECT_EQ(mg_stiff.code, 0);
+  EXPECT_EQ(mg_stiff.err, "");
   // The chemicals' ranges, printed to 4 digits, agree.
   const auto ranges = [](const std::string& out) { return out.substr(out.find(" a=[")); };
   EXPECT_EQ(ranges(jacobi.out).substr(0, 40), ranges(mg.out).substr(0, 40)) << jacobi.out << mg.out;
