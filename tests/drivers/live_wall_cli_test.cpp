@@ -35,14 +35,14 @@ class LiveWallCliTest : public BinaryRunTest {
     ASSERT_NE(at, std::string::npos);
     preset.replace(at, 17, "size = [96, 64]");
     std::ofstream(work() / "wall.toml") << preset;
-    // cavity-gray-scott (fluid and anisotropic RD as stages on whole fields) on 96 x 64 cells.
+    // cavity-gray-scott (fluid and anisotropic RD as stages on whole fields) on 48 x 32 cells.
     std::ifstream in_cgs(ARDCELL_SOURCE_DIR "/presets/cavity-gray-scott.toml");
     std::stringstream cgs;
     cgs << in_cgs.rdbuf();
     preset = cgs.str();
     const std::size_t at_cgs = preset.find("size = [256, 256]");
     ASSERT_NE(at_cgs, std::string::npos);
-    preset.replace(at_cgs, 17, "size = [96, 64]");
+    preset.replace(at_cgs, 17, "size = [48, 32]");
     std::ofstream(work() / "mirrored.toml") << preset;
   }
   bool has_display() const { return std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"); }
@@ -124,13 +124,13 @@ TEST_F(LiveWallCliTest, AMirroredWallShowsOneProcesssFrame) {
 TEST_F(LiveWallCliTest, AMirroredWallSwitchesPresetsInStep) {
   if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
   std::string next = slurp(work() / "mirrored.toml");
-  next.replace(next.find("size = [96, 64]"), 15, "size = [80, 48]");
+  next.replace(next.find("size = [48, 32]"), 15, "size = [40, 24]");
   std::ofstream(work() / "next.toml") << next;
   // "/ardcell/preset/next" and the type tags "," as OSC pads them (to 4 bytes, NUL-ended).
   std::ofstream(work() / "switch.sh")
       << "ardcell() { " << wall_env()
       << "'" ARDCELL_MPIEXEC "' --oversubscribe -np 2 '" ARDCELL_BINARY
-         "' live mirrored.toml --playlist mirrored.toml next.toml --osc 0 --fps 30 --no-vsync "
+         "' live mirrored.toml --playlist mirrored.toml next.toml --osc 0 --fps 60 --no-vsync "
          "--scale 1 --wall 2x1 --frames 200 --screenshot wall.png; }\n"
          "ardcell 2> err.txt & job=$!\n"
          "for i in $(seq 600); do grep -q 'OSC on udp://127.0.0.1:' err.txt && break; "
@@ -144,8 +144,8 @@ TEST_F(LiveWallCliTest, AMirroredWallSwitchesPresetsInStep) {
   EXPECT_EQ(r.err.find("drifted"), std::string::npos) << r.err;
   const PngInfo w = read_png(work() / "wall.png");
   ASSERT_TRUE(w.ok);
-  EXPECT_EQ(w.width, 80);
-  EXPECT_EQ(w.height, 48);
+  EXPECT_EQ(w.width, 40);
+  EXPECT_EQ(w.height, 24);
 }
 #endif
 
