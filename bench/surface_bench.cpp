@@ -7,9 +7,12 @@
 //   cells; the paper's fertility has 166), box-238 (4 x 5 x 11; dog), torus-1127 (49 x 23; rocker
 //   arm), torus-1292 (38 x 34; bunny), N = 8, 16, 32, 64 cells a patch side (the paper has no 64
 //   for the two largest). One iteration = one step of a growing pattern (after 50 steps).
+//   Surface/mg/<mesh>/<N>   the same with the diffusion solved by multigrid V-cycles
+//   (`ardcell surface --solver mg`, host/surface/surface_multigrid.h).
 //   SurfaceWorkers/genus2/<N>   the double torus (50 patches) on one worker against every core.
-// Counters: ms_per_step, sweeps (Jacobi sweeps a step, both solves), paper_cpu_ms, paper_gpu_ms,
-// x_paper_cpu (the paper's CPU time over ours, wall clock: > 1 is faster).
+// Counters: ms_per_step, sweeps (Jacobi or smoothing sweeps on the finest grid a step, b's
+// solve), cycles (mg: V-cycles a step, b's solve), paper_cpu_ms, paper_gpu_ms, x_paper_cpu (the
+// paper's CPU time over ours, wall clock: > 1 is faster).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -23,6 +26,7 @@
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
 #include "host/surface/surface_gray_scott.h"
+#include "host/surface/surface_multigrid.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
 #endif
@@ -61,10 +65,12 @@ struct SurfaceRun {
   std::unique_ptr<SurfaceLaplacian> op;
   std::unique_ptr<ThreadBackend> backend;
   std::unique_ptr<RowExecutor> executor;
+  std::unique_ptr<SurfaceMultigrid> multigrid;  // --solver mg
   std::unique_ptr<SurfaceGrayScott> rd;
 };
 
-std::unique_ptr<SurfaceRun> surface_run(PolyMesh mesh, int n, int workers, std::string* error) {
+std::unique_ptr<SurfaceRun> surface_run(PolyMesh mesh, int n, int workers, std::string* error,
+                                        bool multigrid = false) {
   auto r = std::make_unique<SurfaceRun>();
   if (Status s = LimitSurface::build(std::move(mesh), {}, r->surface); !s) {
     *error = s.message();
@@ -79,26 +85,34 @@ std::unique_ptr<SurfaceRun> surface_run(PolyMesh mesh, int n, int workers, std::
   r->executor = std::make_unique<RowExecutor>(*r->backend);
   r->op->set_executor(*r->executor);
   const double side = std::sqrt(r->op->area() / r->op->patches());
-  r->rd = std::make_unique<SurfaceGrayScott>(*r->op, gray_scott_for_length(side / 20));
+  if (multigrid) r->multigrid = std::make_unique<SurfaceMultigrid>(r->surface, *r->op);
+  r->rd = std::make_unique<SurfaceGrayScott>(*r->op, gray_scott_for_length(side / 20),
+                                             r->multigrid.get());
   r->rd->seed_spots(cell_positions(r->surface, r->op->grid()), 1, 3 * r->op->patches(), 0.2 * side);
   for (int i = 0; i < 50; ++i) r->rd->step();
   return r;
 }
 
-void BM_SurfaceRd(benchmark::State& state, const TableRow& row, int column) {
+void BM_SurfaceRd(benchmark::State& state, const TableRow& row, int column, bool multigrid) {
   std::string error;
-  const std::unique_ptr<SurfaceRun> r = surface_run(mesh_for(row.mesh), 8 << column, 0, &error);
+  const std::unique_ptr<SurfaceRun> r =
+      surface_run(mesh_for(row.mesh), 8 << column, 0, &error, multigrid);
   if (!r) {
     state.SkipWithError(error.c_str());
     return;
   }
-  long long sweeps = 0;
+  long long sweeps = 0, cycles = 0;
   const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) sweeps += r->rd->step().sweeps;
+  for (auto _ : state) {
+    const DiffusionReport report = r->rd->step();
+    sweeps += report.sweeps;
+    cycles += report.cycles;
+  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double steps = double(state.iterations());
   state.counters["sweeps"] = double(sweeps) / steps;
+  if (multigrid) state.counters["cycles"] = double(cycles) / steps;
   state.counters["patches"] = r->op->patches();
   state.counters["workers"] = r->backend->workers();
   state.counters["paper_cpu_ms"] = row.cpu_ms[column];
@@ -143,15 +157,19 @@ void BM_SurfaceWorkers(benchmark::State& state, int n) {
 int main(int argc, char** argv) {
 #if ARDCELL_WITH_OPENSUBDIV
   using namespace ardcell;
-  for (const TableRow& row : kTable3)
-    for (int column = 0; column < 4; ++column) {
-      if (row.cpu_ms[column] == 0) continue;
-      benchmark::RegisterBenchmark(
-          ("Surface/rd/" + std::string(row.mesh) + "/" + std::to_string(8 << column)).c_str(),
-          [&row, column](benchmark::State& s) { BM_SurfaceRd(s, row, column); })
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime();
-    }
+  for (const bool multigrid : {false, true})
+    for (const TableRow& row : kTable3)
+      for (int column = 0; column < 4; ++column) {
+        if (row.cpu_ms[column] == 0) continue;
+        benchmark::RegisterBenchmark((std::string(multigrid ? "Surface/mg/" : "Surface/rd/") +
+                                      row.mesh + "/" + std::to_string(8 << column))
+                                         .c_str(),
+                                     [&row, column, multigrid](benchmark::State& s) {
+                                       BM_SurfaceRd(s, row, column, multigrid);
+                                     })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
   for (int n : {16, 32})
     benchmark::RegisterBenchmark(("SurfaceWorkers/genus2/" + std::to_string(n)).c_str(),
                                  [n](benchmark::State& s) { BM_SurfaceWorkers(s, n); })
