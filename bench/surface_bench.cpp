@@ -10,8 +10,8 @@
 //   Surface/mg/<mesh>/<N>   the same with the diffusion solved by multigrid V-cycles
 //   (`ardcell surface --solver mg`, host/surface/surface_multigrid.h).
 //   SurfaceWorkers/genus2/<N>   the double torus (50 patches) on one worker against every core.
-// Counters: ms_per_step, sweeps (Jacobi or smoothing sweeps on the finest grid a step, b's
-// solve), cycles (mg: V-cycles a step, b's solve), paper_cpu_ms, paper_gpu_ms, x_paper_cpu (the
+// Counters: ms_per_step, sweeps (Jacobi or smoothing sweeps on the finest grid a step, both
+// solves), cycles (mg: V-cycles a step, both solves), paper_cpu_ms, paper_gpu_ms, x_paper_cpu (the
 // paper's CPU time over ours, wall clock: > 1 is faster).
 #include <benchmark/benchmark.h>
 

@@ -252,8 +252,10 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
                    "%.3g, above --tolerance %g%s\n",
                    done + 1, r.residual, params.solve.tolerance,
                    multigrid ? ""
-                             : " (Jacobi diverges when a step spreads over hundreds of cells: "
-                               "--solver mg)");
+                   : r.residual <= 1
+                       ? " (Jacobi's sweep limit: a looser --tolerance or --solver mg)"
+                       : " (Jacobi diverges when a step spreads over hundreds of "
+                         "cells: --solver mg)");
     }
   }
   if (done < a.steps) {

@@ -60,7 +60,7 @@ class SurfaceGrayScott {
     std::uint32_t seed = 1;
   };
   void seed_pattern(const std::array<PatchField, 3>& cell_positions, const Start& start);
-  // One step dt; the report of b's diffusion solve (the slower of the two).
+  // One step dt; its two diffusion solves' sweeps and cycles summed, and the worse residual.
   DiffusionReport step();
 
   PatchField& a() { return a_; }

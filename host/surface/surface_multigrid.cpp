@@ -102,6 +102,50 @@ void SurfaceMultigrid::cycle(int level, double c) const {
   l.op->smoothing_sweeps(l.x, l.b, c, kPostSweeps);
 }
 
+const SurfaceMultigrid::Factor& SurfaceMultigrid::factor_for(double c) const {
+  for (const Factor& f : factors_)
+    if (f.c == c) return f;
+  const Level& l = *levels_.back();
+  const PatchGrid& g = l.op->grid();
+  const int m = g.n(), k = g.patches() * m * m;
+  const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
+  Factor& f = factors_[next_factor_];
+  next_factor_ = (next_factor_ + 1) % kFactors;
+  // Column q of I - c lap: the operator applied to the q-th unit field.
+  f.lu.assign(std::size_t(k) * k, 0.0);
+  unit_.assign(g.make_field().size(), 0.0);
+  lap_.assign(unit_.size(), 0.0);
+  for (int q = 0; q < k; ++q) {
+    unit_[cell(q)] = 1;
+    l.op->apply(unit_, lap_);
+    unit_[cell(q)] = 0;
+    for (int r = 0; r < k; ++r)
+      f.lu[std::size_t(r) * k + q] = (r == q ? 1.0 : 0.0) - c * lap_[cell(r)];
+  }
+  f.pivot.assign(std::size_t(k), 0);
+  for (int col = 0; col < k; ++col) {
+    int best = col;
+    for (int r = col + 1; r < k; ++r)
+      if (std::abs(f.lu[std::size_t(r) * k + col]) > std::abs(f.lu[std::size_t(best) * k + col]))
+        best = r;
+    f.pivot[std::size_t(col)] = best;
+    if (best != col)
+      std::swap_ranges(f.lu.begin() + std::ptrdiff_t(col) * k,
+                       f.lu.begin() + std::ptrdiff_t(col + 1) * k,
+                       f.lu.begin() + std::ptrdiff_t(best) * k);
+    const double d = f.lu[std::size_t(col) * k + col];
+    ARDCELL_CHECK(d != 0, "SurfaceMultigrid: the coarsest matrix is singular");
+    for (int r = col + 1; r < k; ++r) {
+      double& e = f.lu[std::size_t(r) * k + col];
+      e /= d;
+      for (int j = col + 1; j < k; ++j)
+        f.lu[std::size_t(r) * k + j] -= e * f.lu[std::size_t(col) * k + j];
+    }
+  }
+  f.c = c;
+  return f;
+}
+
 bool SurfaceMultigrid::solve_coarsest(double c) const {
   const Level& l = *levels_.back();
   const PatchGrid& g = l.op->grid();
@@ -109,48 +153,17 @@ bool SurfaceMultigrid::solve_coarsest(double c) const {
   const int k = g.patches() * m * m;
   if (k > kMaxDirectCells) return false;
   const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
-  if (c != coarse_c_) {
-    // Column q of I - c lap: the operator applied to the q-th unit field.
-    lu_.assign(std::size_t(k) * k, 0.0);
-    PatchField unit = g.make_field(), lap = g.make_field();
-    for (int q = 0; q < k; ++q) {
-      std::fill(unit.begin(), unit.end(), 0.0);
-      unit[cell(q)] = 1;
-      l.op->apply(unit, lap);
-      for (int r = 0; r < k; ++r)
-        lu_[std::size_t(r) * k + q] = (r == q ? 1.0 : 0.0) - c * lap[cell(r)];
-    }
-    pivot_.assign(std::size_t(k), 0);
-    for (int col = 0; col < k; ++col) {
-      int best = col;
-      for (int r = col + 1; r < k; ++r)
-        if (std::abs(lu_[std::size_t(r) * k + col]) > std::abs(lu_[std::size_t(best) * k + col]))
-          best = r;
-      pivot_[std::size_t(col)] = best;
-      if (best != col)
-        std::swap_ranges(lu_.begin() + std::ptrdiff_t(col) * k,
-                         lu_.begin() + std::ptrdiff_t(col + 1) * k,
-                         lu_.begin() + std::ptrdiff_t(best) * k);
-      const double d = lu_[std::size_t(col) * k + col];
-      for (int r = col + 1; r < k; ++r) {
-        double& f = lu_[std::size_t(r) * k + col];
-        f /= d;
-        for (int j = col + 1; j < k; ++j)
-          lu_[std::size_t(r) * k + j] -= f * lu_[std::size_t(col) * k + j];
-      }
-    }
-    coarse_c_ = c;
-  }
+  const Factor& f = factor_for(c);
   rhs_.resize(std::size_t(k));
   for (int q = 0; q < k; ++q) rhs_[std::size_t(q)] = l.b[cell(q)];
-  for (int q = 0; q < k; ++q) std::swap(rhs_[std::size_t(q)], rhs_[std::size_t(pivot_[q])]);
+  for (int q = 0; q < k; ++q) std::swap(rhs_[std::size_t(q)], rhs_[std::size_t(f.pivot[q])]);
   for (int r = 0; r < k; ++r)
     for (int j = 0; j < r; ++j)
-      rhs_[std::size_t(r)] -= lu_[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
+      rhs_[std::size_t(r)] -= f.lu[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
   for (int r = k - 1; r >= 0; --r) {
     for (int j = r + 1; j < k; ++j)
-      rhs_[std::size_t(r)] -= lu_[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
-    rhs_[std::size_t(r)] /= lu_[std::size_t(r) * k + r];
+      rhs_[std::size_t(r)] -= f.lu[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
+    rhs_[std::size_t(r)] /= f.lu[std::size_t(r) * k + r];
   }
   for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
   return true;
@@ -162,9 +175,12 @@ DiffusionReport SurfaceMultigrid::implicit_diffusion(PatchField& x, const PatchF
   Level& top = *levels_.front();
   double bmax = op.max_abs(b);
   if (bmax == 0) bmax = 1;
-  // The finest level solves for x itself: its right-hand side is b, its iterate x.
-  std::swap(top.x, x);
+  // The finest level solves for x itself: its right-hand side is b (copied first: x may be b),
+  // its iterate x.
+  ARDCELL_CHECK(b.size() == top.b.size() && x.size() == top.x.size(),
+                "SurfaceMultigrid: fields of another grid");
   top.b = b;  // same size: a copy into the level's storage
+  std::swap(top.x, x);
   DiffusionReport report;
   for (;;) {
     report.residual = op.residual(top.x, top.b, c, top.r) / bmax;

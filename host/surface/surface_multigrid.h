@@ -52,10 +52,20 @@ class SurfaceMultigrid {
   bool solve_coarsest(double c) const;
 
   std::vector<std::unique_ptr<Level>> levels_;  // finest first
-  // The coarsest matrix I - c lap factored (row-major LU, partial pivoting) for coarse_c_.
-  mutable double coarse_c_ = -1;
-  mutable std::vector<double> lu_, rhs_;
-  mutable std::vector<int> pivot_;
+  // The coarsest matrix I - c lap factored (row-major LU, partial pivoting), one for each of
+  // the last kFactors values of c (a reaction-diffusion step solves for two chemicals, each its
+  // own c): a factorisation is built once per c, not once per solve.
+  struct Factor {
+    double c = -1;
+    std::vector<double> lu;
+    std::vector<int> pivot;
+  };
+  static constexpr int kFactors = 2;
+  const Factor& factor_for(double c) const;
+  mutable Factor factors_[kFactors];
+  mutable int next_factor_ = 0;  // the slot a new c replaces
+  mutable std::vector<double> rhs_;
+  mutable PatchField unit_, lap_;  // the columns' scratch
 };
 
 }  // namespace ardcell

@@ -96,22 +96,24 @@ TEST(SurfaceMultigrid, ConvergesWhereJacobiStalls) {
   }
 }
 
+// The 32-patch torus at N = 32 (32 rows of 1024 cells: enough to run on the workers) on 1 and 3
+// workers.
 TEST(SurfaceMultigrid, SameBitsOnAnyNumberOfWorkers) {
   Surfaces s;
-  SurfaceLaplacian op(s.cube.topology(), sample_limit_metric(s.cube, 16));
+  SurfaceLaplacian op(s.torus.topology(), sample_limit_metric(s.torus, 32));
   const PatchField b = random_field(op.grid(), 3);
-  const double c = 100 * op.area() / (op.patches() * 16 * 16);
+  const double c = 100 * op.area() / (op.patches() * 32 * 32);
   PatchField serial = b;
   {
-    const SurfaceMultigrid mg(s.cube, op);
+    const SurfaceMultigrid mg(s.torus, op);
     mg.implicit_diffusion(serial, b, c, DiffusionSolve{1e-9, 50});
   }
   ThreadBackendOptions t;
-  t.workers = 2;
+  t.workers = 3;
   ThreadBackend backend(t);
   RowExecutor ex(backend);
   op.set_executor(ex);
-  const SurfaceMultigrid mg(s.cube, op);
+  const SurfaceMultigrid mg(s.torus, op);
   PatchField threads = b;
   mg.implicit_diffusion(threads, b, c, DiffusionSolve{1e-9, 50});
   for (int p = 0; p < op.patches(); ++p)
