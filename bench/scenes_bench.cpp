@@ -28,9 +28,6 @@
 #include "bench/bench_env.h"
 #include "host/engine/engine.h"
 #include "host/scenes/preset.h"
-#if defined(ARDCELL_WITH_OPENCL)
-#include "kernels/cl/opencl_kernels.h"
-#endif
 
 namespace ardcell {
 namespace {
@@ -40,23 +37,7 @@ std::vector<std::string> bench_presets() {
   return s ? split_commas(s) : preset_names();
 }
 
-// The OpenCL context of the run (null: none, or ARDCELL_CL_DEVICE=none).
-OpenClContext* opencl() {
-#if defined(ARDCELL_WITH_OPENCL)
-  static std::unique_ptr<OpenClContext> ctx = [] {
-    const char* env = std::getenv("ARDCELL_CL_DEVICE");
-    if (env && std::string(env) == "none") return std::unique_ptr<OpenClContext>();
-    std::string error;
-    auto c = OpenClContext::open(env ? std::atoi(env) : -1, &error);
-    if (c && !OpenClKernels::prepare(*c, &error)) c.reset();
-    if (!c) std::fprintf(stderr, "scenes_bench: no OpenCL rows: %s\n", error.c_str());
-    return c;
-  }();
-  return ctx.get();
-#else
-  return nullptr;
-#endif
-}
+OpenClContext* opencl() { return bench_opencl("scenes_bench"); }
 
 EngineOptions options_for(EngineOptions::Backend backend) {
   EngineOptions o{backend, 0};
