@@ -178,6 +178,150 @@ __kernel void iccg_precondition(__global const double* inv_pivot, __global const
     iccg_block_solve(inv_pivot, wx, xs, xo, wy, ys, yo, r, z, nx, j0, j1, 0);
 }
 
+// --- The same factorisation and solves as wavefronts, for GPUs --------------------------------
+// Cell (i, j) of a block needs (i - 1, j) and (i, j - 1) (forward; backward the mirror), so the
+// cells with i + (j - j0) = t can go at once: one work-group per block, one work-item per row
+// (lane l = row j0 + l), step t doing lane l's cell i = t - l. A lane keeps its own last value in
+// a register and takes its upper neighbour's, computed in the step before, from a ring in local
+// memory; one barrier a step. Each cell's arithmetic is the sequential kernels' (same operands,
+// same order), so the two give the same bits; the wavefront has nx + block_rows - 1 steps of up to
+// block_rows cells where the sequential walk has nx * block_rows steps of one. Each step's
+// operands are loaded in the step before, so a step waits on the barrier, not on memory.
+// Work-group size: block_rows (at most kWavefrontRows).
+#define kWavefrontRows 64
+
+__kernel void iccg_factor_wavefront(__global const float* diag, int s, int o,
+                                    __global const float* wx, int xs, int xo,
+                                    __global const float* wy, int ys, int yo, int nx, int ny,
+                                    int block_rows, __global double* pivot,
+                                    __global double* inv_pivot) {
+  __local double ring[2][kWavefrontRows];
+  const int l = get_local_id(0);
+  const int j0 = (int)get_group_id(0) * block_rows;
+  const int rows = min(block_rows, ny - j0);
+  const int j = j0 + l;
+  const bool lane = l < rows;
+  double left = 0.0;  // pivot(i - 1, j)
+  // This step's operands (cell i = t - l), loaded in the step before.
+  double dg = 0.0, w_x = 0.0, w_y = 0.0;
+  if (lane && l == 0) {
+    dg = (double)diag[o + j * s];
+    w_y = 0.0;
+  }
+  for (int t = 0; t < nx + rows - 1; ++t) {
+    const int i = t - l;
+    if (lane && i >= 0 && i < nx) {
+      double d = dg;
+      if (i > 0) d -= w_x * w_x / left;
+      if (l > 0) d -= w_y * w_y / ring[(t + 1) & 1][l - 1];
+      const double floor_value = 1e-3 * dg;
+      if (!(d > floor_value)) d = dg > 0.0 ? dg : 1.0;
+      pivot[j * nx + i] = d;
+      inv_pivot[j * nx + i] = 1.0 / d;
+      left = d;
+      ring[t & 1][l] = d;
+    }
+    const int next = i + 1;
+    if (lane && next >= 0 && next < nx) {
+      dg = (double)diag[o + j * s + next];
+      w_x = next > 0 ? (double)wx[xo + j * xs + next] : 0.0;
+      w_y = l > 0 ? (double)wy[yo + j * ys + next] : 0.0;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+}
+
+// The block solve of iccg_precondition as two wavefronts: forward (lane l = row j0 + l, cell
+// i = t - l) then backward (lane l from the block's last row up: row j1 - 1 - l, cell
+// i = nx - 1 - (t - l)).
+__attribute__((always_inline)) inline void iccg_wavefront_solve(
+    __global const double* inv_pivot, __global const float* wx, int xs, int xo,
+    __global const float* wy, int ys, int yo, __global const double* r, __global double* z, int nx,
+    int j0, int rows, __local double (*ring)[kWavefrontRows], const int fused) {
+  const int l = get_local_id(0);
+  const bool lane = l < rows;
+  const int steps = nx + rows - 1;
+  {
+    const int j = j0 + l;
+    double left = 0.0;  // z(i - 1, j)
+    double rv = 0.0, w_x = 0.0, w_y = 0.0, inv = 0.0;
+    if (lane && l == 0) {
+      rv = r[j * nx];
+      inv = inv_pivot[j * nx];
+    }
+    for (int t = 0; t < steps; ++t) {
+      const int i = t - l;
+      if (lane && i >= 0 && i < nx) {
+        double v = l > 0 ? rv + w_y * ring[(t + 1) & 1][l - 1] : rv;
+        v = i == 0 ? v * inv : multiply_add(w_x, left, v, fused) * inv;
+        z[j * nx + i] = v;
+        left = v;
+        ring[t & 1][l] = v;
+      }
+      const int next = i + 1;
+      if (lane && next >= 0 && next < nx) {
+        rv = r[j * nx + next];
+        inv = inv_pivot[j * nx + next];
+        w_x = next > 0 ? (double)wx[xo + j * xs + next] : 0.0;
+        w_y = l > 0 ? (double)wy[yo + j * ys + next] : 0.0;
+      }
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+  }
+  // The backward pass reads rows other work-items wrote forward.
+  barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
+  {
+    // Lane l's row; the row below it in the backward order (j + 1) is lane l - 1's.
+    const int j = j0 + rows - 1 - l;
+    double right = 0.0;  // z(i + 1, j), backward
+    double zf = 0.0, w_x = 0.0, w_ya = 0.0, inv = 0.0;
+    if (lane && l == 0) {
+      zf = z[j * nx + nx - 1];
+      inv = inv_pivot[j * nx + nx - 1];
+    }
+    for (int t = 0; t < steps; ++t) {
+      const int i = nx - 1 - (t - l);
+      if (lane && i >= 0 && i < nx) {
+        double v;
+        if (l == 0) {
+          v = i == nx - 1 ? zf + 0.0 * inv
+                          : multiply_add(multiply_add(w_x, right, 0.0, fused), inv, zf, fused);
+        } else {
+          const double za = ring[(t + 1) & 1][l - 1];
+          v = i == nx - 1 ? zf + w_ya * za * inv
+                          : multiply_add(multiply_add(w_x, right, w_ya * za, fused), inv, zf, fused);
+        }
+        z[j * nx + i] = v;
+        right = v;
+        ring[t & 1][l] = v;
+      }
+      const int next = i - 1;
+      if (lane && next >= 0 && next < nx) {
+        zf = z[j * nx + next];
+        inv = inv_pivot[j * nx + next];
+        w_x = next + 1 < nx ? (double)wx[xo + j * xs + next + 1] : 0.0;
+        w_ya = l > 0 ? (double)wy[yo + (j + 1) * ys + next] : 0.0;
+      }
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+  }
+}
+
+// iccg_precondition as wavefronts: one work-group of block_rows work-items per block.
+__kernel void iccg_precondition_wavefront(__global const double* inv_pivot,
+                                          __global const float* wx, int xs, int xo,
+                                          __global const float* wy, int ys, int yo,
+                                          __global const double* r, __global double* z, int nx,
+                                          int ny, int block_rows, int fused) {
+  __local double ring[2][kWavefrontRows];
+  const int j0 = (int)get_group_id(0) * block_rows;
+  const int rows = min(block_rows, ny - j0);
+  if (fused)
+    iccg_wavefront_solve(inv_pivot, wx, xs, xo, wy, ys, yo, r, z, nx, j0, rows, ring, 1);
+  else
+    iccg_wavefront_solve(inv_pivot, wx, xs, xo, wy, ys, yo, r, z, nx, j0, rows, ring, 0);
+}
+
 // Twin of IccgSolver::solve's dot(r, z) and dot(r, r) after a preconditioning (r does not change
 // between them): partials[j] = the row's sum of r * z, partials[ny + j] its sum of r * r, each
 // left to right. One work-item per row.

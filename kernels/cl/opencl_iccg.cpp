@@ -27,6 +27,7 @@ OpenClIccg::OpenClIccg(OpenClKernels& cl, Int2 size) : cl_(cl), size_(size), n_(
   const std::size_t bytes = std::size_t(n_) * sizeof(double);
   for (OpenClBuffer* b : {&pivot_, &inv_pivot_, &x_, &r_, &z_, &p_, &q_}) *b = ctx.allocate(bytes);
   partials_ = cl.row_partials(2 * size.y);
+  if (ctx.device().type == "gpu") walk_ = BlockWalk::kWavefront;
 }
 
 void OpenClIccg::enqueue_vector(cl_kernel k) {
@@ -34,15 +35,21 @@ void OpenClIccg::enqueue_vector(cl_kernel k) {
   cl_.context().enqueue(k, global, kVectorGroup);
 }
 
+static_assert(iccg::kBlockRows <= 64,
+              "kernels/cl/iccg.cl: a wavefront work-group holds kWavefrontRows = 64 rows");
+
 void OpenClIccg::enqueue_blocks(cl_kernel k) {
-  // One work-item per block, each its own work-group: the blocks spread over the compute units.
-  const int blocks = (size_.y + iccg::kBlockRows - 1) / iccg::kBlockRows;
-  cl_.context().enqueue(k, std::size_t(blocks), 1);
+  // Sequential: one work-item per block, each its own work-group, so the blocks spread over the
+  // compute units. Wavefront: one work-group of kBlockRows work-items per block.
+  const std::size_t blocks = std::size_t((size_.y + iccg::kBlockRows - 1) / iccg::kBlockRows);
+  const std::size_t group = walk_ == BlockWalk::kWavefront ? iccg::kBlockRows : 1;
+  cl_.context().enqueue(k, blocks * group, group);
 }
 
 void OpenClIccg::factor(const ClStencilOperator& op) {
   ARDCELL_CHECK(op.size == size_, "OpenCL ICCG: size mismatch");
-  cl_kernel k = cl_.kernel("iccg_factor");
+  cl_kernel k =
+      cl_.kernel(walk_ == BlockWalk::kWavefront ? "iccg_factor_wavefront" : "iccg_factor");
   set_kernel_args(k, op.diag, op.wx, op.wy, size_.x, size_.y, iccg::kBlockRows, pivot_, inv_pivot_);
   enqueue_blocks(k);
 }
@@ -61,7 +68,8 @@ void OpenClIccg::project(OpenClBuffer& v, const ClNullSpace& null) {
 
 void OpenClIccg::precondition(const ClStencilOperator& op, const ClNullSpace* null, double& rz,
                               double& rr) {
-  cl_kernel k = cl_.kernel("iccg_precondition");
+  cl_kernel k = cl_.kernel(walk_ == BlockWalk::kWavefront ? "iccg_precondition_wavefront"
+                                                          : "iccg_precondition");
   set_kernel_args(k, inv_pivot_, op.wx, op.wy, r_, z_, size_.x, size_.y, iccg::kBlockRows,
                   int(iccg::kFusedRecurrences));
   enqueue_blocks(k);

@@ -32,8 +32,18 @@ struct ClNullSpace {
 
 class OpenClIccg {
  public:
-  // Throws when the device has no doubles.
+  // How a block's factorisation and triangular solves are walked (kernels/cl/iccg.cl): one
+  // work-item per block in the C++ order (a CPU's best: the blocks spread over its cores), or as
+  // wavefronts, one work-group per block and one work-item per row (a GPU's: its cores wait on
+  // memory, so the sequential walk's 32 rows x N dependent steps take ~50 times longer than the
+  // wavefront's N + 32). The same bits either way.
+  enum class BlockWalk : uint8_t { kSequential, kWavefront };
+
+  // Throws when the device has no doubles. The walk: wavefronts on a GPU, else sequential.
   OpenClIccg(OpenClKernels& cl, Int2 size);
+
+  BlockWalk block_walk() const { return walk_; }
+  void set_block_walk(BlockWalk walk) { walk_ = walk; }
 
   // IccgSolver::prepare: the block IC(0) pivots of op (op.size must be the solver's). Call it
   // after every change of op's coefficients, before iterate().
@@ -57,6 +67,7 @@ class OpenClIccg {
   OpenClKernels& cl_;
   Int2 size_;
   int n_;
+  BlockWalk walk_ = BlockWalk::kSequential;
   OpenClBuffer pivot_, inv_pivot_, x_, r_, z_, p_, q_;
   ClRowPartials partials_;  // 2 ny rows: iccg_dots writes two reductions side by side
 };

@@ -214,6 +214,56 @@ TEST(ClIccgParity, RefactorsAfterTheOperatorChanges) {
   }
 }
 
+// The wavefront walk (a GPU's) gives the sequential walk's bits (a CPU's, the C++ order), on
+// every block shape: rows not a multiple of the 32-row blocks, a last block of one row, one
+// column, one cell, solid cells and a singular operator, from a cold and a warm start.
+TEST(ClIccgParity, WavefrontWalkGivesTheSequentialBits) {
+  Fixture& d = device();
+  ASSERT_TRUE(d.cl);
+  if (!d.cl->has_fp64()) GTEST_SKIP() << "the device has no doubles: ICCG stays on the CPU";
+  const BoundaryKind neumann = BoundaryKind::kNeumann, dirichlet = BoundaryKind::kDirichlet,
+                     periodic = BoundaryKind::kPeriodic;
+  const OperatorCase cases[] = {
+      {"per-face, Dirichlet, 129x65", {129, 65}, 1.0, 3.7, dirichlet, dirichlet, true, -1.0},
+      {"per-face, obstacle, periodic, 77x33", {77, 33}, 1.0, 3.7, periodic, periodic, true, 0.0},
+      {"pressure, Neumann, 40x97", {40, 97}, 0.0, 1.0, neumann, neumann, false, -1.0},
+      {"one column, 1x70", {1, 70}, 1.0, 5.0, neumann, dirichlet, false, -1.0},
+      {"one row, 90x1", {90, 1}, 1.0, 5.0, dirichlet, dirichlet, true, -1.0},
+      {"one cell", {1, 1}, 1.0, 5.0, dirichlet, dirichlet, false, -1.0},
+  };
+  const SolverSettings settings{SolverKind::kIccg, 40, 1e-6};
+  Dev dev{*d.ctx};
+  for (const OperatorCase& c : cases) {
+    const StencilOperator op = operator_of(c);
+    ClStencilOperator cl_op = ClStencilOperator::allocate(*d.ctx, c.size, c.bx, c.by);
+    cl_op.upload(*d.ctx, op);
+    stencil::NullSpace null_space(c.size);
+    null_space.analyse(op);
+    FieldF b(c.size, 1), warm(c.size, 1);
+    fill_random(b, -1.0f, 1.5f, 7);
+    fill_random(warm, -0.5f, 0.5f, 11);
+    const DeviceField mask = upload_mask(*d.ctx, null_space.mask());
+    const ClNullSpace null{&mask, null_space.count(), null_space.consistent_norm2(b)};
+    for (const FieldF& x0 : {FieldF(c.size, 1), warm}) {
+      FieldF x[2];
+      int iterations[2];
+      for (auto walk : {OpenClIccg::BlockWalk::kSequential, OpenClIccg::BlockWalk::kWavefront}) {
+        OpenClIccg iccg(*d.cl, c.size);
+        iccg.set_block_walk(walk);
+        iccg.factor(cl_op);
+        DeviceField db = dev.up(b), dx = dev.up(x0);
+        const int k = int(walk == OpenClIccg::BlockWalk::kWavefront);
+        iterations[k] =
+            iccg.iterate(cl_op, db, dx, settings, null_space.singular() ? &null : nullptr);
+        x[k] = dev.down(dx);
+      }
+      EXPECT_EQ(iterations[1], iterations[0]) << c.name;
+      EXPECT_GT(iterations[0], 0) << c.name;
+      EXPECT_TRUE(difference(x[1], x[0]).identical) << c.name;
+    }
+  }
+}
+
 // The whole implicit step with ICCG: ImplicitDiffusion against OpenClDiffusion (its operator
 // assembled and factored on the device, from the conductivity kernel's k), isotropic and
 // anisotropic, Crank-Nicolson, every boundary kind with a Dirichlet value, around solid cells.
