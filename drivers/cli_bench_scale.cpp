@@ -82,8 +82,16 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
           {"ARDCELL_BENCH_RANKS", std::to_string(r) + "x1"},
           {"ARDCELL_BENCH_WORKERS", std::to_string(row.workers)},
           {"ARDCELL_BENCH_FRAMES", std::to_string(o.frames)}};
-      const std::vector<std::string> launcher = {o.mpirun, "--oversubscribe", "-np",
-                                                 std::to_string(r)};
+      // Each rank bound to cores of its own, as many as its workers (Open MPI's default binds
+      // each of up to 2 ranks to ONE core, whatever its workers); when the ranks outnumber the
+      // cores, no binding.
+      std::vector<std::string> launcher = {o.mpirun, "--oversubscribe"};
+      if (r * row.workers <= cores)
+        launcher.insert(launcher.end(), {"--map-by", "slot:PE=" + std::to_string(row.workers),
+                                         "--bind-to", "core"});
+      else
+        launcher.insert(launcher.end(), {"--bind-to", "none"});
+      launcher.insert(launcher.end(), {"-np", std::to_string(r)});
       const int rc = run_bench_program(binary, "Scale/", 0.0, json, env, launcher);
       std::vector<BenchRow> report;
       std::string skipped;
