@@ -6,6 +6,8 @@
 // On one machine the cores stay the same, so "efficiency" is a row's throughput (cells per
 // second) over the 1-rank row of its kind: what running as processes and MPI messages costs
 // against threads. Prints a Markdown table and writes scale.md and scale.csv into --out.
+#include <sched.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -65,7 +67,13 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) return usage("--out " + o.out + ": " + ec.message());
-  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  // The CPUs this process may use (a cpuset or taskset counts; hardware threads count as CPUs,
+  // as mpirun's --use-hwthread-cpus below counts them).
+  cpu_set_t usable;
+  CPU_ZERO(&usable);
+  const int cores = ::sched_getaffinity(0, sizeof usable, &usable) == 0
+                        ? std::max(1, CPU_COUNT(&usable))
+                        : int(std::max(1u, std::thread::hardware_concurrency()));
 
   std::vector<ScaleRow> rows;
   for (const char* kind : {"strong", "weak"})
@@ -82,13 +90,15 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
           {"ARDCELL_BENCH_RANKS", std::to_string(r) + "x1"},
           {"ARDCELL_BENCH_WORKERS", std::to_string(row.workers)},
           {"ARDCELL_BENCH_FRAMES", std::to_string(o.frames)}};
-      // Each rank bound to cores of its own, as many as its workers (Open MPI's default binds
-      // each of up to 2 ranks to ONE core, whatever its workers); when the ranks outnumber the
-      // cores, no binding.
+      // Each rank bound to CPUs of its own, as many as its workers (Open MPI's default binds
+      // each of up to 2 ranks to ONE core, whatever its workers); --use-hwthread-cpus makes
+      // mpirun count CPUs as `cores` does (else physical cores, and PE=W fails on a machine with
+      // hyperthreads). When the ranks outnumber the CPUs, no binding.
       std::vector<std::string> launcher = {o.mpirun, "--oversubscribe"};
       if (r * row.workers <= cores)
-        launcher.insert(launcher.end(), {"--map-by", "slot:PE=" + std::to_string(row.workers),
-                                         "--bind-to", "core"});
+        launcher.insert(launcher.end(),
+                        {"--use-hwthread-cpus", "--map-by",
+                         "slot:PE=" + std::to_string(row.workers), "--bind-to", "hwthread"});
       else
         launcher.insert(launcher.end(), {"--bind-to", "none"});
       launcher.insert(launcher.end(), {"-np", std::to_string(r)});

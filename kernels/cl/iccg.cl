@@ -13,8 +13,9 @@
 // doubles and fma (PoCL) every vector has the C++ bits.
 //
 // The factorisation and the triangular solves are sequential within a block (each pivot and
-// each z(i, j) needs its left and lower neighbour's): ONE work-item per block walks it in the
-// C++ order, blocks side by side (the C++ runs them as one task per block). The row-parallel
+// each z(i, j) needs its left and lower neighbour's): on a CPU device ONE work-item per block
+// walks it in the C++ order, blocks side by side (the C++ runs them as one task per block); on a
+// GPU the *_wavefront kernels below walk it by anti-diagonals, with the same bits. The row-parallel
 // parts (the matvec, dot products, updates) are one work-item per row or per cell.
 //
 // Needs doubles (cl_khr_fp64): without them the file compiles to nothing and the host keeps the

@@ -35,8 +35,8 @@ class OpenClIccg {
   // How a block's factorisation and triangular solves are walked (kernels/cl/iccg.cl): one
   // work-item per block in the C++ order (a CPU's best: the blocks spread over its cores), or as
   // wavefronts, one work-group per block and one work-item per row (a GPU's: its cores wait on
-  // memory, so the sequential walk's 32 rows x N dependent steps take ~50 times longer than the
-  // wavefront's N + 32). The same bits either way.
+  // memory, and the sequential walk has 32 N dependent steps where the wavefront has N + 31). The
+  // same bits either way.
   enum class BlockWalk : uint8_t { kSequential, kWavefront };
 
   // Throws when the device has no doubles. The walk: wavefronts on a GPU, else sequential.

@@ -215,8 +215,8 @@ TEST(ClIccgParity, RefactorsAfterTheOperatorChanges) {
 }
 
 // The wavefront walk (a GPU's) gives the sequential walk's bits (a CPU's, the C++ order), on
-// every block shape: rows not a multiple of the 32-row blocks, a last block of one row, one
-// column, one cell, solid cells and a singular operator, from a cold and a warm start.
+// every block shape: rows not a multiple of the 32-row blocks, a last block of one row, a lone
+// block of 23 or 7 rows, one column, one cell, solid cells and a singular operator, from a cold and a warm start.
 TEST(ClIccgParity, WavefrontWalkGivesTheSequentialBits) {
   Fixture& d = device();
   ASSERT_TRUE(d.cl);
@@ -227,6 +227,8 @@ TEST(ClIccgParity, WavefrontWalkGivesTheSequentialBits) {
       {"per-face, Dirichlet, 129x65", {129, 65}, 1.0, 3.7, dirichlet, dirichlet, true, -1.0},
       {"per-face, obstacle, periodic, 77x33", {77, 33}, 1.0, 3.7, periodic, periodic, true, 0.0},
       {"pressure, Neumann, 40x97", {40, 97}, 0.0, 1.0, neumann, neumann, false, -1.0},
+      {"a partial block of 23 rows, 37x23", {37, 23}, 1.0, 2.5, neumann, neumann, true, -1.0},
+      {"a partial block of 7 rows, 200x7", {200, 7}, 1.0, 5.0, dirichlet, periodic, true, -1.0},
       {"one column, 1x70", {1, 70}, 1.0, 5.0, neumann, dirichlet, false, -1.0},
       {"one row, 90x1", {90, 1}, 1.0, 5.0, dirichlet, dirichlet, true, -1.0},
       {"one cell", {1, 1}, 1.0, 5.0, dirichlet, dirichlet, false, -1.0},
