@@ -106,6 +106,41 @@ inline void chunk_sums(const GeneralizedTaps& k, const float* const tap_rows[25]
   }
 }
 
+// One output row y (unwrapped: it picks the ring slots; y_cell, wrapped, is the row the
+// reaction sees): cells [0, nx) of ao, bo from the centre values ac, bc and the ring of rows
+// y - 2 .. y + 2 (slot(row) = wrap(row, 5), each a wrapped row of ring_row_floats).
+template <class Rates>
+inline void row_with(const GeneralizedTaps& k, const float* ring_a, const float* ring_b,
+                     std::size_t w, int y, int y_cell, const float* ac, const float* bc, float* ao,
+                     float* bo, int nx, const GeneralizedRdParams& p, const Rates& rates) {
+  const bool diffuse_a = p.scale_a != 0.0f, diffuse_b = p.scale_b != 0.0f;
+  const float sa = p.scale_a, sb = p.scale_b, dt = p.dt;
+  const float a_lo = p.a_lo, a_hi = p.a_hi, b_lo = p.b_lo, b_hi = p.b_hi;
+  const float* taps_a[25];
+  const float* taps_b[25];
+  for (int t = 0; t < k.count; ++t) {
+    const std::size_t row = w * std::size_t(wrap(y + k.taps[t].dy, 5)) + 2;
+    taps_a[t] = ring_a + row + k.taps[t].dx;
+    taps_b[t] = ring_b + row + k.taps[t].dx;
+  }
+  alignas(64) float acc_a[kChunk];
+  alignas(64) float acc_b[kChunk];
+  for (int x0 = 0; x0 < nx; x0 += kChunk) {
+    if (diffuse_a) chunk_sums(k, taps_a, x0, acc_a);
+    if (diffuse_b) chunk_sums(k, taps_b, x0, acc_b);
+    const int n = std::min(kChunk, nx - x0);
+    for (int i = 0; i < n; ++i) {
+      const float A = ac[x0 + i], B = bc[x0 + i];
+      float ra, rb;
+      rates(x0 + i, y_cell, A, B, ra, rb);
+      const float da = diffuse_a ? sa * acc_a[i] : 0.0f;
+      const float db = diffuse_b ? sb * acc_b[i] : 0.0f;
+      ao[x0 + i] = std::min(std::max(A + da + dt * ra, a_lo), a_hi);
+      bo[x0 + i] = std::min(std::max(B + db + dt * rb, b_lo), b_hi);
+    }
+  }
+}
+
 template <class Rates>
 void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> b,
                View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
@@ -113,47 +148,66 @@ void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> 
   const std::size_t w = ring_row_floats(size.x);
   float* ring_a = scratch;
   float* ring_b = scratch + 5 * w;
-  const auto slot = [](int y) { return wrap(y, 5); };
-  const bool diffuse_a = p.scale_a != 0.0f, diffuse_b = p.scale_b != 0.0f;
-  const bool ring = diffuse_a || diffuse_b;  // reaction or clamp alone reads no neighbour
+  const auto slot = [](int y) { return std::size_t(wrap(y, 5)); };
+  const bool ring = p.scale_a != 0.0f || p.scale_b != 0.0f;  // reaction or clamp alone: no ring
   for (int y = y0 - 2; ring && y <= y0 + 2; ++y) {
-    load_wrapped_row(a, size, y, ring_a + w * std::size_t(slot(y)));
-    load_wrapped_row(b, size, y, ring_b + w * std::size_t(slot(y)));
+    load_wrapped_row(a, size, y, ring_a + w * slot(y));
+    load_wrapped_row(b, size, y, ring_b + w * slot(y));
   }
-  const float sa = p.scale_a, sb = p.scale_b, dt = p.dt;
-  const float a_lo = p.a_lo, a_hi = p.a_hi, b_lo = p.b_lo, b_hi = p.b_hi;
-  alignas(64) float acc_a[kChunk];
-  alignas(64) float acc_b[kChunk];
   for (int y = y0; y < y1; ++y) {
-    const float* taps_a[25];
-    const float* taps_b[25];
-    for (int t = 0; t < k.count; ++t) {
-      const std::size_t row = w * std::size_t(slot(y + k.taps[t].dy)) + 2;
-      taps_a[t] = ring_a + row + k.taps[t].dx;
-      taps_b[t] = ring_b + row + k.taps[t].dx;
-    }
-    const float* ac = a.row(y);
-    const float* bc = b.row(y);
-    float* ao = a_out.row(y);
-    float* bo = b_out.row(y);
-    for (int x0 = 0; x0 < size.x; x0 += kChunk) {
-      if (diffuse_a) chunk_sums(k, taps_a, x0, acc_a);
-      if (diffuse_b) chunk_sums(k, taps_b, x0, acc_b);
-      const int n = std::min(kChunk, size.x - x0);
-      for (int i = 0; i < n; ++i) {
-        const float A = ac[x0 + i], B = bc[x0 + i];
-        float ra, rb;
-        rates(x0 + i, y, A, B, ra, rb);
-        const float da = diffuse_a ? sa * acc_a[i] : 0.0f;
-        const float db = diffuse_b ? sb * acc_b[i] : 0.0f;
-        ao[x0 + i] = std::min(std::max(A + da + dt * ra, a_lo), a_hi);
-        bo[x0 + i] = std::min(std::max(B + db + dt * rb, b_lo), b_hi);
-      }
-    }
+    row_with(k, ring_a, ring_b, w, y, y, a.row(y), b.row(y), a_out.row(y), b_out.row(y), size.x, p,
+             rates);
     // The row two below the next one enters the ring where the row two above this one was.
     if (ring && y + 1 < y1) {
-      load_wrapped_row(a, size, y + 3, ring_a + w * std::size_t(slot(y + 3)));
-      load_wrapped_row(b, size, y + 3, ring_b + w * std::size_t(slot(y + 3)));
+      load_wrapped_row(a, size, y + 3, ring_a + w * slot(y + 3));
+      load_wrapped_row(b, size, y + 3, ring_b + w * slot(y + 3));
+    }
+  }
+}
+
+// `steps` steps in one walk down the rows: step s (1-based) computes its rows two rows behind
+// step s - 1, from step s - 1's ring of 5 wrapped rows (step 1 from the input's), and keeps them
+// in its own ring; the last step writes rows [y0, y1) of the outputs. Step s computes rows
+// [y0 - 2 (steps - s), y1 + 2 (steps - s)), the rows the next steps read (they wrap at the
+// domain's edges). Each row is row_with of the same operands as in `steps` rows_with calls, so
+// the same bits; the intermediate rows never leave the cache.
+template <class Rates>
+void rows_fused_with(const GeneralizedTaps& k, View<const float> a, View<const float> b,
+                     View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+                     const GeneralizedRdParams& p, int steps, const Rates& rates, float* scratch) {
+  const int nx = size.x;
+  const std::size_t w = ring_row_floats(nx);
+  // Ring s (0: the input, s: step s's rows) of field f (0: A, 1: B).
+  const auto ring = [&](int s, int f) { return scratch + (2 * std::size_t(s) + f) * 5 * w; };
+  const auto slot = [](int y) { return std::size_t(wrap(y, 5)); };
+  const int reach = 2 * steps;  // input rows read around an output row
+  for (int y = y0 - reach; y <= y0 - reach + 4; ++y) {
+    load_wrapped_row(a, size, y, ring(0, 0) + w * slot(y));
+    load_wrapped_row(b, size, y, ring(0, 1) + w * slot(y));
+  }
+  const int last = y1 + 2 * (steps - 1);  // step 1's rows end here
+  for (int t = y0 - 2 * (steps - 1); t < last; ++t) {
+    for (int st = 1; st <= steps; ++st) {
+      const int y = t - 2 * (st - 1);        // step st's row this turn
+      if (y < y0 - 2 * (steps - st)) break;  // before its first: so are the later steps'
+      const float* in_a = ring(st - 1, 0);
+      const float* in_b = ring(st - 1, 1);
+      const float* ca = in_a + w * slot(y) + 2;
+      const float* cb = in_b + w * slot(y) + 2;
+      if (st == steps) {
+        row_with(k, in_a, in_b, w, y, y, ca, cb, a_out.row(y), b_out.row(y), nx, p, rates);
+        continue;
+      }
+      float* ma = ring(st, 0) + w * slot(y);
+      float* mb = ring(st, 1) + w * slot(y);
+      row_with(k, in_a, in_b, w, y, wrap(y, size.y), ca, cb, ma + 2, mb + 2, nx, p, rates);
+      for (float* m : {ma, mb})
+        for (int i : {0, 1, nx + 2, nx + 3}) m[i] = m[2 + wrap(i - 2, nx)];
+    }
+    // The input row two below step 1's next row enters its ring.
+    if (t + 1 < last) {
+      load_wrapped_row(a, size, t + 3, ring(0, 0) + w * slot(t + 3));
+      load_wrapped_row(b, size, t + 3, ring(0, 1) + w * slot(t + 3));
     }
   }
 }
@@ -213,7 +267,9 @@ GeneralizedTaps::GeneralizedTaps(const Stencil5x5& k) {
     }
 }
 
-std::size_t generalized_rd_scratch_floats(int nx) { return 10 * ring_row_floats(nx); }
+std::size_t generalized_rd_scratch_floats(int nx) {
+  return 10 * std::size_t(kGeneralizedFusedSteps) * ring_row_floats(nx);
+}
 
 namespace {
 
@@ -275,6 +331,20 @@ void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<con
   if (y0 >= y1) return;
   with_rates(p, [&](const auto& rates) {
     rows_with(k, a, b, a_out, b_out, size, y0, y1, p, rates, scratch);
+  });
+}
+
+void generalized_rd_fused_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
+                               View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+                               const GeneralizedRdParams& p, int steps, float* scratch) {
+  ARDCELL_DCHECK(size.x >= 2 && size.y >= 2, "generalized RD needs at least 2 x 2 cells");
+  ARDCELL_CHECK(steps >= 1 && steps <= kGeneralizedFusedSteps,
+                "generalized_rd_fused_rows: 1 to kGeneralizedFusedSteps steps");
+  ARDCELL_CHECK(p.scale_a != 0.0f || p.scale_b != 0.0f,
+                "generalized_rd_fused_rows: fused steps need a diffusion (else separate calls)");
+  if (y0 >= y1) return;
+  with_rates(p, [&](const auto& rates) {
+    rows_fused_with(k, a, b, a_out, b_out, size, y0, y1, p, steps, rates, scratch);
   });
 }
 

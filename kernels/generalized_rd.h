@@ -69,7 +69,12 @@ struct GeneralizedRdParams {
   float f_step = 0.0f, k_step = 0.0f;
 };
 
-// Floats of scratch per worker that generalized_rd_rows needs for an nx-wide grid.
+// The most steps generalized_rd_fused_rows runs in one walk: its rings (5 rows of A and B per
+// step) stay in a core's L2 at 1024 cells a row (160 KiB).
+inline constexpr int kGeneralizedFusedSteps = 4;
+
+// Floats of scratch per worker that generalized_rd_rows and generalized_rd_fused_rows need for
+// an nx-wide grid.
 std::size_t generalized_rd_scratch_floats(int nx);
 
 // Rows [y0, y1) of the nx x ny interior (a.size()): a_out, b_out from a, b. Outputs must not
@@ -77,6 +82,16 @@ std::size_t generalized_rd_scratch_floats(int nx);
 void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
                          View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
                          const GeneralizedRdParams& p, float* scratch);
+
+// `steps` steps at once (1 .. kGeneralizedFusedSteps): rows [y0, y1) of the last step from a, b,
+// the same bits as generalized_rd_rows over every row `steps` times. Each step's rows stay in the
+// scratch (a ring of 5 rows per step, each step two rows behind the one before), so a band moves
+// its fields through memory once for all the steps (at 1024^2 a single step streams them), at
+// the cost of 4 (steps - 1) rows computed again at each band edge. Needs a diffusion (scale_a or
+// scale_b not 0). Outputs must not alias inputs.
+void generalized_rd_fused_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
+                               View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+                               const GeneralizedRdParams& p, int steps, float* scratch);
 
 // --- Seed 003, Table 1, last row at rank 2: an inhomogeneous (per-cell) diffusion tensor --------
 //   seed 003, Table 1 (inhomogeneous, anisotropic Gaussian): tr(D H(u)) + grad u . div D, i.e.

@@ -364,6 +364,24 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
   });
 }
 
+void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,
+                                     const GeneralizedTaps& k, const GeneralizedRdParams& p,
+                                     int steps) {
+  // Nothing to fuse without a diffusion (no neighbour is read); below 512^2 the fields stay in
+  // the caches between steps, and the rows the bands compute twice cost more than the walk saves
+  // (256^2: 6% slower fused, bench/RESULTS_SEED003.md).
+  if ((p.scale_a == 0.0f && p.scale_b == 0.0f) || a.nx() * a.ny() < 512 * 512) {
+    Device::generalized_rd_steps(a, b, a_out, b_out, k, p, steps);
+    return;
+  }
+  ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
+                "generalized_rd_steps: reserve() the grid first");
+  for_bands(a.size(), [&](Box2 rows, int worker) {
+    generalized_rd_fused_rows(k, a.view(), b.view(), a_out.view(), b_out.view(), a.size(),
+                              rows.min.y, rows.max.y, p, steps, row_scratch(worker));
+  });
+}
+
 void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                 const Rank2FaceField& d, const GeneralizedRdParams& p) {
   for_bands(a.size(), [&](Box2 rows, int) {

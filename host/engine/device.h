@@ -190,6 +190,20 @@ class Device {
   // seed 003, Eqn 27 on a periodic grid (kernels/generalized_rd.h): a_out, b_out from a, b.
   virtual void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                               const GeneralizedTaps& k, const GeneralizedRdParams& p) = 0;
+  // `steps` steps of generalized_rd (1 .. kGeneralizedFusedSteps), the same bits: a_out, b_out
+  // get the last; a, b are left with anything (the caller swaps them out). Here one call a step;
+  // a device that fuses them (the CPU: kernels/generalized_rd.h generalized_rd_fused_rows) moves
+  // the fields through memory once.
+  virtual void generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,
+                                    const GeneralizedTaps& k, const GeneralizedRdParams& p,
+                                    int steps) {
+    generalized_rd(a, b, a_out, b_out, k, p);
+    for (int i = 1; i < steps; ++i) {
+      generalized_rd(a_out, b_out, a, b, k, p);
+      swap(a, a_out);
+      swap(b, b_out);
+    }
+  }
   // seed 003's Table 1, last row at rank 2: div(D(x) grad u) with a per-cell tensor, in flux form,
   // fused with the reaction like generalized_rd (kernels/generalized_rd.h tensor_field_rd_rows).
   virtual void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
@@ -278,6 +292,9 @@ class CpuDevice final : public Device {
                          const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
+  void generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,
+                            const GeneralizedTaps& k, const GeneralizedRdParams& p,
+                            int steps) override;
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;

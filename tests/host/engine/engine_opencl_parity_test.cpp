@@ -106,6 +106,17 @@ double long_parity(const SceneConfig& scene, int frames, const char* what) {
   return worst;
 }
 
+// Seed 003's explicit step (Eqn 27), 10 steps a frame: the CPU fuses them 4 + 4 + 2
+// (Device::generalized_rd_steps), the device runs them one at a time; 20 frames within 1e-5.
+TEST(EngineOpenCl, ExplicitGeneralizedStepsStayWithinOneInTenToTheFive) {
+  if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  SceneConfig scene = awkward_preset_scene("mcgraw-turing-a");
+  scene.rd.scheme = RdScheme::kExplicit;
+  scene.rd.dt = 0.05;  // stable: the explicit update's spectral radius stays <= 1
+  scene.rd.steps_per_frame = 10;
+  EXPECT_LE(long_parity(scene, 20, "mcgraw-turing-a explicit"), kTolerance);
+}
+
 // A preset at a small awkward grid (long runs), its diffusion set to fixed sweeps.
 SceneConfig fixed_sweeps(const char* preset, SolverKind solver, int sweeps) {
   SceneConfig s = awkward_preset_scene(preset);

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/engine/engine.h"
@@ -69,6 +70,63 @@ TEST(GeneralizedRdKernel, BandsOfRowsGiveTheSameBits) {
       ASSERT_EQ(a1(x, y), a2(x, y)) << x << "," << y;
       ASSERT_EQ(b1(x, y), b2(x, y)) << x << "," << y;
     }
+}
+
+// Fused steps (generalized_rd_fused_rows, 1 to 4) give the bits of single steps, over the whole
+// grid and in bands (1-row bands, a band at each edge: the first step's rows wrap), for each
+// reaction path (Turing, the Gray-Scott map, a model through reaction_rates), with only A
+// diffusing, and on grids shorter than the 5-row rings.
+TEST(GeneralizedRdKernel, FusedStepsAreSingleSteps) {
+  struct Case {
+    Int2 size;
+    const char* name;
+    TensorSequence seq;
+    ReactionModel model;
+    bool map, b_diffuses;
+  };
+  const Case cases[] = {
+      {{45, 31}, "d", kTable2D, ReactionModel::kTuring, false, true},
+      {{70, 23}, "a", kTable2A, ReactionModel::kGrayScott, true, true},
+      {{33, 17}, "e", kTable2E, ReactionModel::kFitzHughNagumo, false, false},
+      {{130, 3}, "c", kTable2C, ReactionModel::kGrayScott, false, true},
+      {{2, 2}, "d", kTable2D, ReactionModel::kTuring, false, true},
+  };
+  for (const Case& c : cases) {
+    const Int2 size = c.size;
+    const GeneralizedTaps k(assemble_generalized_stencil(c.seq));
+    FieldF a = random_field(size, 1, 3, 0.0f, 1.0f), b = random_field(size, 1, 4, 0.0f, 1.0f);
+    GeneralizedRdParams p;
+    p.reaction.model = c.model;
+    p.dt = 0.25f;
+    p.scale_a = 0.1f;
+    p.scale_b = c.b_diffuses ? 0.05f : 0.0f;
+    p.a_lo = 0.0f, p.a_hi = 0.9f;  // the clamp bites
+    if (c.map) p.f_step = 1e-3f, p.k_step = -5e-4f;
+    std::vector<float> scratch(generalized_rd_scratch_floats(size.x));
+    for (int steps = 1; steps <= kGeneralizedFusedSteps; ++steps) {
+      FieldF x = a, y = b, x_next(size, 1), y_next(size, 1), a3(size, 1), b3(size, 1);
+      for (int i = 0; i < steps; ++i) {
+        generalized_rd_rows(k, x.view(), y.view(), x_next.view(), y_next.view(), size, 0, size.y, p,
+                            scratch.data());
+        std::swap(x, x_next);
+        std::swap(y, y_next);
+      }
+      std::vector<int> cuts = {0, size.y};
+      if (size.y > 4) cuts = {0, 1, 2, size.y / 2, size.y - 1, size.y};
+      for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
+        generalized_rd_fused_rows(k, a.view(), b.view(), a3.view(), b3.view(), size, cuts[i],
+                                  cuts[i + 1], p, steps, scratch.data());
+      for (int yy = 0; yy < size.y; ++yy)
+        for (int xx = 0; xx < size.x; ++xx) {
+          ASSERT_EQ(a3(xx, yy), x(xx, yy))
+              << c.name << " " << steps << " steps " << xx << "," << yy;
+          ASSERT_EQ(b3(xx, yy), y(xx, yy))
+              << c.name << " " << steps << " steps " << xx << "," << yy;
+        }
+      // The steps moved the fields (a test of equal zeros would prove nothing).
+      EXPECT_NE(x(size.x / 2, size.y / 2), a(size.x / 2, size.y / 2)) << c.name;
+    }
+  }
 }
 
 // Fig. 6's parameter map: every cell reacts as the uniform kernel does with that cell's F and k
@@ -351,6 +409,34 @@ TEST(GeneralizedRdEngine, RefusesWhatTheOperatorCannotRun) {
   next = scene;
   next.rd.diffusion_b *= 1.1;
   EXPECT_TRUE(engine.update_parameters(next));
+}
+
+// The engine runs explicit steps kGeneralizedFusedSteps at a time (4 + 4 + 2 of a 10-step
+// frame; the CPU fuses them from 512^2 up): the same bits as one step a frame, on one worker and
+// on three.
+TEST(GeneralizedRdEngine, FusedFramesAreStepByStepFrames) {
+  SceneConfig scene = builtin_preset_scene("mcgraw-turing-d");
+  scene.size = {512, 512};
+  scene.rd.scheme = RdScheme::kExplicit;
+  scene.rd.dt = 0.05;
+  SceneConfig one_step = scene;
+  scene.rd.steps_per_frame = 10;
+  one_step.rd.steps_per_frame = 1;
+  Engine fused(scene, {.backend = EngineOptions::Backend::kSerial});
+  Engine threads(scene, {.backend = EngineOptions::Backend::kThreads, .workers = 3});
+  Engine stepwise(one_step, {.backend = EngineOptions::Backend::kSerial});
+  const FieldF start = fused.state().A;
+  fused.step();
+  threads.step();
+  for (int i = 0; i < 10; ++i) stepwise.step();
+  const Engine& reference = stepwise;
+  for (const Engine* e : {&fused, &threads})
+    for (int y = 0; y < scene.size.y; ++y)
+      for (int x = 0; x < scene.size.x; ++x) {
+        ASSERT_EQ(e->state().A(x, y), reference.state().A(x, y)) << x << "," << y;
+        ASSERT_EQ(e->state().B(x, y), reference.state().B(x, y)) << x << "," << y;
+      }
+  EXPECT_GT(max_relative_error(std::as_const(fused).state().A, start), 1e-4);
 }
 
 TEST(GeneralizedRdEngine, ExplicitStabilityLineNamesTheSpectralRadius) {
