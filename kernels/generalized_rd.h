@@ -87,8 +87,8 @@ void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<con
 // the same bits as generalized_rd_rows over every row `steps` times. Each step's rows stay in the
 // scratch (a ring of 5 rows per step, each step two rows behind the one before), so a band moves
 // its fields through memory once for all the steps (at 1024^2 a single step streams them), at
-// the cost of 4 (steps - 1) rows computed again at each band edge. Needs a diffusion (scale_a or
-// scale_b not 0). Outputs must not alias inputs.
+// the cost of steps (steps - 1) row-steps computed again at each band edge. Needs a diffusion
+// (scale_a or scale_b not 0). Outputs must not alias inputs.
 void generalized_rd_fused_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
                                View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
                                const GeneralizedRdParams& p, int steps, float* scratch);

@@ -367,10 +367,13 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
 void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,
                                      const GeneralizedTaps& k, const GeneralizedRdParams& p,
                                      int steps) {
-  // Nothing to fuse without a diffusion (no neighbour is read); below 512^2 the fields stay in
-  // the caches between steps, and the rows the bands compute twice cost more than the walk saves
-  // (256^2: 6% slower fused, bench/RESULTS_SEED003.md).
-  if ((p.scale_a == 0.0f && p.scale_b == 0.0f) || a.nx() * a.ny() < 512 * 512) {
+  // Nothing to fuse without a diffusion (no neighbour is read). Up to 512^2 the fields stay in
+  // the caches between steps and fusing does not pay (bench/RESULTS_SEED003.md); and each band
+  // computes S (S - 1) rows twice at each edge, so bands (up to 4 per worker) under 64 rows
+  // would pay more in rows than they save in memory traffic.
+  const int rows_per_band = a.ny() / (4 * workers());
+  if ((p.scale_a == 0.0f && p.scale_b == 0.0f) || a.nx() * a.ny() <= 512 * 512 ||
+      rows_per_band < 64) {
     Device::generalized_rd_steps(a, b, a_out, b_out, k, p, steps);
     return;
   }

@@ -116,10 +116,10 @@ class RdStepper {
   void sbdf2_step(SimState& s);
   // The ETDRK4 coefficients for the current dt, rates and cell size.
   void set_etdrk4_step();
-  // One step of seed 003's generalized RD (Eqns 27, 28).
   // Whether react_diffuse runs explicit generalized steps several at a time
   // (Device::generalized_rd_steps).
   bool fuses_generalized_steps() const;
+  // One step of seed 003's generalized RD (Eqns 27, 28).
   void generalized_step(SimState& s);
   GeneralizedRdParams generalized_params(bool react, bool diffuse) const;
   GrayScott9Params gray_scott9_params() const;

@@ -106,8 +106,9 @@ double long_parity(const SceneConfig& scene, int frames, const char* what) {
   return worst;
 }
 
-// Seed 003's explicit step (Eqn 27), 10 steps a frame: the CPU fuses them 4 + 4 + 2
-// (Device::generalized_rd_steps), the device runs them one at a time; 20 frames within 1e-5.
+// Seed 003's explicit step (Eqn 27), 10 steps a frame through Device::generalized_rd_steps
+// (4 + 4 + 2; on the device and, at this size, the CPU one step at a time, the results swapped
+// into place): 20 frames within 1e-5.
 TEST(EngineOpenCl, ExplicitGeneralizedStepsStayWithinOneInTenToTheFive) {
   if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
   SceneConfig scene = awkward_preset_scene("mcgraw-turing-a");

@@ -412,18 +412,19 @@ TEST(GeneralizedRdEngine, RefusesWhatTheOperatorCannotRun) {
 }
 
 // The engine runs explicit steps kGeneralizedFusedSteps at a time (4 + 4 + 2 of a 10-step
-// frame; the CPU fuses them from 512^2 up): the same bits as one step a frame, on one worker and
-// on three.
+// frame; the CPU fuses them above 512^2, with bands of 64 rows or more): the same bits as one
+// step a frame (fused too, one step per walk; FusedStepsAreSingleSteps compares that with
+// generalized_rd_rows), on one worker and on two.
 TEST(GeneralizedRdEngine, FusedFramesAreStepByStepFrames) {
   SceneConfig scene = builtin_preset_scene("mcgraw-turing-d");
-  scene.size = {512, 512};
+  scene.size = {520, 520};
   scene.rd.scheme = RdScheme::kExplicit;
   scene.rd.dt = 0.05;
   SceneConfig one_step = scene;
   scene.rd.steps_per_frame = 10;
   one_step.rd.steps_per_frame = 1;
   Engine fused(scene, {.backend = EngineOptions::Backend::kSerial});
-  Engine threads(scene, {.backend = EngineOptions::Backend::kThreads, .workers = 3});
+  Engine threads(scene, {.backend = EngineOptions::Backend::kThreads, .workers = 2});
   Engine stepwise(one_step, {.backend = EngineOptions::Backend::kSerial});
   const FieldF start = fused.state().A;
   fused.step();
