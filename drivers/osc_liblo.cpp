@@ -162,10 +162,12 @@ std::string OscServer::last_error() const {
 }
 
 bool OscServer::reject(const std::string& why) {
-  ++rejected_;
   log_.line("osc", why);
-  std::lock_guard lock(error_mutex_);
-  last_error_ = why;
+  {
+    std::lock_guard lock(error_mutex_);
+    last_error_ = why;
+  }
+  ++rejected_;  // last: whoever sees the count sees this reason
   return false;
 }
 
