@@ -141,30 +141,6 @@ inline void row_with(const GeneralizedTaps& k, const float* ring_a, const float*
   }
 }
 
-template <class Rates>
-void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> b,
-               View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
-               const GeneralizedRdParams& p, const Rates& rates, float* scratch) {
-  const std::size_t w = ring_row_floats(size.x);
-  float* ring_a = scratch;
-  float* ring_b = scratch + 5 * w;
-  const auto slot = [](int y) { return std::size_t(wrap(y, 5)); };
-  const bool ring = p.scale_a != 0.0f || p.scale_b != 0.0f;  // reaction or clamp alone: no ring
-  for (int y = y0 - 2; ring && y <= y0 + 2; ++y) {
-    load_wrapped_row(a, size, y, ring_a + w * slot(y));
-    load_wrapped_row(b, size, y, ring_b + w * slot(y));
-  }
-  for (int y = y0; y < y1; ++y) {
-    row_with(k, ring_a, ring_b, w, y, y, a.row(y), b.row(y), a_out.row(y), b_out.row(y), size.x, p,
-             rates);
-    // The row two below the next one enters the ring where the row two above this one was.
-    if (ring && y + 1 < y1) {
-      load_wrapped_row(a, size, y + 3, ring_a + w * slot(y + 3));
-      load_wrapped_row(b, size, y + 3, ring_b + w * slot(y + 3));
-    }
-  }
-}
-
 // `steps` steps in one walk down the rows: step s (1-based) computes its rows two rows behind
 // step s - 1, from step s - 1's ring of 5 wrapped rows (step 1 from the input's), and keeps them
 // in its own ring; the last step writes rows [y0, y1) of the outputs. Step s computes rows
@@ -210,6 +186,22 @@ void rows_fused_with(const GeneralizedTaps& k, View<const float> a, View<const f
       load_wrapped_row(b, size, t + 3, ring(0, 1) + w * slot(t + 3));
     }
   }
+}
+
+// One step (generalized_rd_rows): the walk of one step, or, with neither chemical diffusing
+// (the reaction and the clamp alone read no neighbour), each row from the fields themselves.
+template <class Rates>
+void rows_with(const GeneralizedTaps& k, View<const float> a, View<const float> b,
+               View<float> a_out, View<float> b_out, Int2 size, int y0, int y1,
+               const GeneralizedRdParams& p, const Rates& rates, float* scratch) {
+  if (p.scale_a != 0.0f || p.scale_b != 0.0f) {
+    rows_fused_with(k, a, b, a_out, b_out, size, y0, y1, p, 1, rates, scratch);
+    return;
+  }
+  const std::size_t w = ring_row_floats(size.x);
+  for (int y = y0; y < y1; ++y)
+    row_with(k, scratch, scratch + 5 * w, w, y, y, a.row(y), b.row(y), a_out.row(y), b_out.row(y),
+             size.x, p, rates);
 }
 
 }  // namespace

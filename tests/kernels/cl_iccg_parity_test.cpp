@@ -216,7 +216,8 @@ TEST(ClIccgParity, RefactorsAfterTheOperatorChanges) {
 
 // The wavefront walk (a GPU's) gives the sequential walk's bits (a CPU's, the C++ order), on
 // every block shape: rows not a multiple of the 32-row blocks, a last block of one row, a lone
-// block of 23 or 7 rows, one column, one cell, solid cells and a singular operator, from a cold and a warm start.
+// block of 23 or 7 rows, one column, one cell, solid cells and a singular operator, from a cold and
+// a warm start.
 TEST(ClIccgParity, WavefrontWalkGivesTheSequentialBits) {
   Fixture& d = device();
   ASSERT_TRUE(d.cl);
