@@ -133,7 +133,7 @@ double developed_ratio(TensorFieldKind kind) {
   scene.domain_width = 96 * scene.rd.cell_size;
   scene.rd.generalized.field = kind;
   Engine engine(scene);  // threads
-  for (int i = 0; i < 60; ++i) engine.step();
+  for (int i = 0; i < 30; ++i) engine.step();
   return radial_over_tangential(engine.state().A);
 }
 
