@@ -12,7 +12,8 @@
 //                          each other's exchanges for ever.
 // Benchmark Scale/<ranks>/<grid>/workers:<n>, one iteration a frame. Counters: fps,
 // cells_per_s, halo_bytes_per_frame (sent by all ranks), mpi_ms_per_frame (rank 0's time in
-// exchanges, waiting for its neighbours included), ranks, workers. Rank 0 reports; the other
+// exchanges, waiting for its neighbours included, while its other workers compute the inner
+// tiles), ranks, workers. Rank 0 reports; the other
 // ranks run silently.
 #include <benchmark/benchmark.h>
 

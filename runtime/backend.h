@@ -62,6 +62,10 @@ class Backend {
   virtual void dispatch(const Pass& pass, std::span<const Tile> tiles) = 0;
   // Returns when every dispatched pass has finished and its results are in the fields.
   virtual void sync() = 0;
+  // Whether dispatch runs exactly the tiles it is given (so a pass may be dispatched in parts:
+  // the tiles that read no halo while a halo exchange is in flight, then the rest), not the
+  // whole grid whatever the tiles.
+  virtual bool runs_tiles() const { return true; }
 };
 
 // The whole-grid reference: dispatch runs pass.run_whole at once on the calling thread.
@@ -71,6 +75,7 @@ class SerialBackend final : public Backend {
   int workers() const override { return 1; }
   void dispatch(const Pass& pass, std::span<const Tile> tiles) override;
   void sync() override {}
+  bool runs_tiles() const override { return false; }
 };
 
 }  // namespace ardcell

@@ -116,6 +116,12 @@ void copy_halo_cells(const FieldF& src, const HaloCopy& copy, const Box2& box, F
   copy_box<float>(from, dst.view(), box);
 }
 
+bool HaloExchange::fills_any(int block, const Box2& box) const {
+  for (const HaloCopy& c : copies_into(block))
+    if (!c.box.intersected(box).empty()) return true;
+  return false;
+}
+
 LocalBlockGroup::LocalBlockGroup(const BlockLayout& layout, int width)
     : exchange_(layout, width),
       posted_(std::size_t(layout.count()), nullptr),
@@ -123,12 +129,14 @@ LocalBlockGroup::LocalBlockGroup(const BlockLayout& layout, int width)
   for (int b = 0; b < layout.count(); ++b) channels_.emplace_back(this, b);
 }
 
-void LocalBlockGroup::Channel::exchange(FieldF& field, int depth) {
+void LocalBlockGroup::Channel::begin(std::span<const HaloField> fields) {
   LocalBlockGroup& g = *group_;
-  g.posted_[std::size_t(block_)] = &field;
-  g.barrier_.arrive_and_wait();  // every block's field is posted and its cells are final
-  g.exchange_.fill(g.posted_, block_, depth);
-  g.barrier_.arrive_and_wait();  // every halo is filled before anyone writes its cells again
+  for (const HaloField& f : fields) {
+    g.posted_[std::size_t(block_)] = f.field;
+    g.barrier_.arrive_and_wait();  // every block's field is posted and its cells are final
+    g.exchange_.fill(g.posted_, block_, f.depth);
+    g.barrier_.arrive_and_wait();  // every halo is filled before anyone writes its cells again
+  }
 }
 
 }  // namespace ardcell

@@ -76,6 +76,8 @@ class HaloExchange {
   Box2 within(const HaloCopy& copy, int block, int depth) const {
     return copy.box.intersected(this->block(block).grown(depth));
   }
+  // Whether a fill of `block` writes any cell of `box`.
+  bool fills_any(int block, const Box2& box) const;
   // Halo cells one fill of `block` moves (bytes: times sizeof(float)).
   std::size_t cells_into(int block) const;
   // Fills block b's halo, `depth` cells deep (<= width): fields[i] is block i's field (interior
@@ -90,21 +92,42 @@ class HaloExchange {
   std::vector<std::size_t> first_;  // copies_into(b) = copies_[first_[b], first_[b + 1])
 };
 
-// What a frame plan's exchange step calls (host/engine/frame_plan.h): fills the halo of this
-// block's `field` from the other blocks' copies of the same field. Collective: every block of
-// the group calls exchange for the same fields in the same order.
+// A field of one exchange and how deep around the block its halo is filled (<= the width).
+struct HaloField {
+  FieldF* field = nullptr;
+  int depth = 0;
+};
+
+// What a frame plan's exchange step calls (host/engine/frame_plan.h): fills the halos of this
+// block's fields from the other blocks' copies of the same fields, in two halves so that work
+// which reads no halo cell runs while the halos are in flight. Collective: every block of the
+// group calls begin and finish for the same fields in the same order.
 class HaloChannel {
  public:
   virtual ~HaloChannel() = default;
   virtual int block() const = 0;
   // The halo width the channel fills.
   virtual int width() const = 0;
-  // Fills the halo cells within `depth` of the block (depth <= width).
-  virtual void exchange(FieldF& field, int depth) = 0;
+  // Whether the exchange writes any cell of `box` (work that reads no such cell may run while
+  // an exchange is in flight).
+  virtual bool fills_any(const Box2& box) const = 0;
+  // Starts filling the halo cells within each field's depth of the block. Returns once the
+  // fields' own cells have been read: until finish() returns, the caller may read and write
+  // the fields' own cells but no halo cell within the depths.
+  virtual void begin(std::span<const HaloField> fields) = 0;
+  // Returns when the halos begin() started are filled.
+  virtual void finish() = 0;
+  // begin and finish of one field.
+  void exchange(FieldF& field, int depth) {
+    const HaloField f{&field, depth};
+    begin({&f, 1});
+    finish();
+  }
 };
 
-// The blocks of one layout run side by side in one process, one thread each: an exchange
-// publishes each block's field, waits for all, copies, and waits again before anyone writes.
+// The blocks of one layout run side by side in one process, one thread each: begin publishes
+// each block's fields, waits for all, copies, and waits again before anyone writes (so finish
+// has nothing left to do).
 class LocalBlockGroup {
  public:
   LocalBlockGroup(const BlockLayout& layout, int width);
@@ -116,7 +139,11 @@ class LocalBlockGroup {
     Channel(LocalBlockGroup* group, int block) : group_(group), block_(block) {}
     int block() const override { return block_; }
     int width() const override { return group_->exchange_.width(); }
-    void exchange(FieldF& field, int depth) override;
+    bool fills_any(const Box2& box) const override {
+      return group_->exchange_.fills_any(block_, box);
+    }
+    void begin(std::span<const HaloField> fields) override;
+    void finish() override {}
 
    private:
     LocalBlockGroup* group_;

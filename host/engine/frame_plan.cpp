@@ -21,10 +21,9 @@ Box2 grow_clip(const Box2& core, int reach, Int2 grid) {
 }
 
 // A field and how many cells deep around the block its halo is (to be) current.
-using FieldDepth = std::pair<FieldF*, int>;
-FieldDepth* find(std::vector<FieldDepth>& list, const FieldF* f) {
-  for (FieldDepth& e : list)
-    if (e.first == f) return &e;
+HaloField* find(std::vector<HaloField>& list, const FieldF* f) {
+  for (HaloField& e : list)
+    if (e.field == f) return &e;
   return nullptr;
 }
 
@@ -40,8 +39,11 @@ struct FramePlan::PassProgram {
   Tile block;  // the whole-field form's one tile: the plan's block
   TilePlan plan;
   // Fields whose halos the plan's exchange step fills before the pass (block plans), and how
-  // deep.
-  std::vector<std::pair<FieldF*, int>> exchange;
+  // deep; the pass's tiles reordered for it: first the `inner_tiles` that read no cell of those
+  // halos (they run while the exchange is in flight), then the rest.
+  std::vector<HaloField> exchange;
+  std::vector<Tile> exchange_order;
+  std::size_t inner_tiles = 0;
   Pass pass;
   int nbuf = 0;
   std::array<bool, kMaxBuffers> written{};
@@ -240,12 +242,12 @@ int FramePlan::add_pass(PassDesc desc) {
         bad_pass(desc.name, "a buffer's halo is wider than the plan's halo exchange");
       FieldF* src = const_cast<FieldF*>(b.src);
       const int depth = b.gather ? options_.halo->width() : b.halo;
-      const FieldDepth* current = find(exchanged_, src);
-      if (!current || current->second < depth) {
-        if (FieldDepth* e = find(p->exchange, src))
-          e->second = std::max(e->second, depth);
+      const HaloField* current = find(exchanged_, src);
+      if (!current || current->depth < depth) {
+        if (HaloField* e = find(p->exchange, src))
+          e->depth = std::max(e->depth, depth);
         else
-          p->exchange.emplace_back(src, depth);
+          p->exchange.push_back({src, depth});
       }
     }
     const bool written = p->written[std::size_t(i)] || b.dst;
@@ -262,14 +264,14 @@ int FramePlan::add_pass(PassDesc desc) {
     }
   }
   // Halos stay current until the field is written again.
-  for (const FieldDepth& e : p->exchange) {
-    if (FieldDepth* current = find(exchanged_, e.first))
-      current->second = e.second;
+  for (const HaloField& e : p->exchange) {
+    if (HaloField* current = find(exchanged_, e.field))
+      current->depth = e.depth;
     else
       exchanged_.push_back(e);
   }
   for (const PassBufferDesc& b : desc.buffers)
-    if (b.dst) std::erase_if(exchanged_, [&](const FieldDepth& e) { return e.first == b.dst; });
+    if (b.dst) std::erase_if(exchanged_, [&](const HaloField& e) { return e.field == b.dst; });
   TilePlanRequest r;
   r.grid = options_.grid;
   r.block = options_.block;
@@ -281,6 +283,20 @@ int FramePlan::add_pass(PassDesc desc) {
   r.max_width = options_.max_tile_width;
   r.max_height = options_.max_tile_height;
   p->plan = TilePlan::make(r);
+  if (!p->exchange.empty()) {
+    // A tile whose core grown by the deepest exchanged halo holds no cell the exchange writes
+    // reads none of the exchanged halos (a gather's reach is the exchange's depth).
+    int reach = 0;
+    for (const HaloField& e : p->exchange) reach = std::max(reach, e.depth);
+    const auto inner = [&](const Tile& t) {
+      return !options_.halo->fills_any(t.core.grown(reach));
+    };
+    for (const Tile& t : p->plan.tiles())
+      if (inner(t)) p->exchange_order.push_back(t);
+    p->inner_tiles = p->exchange_order.size();
+    for (const Tile& t : p->plan.tiles())
+      if (!inner(t)) p->exchange_order.push_back(t);
+  }
   p->desc = std::move(desc);
   p->pass.name = p->desc.name.c_str();
   p->pass.kernel_id = int(passes_.size());
@@ -347,11 +363,18 @@ void FramePlan::run(Backend& backend, bool with_rd) {
       continue;
     }
     if (!p.exchange.empty()) {
-      // The exchange step: the fields' cells are final (barrier), their halos filled.
+      // The exchange step: once the fields' cells are final (barrier), their halos are sent;
+      // the tiles that read none of them compute meanwhile, the rest after they arrive.
       if (!synced) backend.sync();
-      for (const auto& [field, depth] : p.exchange) options_.halo->exchange(*field, depth);
+      const std::span<const Tile> tiles = p.exchange_order;
+      const std::size_t inner = backend.runs_tiles() ? p.inner_tiles : 0;
+      options_.halo->begin(p.exchange);
+      if (inner > 0) backend.dispatch(p.pass, tiles.first(inner));
+      options_.halo->finish();
+      if (inner < tiles.size()) backend.dispatch(p.pass, tiles.subspan(inner));
+    } else {
+      backend.dispatch(p.pass, p.plan.tiles());
     }
-    backend.dispatch(p.pass, p.plan.tiles());
     if (p.desc.barrier_after) {
       backend.sync();
       synced = true;

@@ -30,9 +30,14 @@
 // moving to the host and back, and says so once on stderr.
 //
 // A plan may run one BLOCK of a larger grid (runtime/block_layout.h: a block of a LocalBlockGroup
-// on its own thread, later an MPI rank): its fields cover the block with a halo deep enough for
+// on its own thread, or an MPI rank): its fields cover the block with a halo deep enough for
 // the passes' halos, and the plan inserts the halo exchange as a step of its own before each
 // pass that reads a field's halo after the field was last written (a gather reads all of it).
+// The exchange overlaps the pass: once it has begun (the fields' own cells sent), the tiles
+// whose reads hold no cell the exchange writes are handed to the back end while the halos are
+// in flight, the others after they have arrived (on a back end that runs tiles; the serial
+// reference waits first). A threads back end whose host thread is a worker computes them with
+// its other workers while the host waits for the messages.
 // Boundary conditions still apply on the domain's edges only; a block's other edges are like a
 // tile's: sweeps shrink there, so the blocks together give the bits one block gives. Advection
 // back-traces must stay inside the block's halo (the fields' halo bounds the CFL number).
@@ -168,7 +173,8 @@ class FramePlan {
   // numbering). A stage works on whole fields: a block plan (options.halo) refuses it.
   int add_stage(StageDesc desc);
   // Runs every step in order (one frame): passes on `backend`, stages as they are; without
-  // `with_rd`, the rd stages are left out. No allocation.
+  // `with_rd`, the rd stages are left out. No allocation (an MPI halo channel's buffers grow in
+  // the first frame).
   void run(Backend& backend, bool with_rd = true);
   // The same frame on `device`'s own fields: passes whole-field, op by op (queued on a device
   // that queues: their times are then the host's time to queue them). No allocation once every
@@ -199,7 +205,7 @@ class FramePlan {
   FramePlanOptions options_;
   std::vector<std::unique_ptr<PassProgram>> passes_;
   // While building: fields whose halos are current, and how deep.
-  std::vector<std::pair<FieldF*, int>> exchanged_;
+  std::vector<HaloField> exchanged_;
   std::array<std::int64_t, kMaxPasses> pass_ns_{};
   std::int64_t runs_ = 0;
 };

@@ -20,6 +20,12 @@ namespace {
 // each other, and every rank issues them in the same order.
 constexpr int kTag = 7;
 
+long long elapsed_ns(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
+                                                              start)
+      .count();
+}
+
 std::size_t cells(const std::vector<HaloCopy>& boxes) {
   std::size_t n = 0;
   for (const HaloCopy& c : boxes) n += std::size_t(c.box.area());
@@ -111,6 +117,13 @@ void MpiWorld::gather_to_root(std::span<const unsigned char> mine, std::vector<u
               offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
 }
 
+// The requests of the exchange in flight: at most 8 neighbours and their images.
+struct MpiHaloChannel::Requests {
+  static constexpr int kMax = 64;
+  MPI_Request request[kMax];
+  int count = 0;
+};
+
 MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world)
     : block_(world.rank()), exchange_(layout, width) {
   ARDCELL_CHECK(world.size() == layout.count(), "MpiHaloChannel: one rank per block");
@@ -138,50 +151,80 @@ MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWo
     p.recv_buf.resize(cells(p.recv));
     p.send_buf.resize(cells(p.send));
   }
+  fields_.reserve(kMaxFields);
+  requests_ = std::make_unique<Requests>();
 }
 
-void MpiHaloChannel::exchange(FieldF& field, int depth) {
+// An owner unwinding between begin and finish: the messages still land in the buffers.
+MpiHaloChannel::~MpiHaloChannel() {
+  if (requests_ && requests_->count > 0)
+    MPI_Waitall(requests_->count, requests_->request, MPI_STATUSES_IGNORE);
+}
+
+void MpiHaloChannel::begin(std::span<const HaloField> fields) {
   const auto start = std::chrono::steady_clock::now();
-  ARDCELL_CHECK(field.halo() >= exchange_.width(),
-                "MpiHaloChannel: a field's halo is narrower than the exchange");
-  ARDCELL_CHECK(depth >= 0 && depth <= exchange_.width(),
-                "MpiHaloChannel: depth beyond the exchange's width");
-  // Both sides cut the same boxes to the receiving block grown by depth.
+  ARDCELL_CHECK(requests_->count == 0 && fields_.empty(),
+                "MpiHaloChannel: begin while an exchange is in flight");
+  ARDCELL_CHECK(fields.size() <= fields_.capacity(), "MpiHaloChannel: too many fields at once");
+  ARDCELL_CHECK(2 * peers_.size() <= std::size_t(Requests::kMax),
+                "MpiHaloChannel: too many neighbours");
+  for (const HaloField& f : fields) {
+    ARDCELL_CHECK(f.field->halo() >= exchange_.width(),
+                  "MpiHaloChannel: a field's halo is narrower than the exchange");
+    ARDCELL_CHECK(f.depth >= 0 && f.depth <= exchange_.width(),
+                  "MpiHaloChannel: depth beyond the exchange's width");
+    fields_.push_back(f);
+  }
+  // One message each way per neighbour: every field's boxes, field after field, both sides
+  // cutting the same boxes to the receiving block grown by the field's depth.
   for (Peer& p : peers_) {
     p.recv_count = p.send_count = 0;
-    for (const HaloCopy& c : p.recv)
-      p.recv_count += std::size_t(exchange_.within(c, block_, depth).area());
-    for (const HaloCopy& c : p.send)
-      p.send_count += std::size_t(exchange_.within(c, p.rank, depth).area());
+    for (const HaloField& f : fields) {
+      for (const HaloCopy& c : p.recv)
+        p.recv_count += std::size_t(exchange_.within(c, block_, f.depth).area());
+      for (const HaloCopy& c : p.send)
+        p.send_count += std::size_t(exchange_.within(c, p.rank, f.depth).area());
+    }
+    // Sized for one field at full width on construction; a step of several fields grows them
+    // in the first frame, never after.
+    if (p.recv_buf.size() < p.recv_count) p.recv_buf.resize(p.recv_count);
+    if (p.send_buf.size() < p.send_count) p.send_buf.resize(p.send_count);
   }
-  // At most 8 neighbours and their images: requests on the stack.
-  constexpr std::size_t kMaxRequests = 64;
-  ARDCELL_CHECK(2 * peers_.size() <= kMaxRequests, "MpiHaloChannel: too many neighbours");
-  MPI_Request requests[kMaxRequests];
-  int n = 0;
+  Requests& r = *requests_;
   for (Peer& p : peers_)
     if (p.recv_count > 0)
       MPI_Irecv(p.recv_buf.data(), int(p.recv_count), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
-                &requests[n++]);
+                &r.request[r.count++]);
   for (Peer& p : peers_) {
     if (p.send_count == 0) continue;
     float* out = p.send_buf.data();
-    for (const HaloCopy& c : p.send)
-      out = pack(field, exchange_.within(c, p.rank, depth), c.shift, out);
+    for (const HaloField& f : fields)
+      for (const HaloCopy& c : p.send)
+        out = pack(*f.field, exchange_.within(c, p.rank, f.depth), c.shift, out);
     MPI_Isend(p.send_buf.data(), int(p.send_count), MPI_FLOAT, p.rank, kTag, MPI_COMM_WORLD,
-              &requests[n++]);
+              &r.request[r.count++]);
     bytes_sent_ += double(p.send_count * sizeof(float));
   }
-  for (const HaloCopy& c : self_)
-    copy_halo_cells(field, c, exchange_.within(c, block_, depth), field);
-  MPI_Waitall(n, requests, MPI_STATUSES_IGNORE);
+  for (const HaloField& f : fields)
+    for (const HaloCopy& c : self_)
+      copy_halo_cells(*f.field, c, exchange_.within(c, block_, f.depth), *f.field);
+  ns_ += elapsed_ns(start);
+}
+
+void MpiHaloChannel::finish() {
+  const auto start = std::chrono::steady_clock::now();
+  Requests& r = *requests_;
+  MPI_Waitall(r.count, r.request, MPI_STATUSES_IGNORE);
+  r.count = 0;
   for (Peer& p : peers_) {
+    if (p.recv_count == 0) continue;
     const float* in = p.recv_buf.data();
-    for (const HaloCopy& c : p.recv) in = unpack(in, exchange_.within(c, block_, depth), field);
+    for (const HaloField& f : fields_)
+      for (const HaloCopy& c : p.recv)
+        in = unpack(in, exchange_.within(c, block_, f.depth), *f.field);
   }
-  ns_ +=
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
-          .count();
+  fields_.clear();
+  ns_ += elapsed_ns(start);
 }
 
 BlockGather::BlockGather(const BlockLayout& layout, const MpiWorld& world)

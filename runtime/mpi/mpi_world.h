@@ -6,6 +6,7 @@
 // wait for each other through MpiWorld's collectives. Nothing above
 // runtime/ includes mpi.h: this header is the whole of MPI the rest of ardcell sees.
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -47,19 +48,28 @@ class MpiWorld {
   int rank_ = 0, size_ = 1;
 };
 
-// The frame plan's exchange between ranks: block b is rank b. One message per neighbouring rank
-// and exchange (the boxes it owns of this block's halo, packed), non-blocking both ways; copies
-// from this block itself (a periodic wrap) are made in place. Buffers are sized once.
+// The frame plan's exchange between ranks: block b is rank b. begin packs, for each neighbouring
+// rank, the boxes it owns of this block's halo, every field's in one message, and posts the
+// non-blocking receives and sends; copies from this block itself (a periodic wrap) are made in
+// place. finish waits for the messages and unpacks them: in between, the caller's workers compute
+// what reads no halo (Open MPI has no progress thread: the messages move inside finish's wait;
+// a threads back end whose host thread is one of its workers computes with the others only,
+// and with one worker, not at all). Buffers grow in the first frame only.
 class MpiHaloChannel final : public HaloChannel {
  public:
+  static constexpr std::size_t kMaxFields = 16;  // fields of one exchange step
   MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world);
+  ~MpiHaloChannel() override;
   int block() const override { return block_; }
   int width() const override { return exchange_.width(); }
-  void exchange(FieldF& field, int depth) override;
+  bool fills_any(const Box2& box) const override { return exchange_.fills_any(block_, box); }
+  void begin(std::span<const HaloField> fields) override;
+  void finish() override;
   // Halo cells this rank receives per exchanged field.
   std::size_t cells_in() const { return exchange_.cells_into(block_); }
-  // Since construction or reset_stats: the bytes this rank sent, and the seconds it spent in
-  // exchanges (packing, messages, waiting for its neighbours, unpacking).
+  // Since construction or reset_stats: the bytes this rank sent, and the seconds its host thread
+  // spent in exchanges (packing, messages, waiting for its neighbours, unpacking; the wait in
+  // finish overlaps the workers' inner tiles, so not all of it is time lost).
   double bytes_sent() const { return bytes_sent_; }
   double seconds() const { return double(ns_) * 1e-9; }
   void reset_stats() {
@@ -71,13 +81,16 @@ class MpiHaloChannel final : public HaloChannel {
   struct Peer {
     int rank = 0;
     std::vector<HaloCopy> recv, send;            // boxes in this block's coordinates / the peer's
-    std::size_t recv_count = 0, send_count = 0;  // floats of this exchange (its depth)
+    std::size_t recv_count = 0, send_count = 0;  // floats of the step in flight (all its fields)
     std::vector<float> recv_buf, send_buf;
   };
+  struct Requests;  // MPI's request handles (mpi.h stays in the .cpp)
   int block_ = 0;
   HaloExchange exchange_;
   std::vector<HaloCopy> self_;  // periodic copies from this block itself
   std::vector<Peer> peers_;
+  std::vector<HaloField> fields_;  // of the exchange in flight
+  std::unique_ptr<Requests> requests_;
   double bytes_sent_ = 0;
   long long ns_ = 0;
 };

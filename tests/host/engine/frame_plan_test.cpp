@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "runtime/block_layout.h"
 #include "runtime/dma.h"
 #include "runtime/local_store.h"
 #include "runtime/thread/thread_backend.h"
@@ -120,6 +122,116 @@ TEST(FramePlan, TemporalBlockingWithKSweepsEqualsKGlobalSweepsBitwise) {
     ASSERT_GT(blocked.tiles(0).tiles().size(), 20u);
     blocked.run(threads);
     ASSERT_TRUE(same_cells(out, ref)) << "k = " << k;
+  }
+}
+
+// The halo exchange overlaps its pass: between the exchange's begin and finish the back end
+// is handed only tiles whose reads stay inside the block, and the blocks of a 2x1 layout, each
+// on its own thread, still give the whole grid's bits. The channel fills the halos in finish,
+// as a message would arrive, while the worker beside the host thread computes those tiles.
+class InFlightChannel final : public HaloChannel {
+ public:
+  explicit InFlightChannel(HaloChannel& inner) : inner_(inner) {}
+  int block() const override { return inner_.block(); }
+  int width() const override { return inner_.width(); }
+  bool fills_any(const Box2& box) const override { return inner_.fills_any(box); }
+  void begin(std::span<const HaloField> fields) override {
+    fields_.assign(fields.begin(), fields.end());
+    in_flight = true;
+  }
+  void finish() override {
+    inner_.begin(fields_);  // reads the blocks' own cells, writes this block's halos
+    inner_.finish();
+    in_flight = false;
+  }
+  bool in_flight = false;
+
+ private:
+  HaloChannel& inner_;
+  std::vector<HaloField> fields_;
+};
+
+class OverlapCheckingBackend final : public Backend {
+ public:
+  OverlapCheckingBackend(Backend& inner, const InFlightChannel& channel, Int2 grid, Box2 block)
+      : inner_(inner), channel_(channel), grid_(grid), block_(block) {}
+  const char* name() const override { return "overlap-checking"; }
+  int workers() const override { return inner_.workers(); }
+  void dispatch(const Pass& pass, std::span<const Tile> tiles) override {
+    for (const Tile& t : tiles) {
+      if (!channel_.in_flight) {
+        ++after;
+        continue;
+      }
+      ++during;
+      // Cells of the domain outside the block are the neighbour's (no periodic edges here).
+      if (!block_.contains(t.core.grown(pass.halo).intersected(box_of_size(grid_))))
+        ++reading_halo_during;
+    }
+    inner_.dispatch(pass, tiles);
+  }
+  void sync() override { inner_.sync(); }
+  int during = 0, after = 0, reading_halo_during = 0;
+
+ private:
+  Backend& inner_;
+  const InFlightChannel& channel_;
+  Int2 grid_;
+  Box2 block_;
+};
+
+TEST(FramePlan, InnerTilesComputeWhileTheHalosAreInFlight) {
+  const Int2 grid{127, 93};
+  constexpr int kSweeps = 4;
+  const FieldF x = pattern(grid, 1), rhs = pattern(grid, 2);
+  FieldF whole(grid, 1);
+  {
+    FramePlan plan(small_tiles(grid, 1));
+    add_blocked_solve(plan, x, rhs, whole, kSweeps);
+    SerialBackend serial;
+    plan.run(serial);
+  }
+  const BlockLayout layout = BlockLayout::split(grid, {2, 1});
+  LocalBlockGroup group(layout, kSweeps);
+  std::vector<std::thread> threads;
+  std::vector<int> during(2), after(2), reading_halo(2);
+  std::vector<FieldF> out(2);
+  for (int b = 0; b < 2; ++b)
+    threads.emplace_back([&, b] {
+      const Box2 block = layout.block(b);
+      // The block's fields: its own cells and the domain's ring from the whole grid's.
+      FieldF bx = FieldF::over(block, kSweeps), brhs = FieldF::over(block, kSweeps);
+      const Box2 owned = layout.owned(b);
+      for (int y = owned.min.y; y < owned.max.y; ++y)
+        for (int i = owned.min.x; i < owned.max.x; ++i) {
+          bx(i, y) = x(i, y);
+          brhs(i, y) = rhs(i, y);
+        }
+      out[std::size_t(b)] = FieldF::over(block, kSweeps);
+      InFlightChannel channel(group.channel(b));
+      FramePlanOptions o = small_tiles(grid, 2);
+      o.block = block;
+      o.halo = &channel;
+      o.field_halo = kSweeps;
+      FramePlan plan(o);
+      add_blocked_solve(plan, bx, brhs, out[std::size_t(b)], kSweeps);
+      ThreadBackend threads_backend({2, 512 * 1024, false});
+      OverlapCheckingBackend checking(threads_backend, channel, grid, block);
+      plan.run(checking);
+      during[std::size_t(b)] = checking.during;
+      after[std::size_t(b)] = checking.after;
+      reading_halo[std::size_t(b)] = checking.reading_halo_during;
+    });
+  for (std::thread& t : threads) t.join();
+  for (int b = 0; b < 2; ++b) {
+    EXPECT_GT(during[std::size_t(b)], 0) << "block " << b << ": no tile overlapped the exchange";
+    EXPECT_GT(after[std::size_t(b)], 0) << "block " << b << ": no tile waited for the halos";
+    EXPECT_EQ(reading_halo[std::size_t(b)], 0) << "block " << b;
+    const Box2 owned = layout.owned(b);
+    for (int y = owned.min.y; y < owned.max.y; ++y)
+      for (int i = owned.min.x; i < owned.max.x; ++i)
+        ASSERT_EQ(std::memcmp(&out[std::size_t(b)](i, y), &whole(i, y), sizeof(float)), 0)
+            << "block " << b << " cell (" << i << ", " << y << ")";
   }
 }
 
