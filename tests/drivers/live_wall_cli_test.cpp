@@ -2,9 +2,8 @@
 // (ARDCELL_MPIEXEC) and SDL windows under the test's X display (Xvfb in CI): each rank shows its
 // block of one table1-ard simulation in a window of its own (2 pixels a cell), and the wall's
 // screenshot (every screen's frame, gathered on rank 0 and placed as the views lie) is the bytes
-// of one process's window at one pixel a cell after the same frames, for 2 and 4 screens (1x2,
-// 2x2); side by side (2x1) with a bezel the hidden cells are black and every other pixel is one
-// process's. (Each layout once: an mpirun with SDL under the sanitizers costs seconds.) A
+// of one process's window at one pixel a cell after the same frames, for 2 and 4 screens (2x1,
+// 1x2, 2x2); with a bezel the hidden cells are black and every other pixel is one process's. A
 // mirrored wall (cavity-gray-scott: every screen steps the whole grid) shows one process's frame
 // too, and screens on different back ends (PoCL and the CPU) are brought back in step. A
 // signal to one screen ends every screen; bad wall settings exit 2 with one line.
@@ -49,9 +48,11 @@ class LiveWallCliTest : public BinaryRunTest {
   bool has_display() const { return std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"); }
   // An Open MPI job's environment (mpi_env) with Mesa's softpipe for SDL's GL: llvmpipe's JIT
   // registers its code's unwind tables with a malloc inside libgcc's unwinder lock, and the slow
-  // unwinder that a sanitizer build needs for Open MPI (mpi_env) takes that lock again on
-  // malloc: the process deadlocks.
-  static std::string wall_env() { return mpi_env() + "GALLIUM_DRIVER=softpipe "; }
+  // unwinder of a leak-checked sanitizer job (mpi_env) takes that lock again on malloc: the
+  // process deadlocks.
+  static std::string wall_env(bool checks_leaks = false) {
+    return mpi_env(checks_leaks) + "GALLIUM_DRIVER=softpipe ";
+  }
   // `preset` for `frames` frames in one process's window at one pixel a cell, then on a wall of
   // each of `layouts` (2 pixels a cell): the wall's screenshot is the same bytes; `check` looks
   // at each wall's run.
@@ -81,8 +82,8 @@ class LiveWallCliTest : public BinaryRunTest {
   BinaryRunResult live(const std::string& args) {
     return run("live wall.toml --fps 0 --no-vsync --scale 1 " + args);
   }
-  BinaryRunResult wall(int ranks, const std::string& args) {
-    return run_command(wall_env() + "exec '" ARDCELL_MPIEXEC "' --oversubscribe -np " +
+  BinaryRunResult wall(int ranks, const std::string& args, bool checks_leaks = false) {
+    return run_command(wall_env(checks_leaks) + "exec '" ARDCELL_MPIEXEC "' --oversubscribe -np " +
                        std::to_string(ranks) +
                        " '" ARDCELL_BINARY "' live wall.toml --fps 0 --no-vsync --scale 2 " + args);
   }
@@ -90,7 +91,7 @@ class LiveWallCliTest : public BinaryRunTest {
 
 TEST_F(LiveWallCliTest, TheWallShowsOneProcesssFrame) {
   if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
-  walls_show_one_frame("wall.toml", 30, {"1x2", "2x2"}, [](const BinaryRunResult& r) {
+  walls_show_one_frame("wall.toml", 30, {"2x1", "1x2", "2x2"}, [](const BinaryRunResult& r) {
     // Rank 0 alone reports: its back end and how the wall runs, in one line.
     EXPECT_EQ(count_lines(r.err.substr(0, r.err.find("frames 30,"))), 1) << r.err;
     EXPECT_NE(r.err.find("each screen steps its block of the grid (split)"), std::string::npos)
@@ -102,7 +103,7 @@ TEST_F(LiveWallCliTest, TheWallShowsOneProcesssFrame) {
 // found at the checks of frames 1 and 61), and the wall's screenshot is one process's frame.
 TEST_F(LiveWallCliTest, AMirroredWallShowsOneProcesssFrame) {
   if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
-  walls_show_one_frame("mirrored.toml", 62, {"2x1"}, [](const BinaryRunResult& r) {
+  walls_show_one_frame("mirrored.toml", 62, {"2x1", "2x2"}, [](const BinaryRunResult& r) {
     EXPECT_NE(r.err.find("every screen steps the whole grid (mirrored)"), std::string::npos)
         << r.err;
     EXPECT_EQ(r.err.find("drifted"), std::string::npos) << r.err;
@@ -180,7 +181,9 @@ TEST_F(LiveWallCliTest, BezelCellsAreHiddenAndTheRestIsOneProcesssFrame) {
   if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
   ASSERT_EQ(live("--frames 20 --screenshot one.png").code, 0);
   // 7 pixels at 2 per cell: 4 cells hidden between the screens, 2 on each side of the gap.
-  const BinaryRunResult r = wall(2, "--wall 2x1 --bezel 7 --frames 20 --screenshot wall.png");
+  // The wall's job that is checked for leaks (mpi_env).
+  const BinaryRunResult r =
+      wall(2, "--wall 2x1 --bezel 7 --frames 20 --screenshot wall.png", /*checks_leaks=*/true);
   ASSERT_EQ(r.code, 0) << r.err;
   const PngInfo one = read_png(work() / "one.png"), w = read_png(work() / "wall.png");
   ASSERT_TRUE(one.ok && w.ok);
