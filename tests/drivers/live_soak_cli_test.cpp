@@ -217,7 +217,10 @@ TEST_F(LiveSoakCli, QuitDoesNotWaitForAPresetStillLoading) {
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
   EXPECT_EQ(wait_for(pid, 120), 143) << read("stderr");
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  EXPECT_LT(seconds, 5) << read("stderr");
+  // Building the slow preset's engine takes about 40 s under the sanitizers (its 3072^2 grid and
+  // 4096^2 table); the exit itself a few (LeakSanitizer scans the half-built scene), more on a
+  // loaded machine (5.8 s seen).
+  EXPECT_LT(seconds, 15) << read("stderr");
   EXPECT_NE(read("stderr").find("quit without waiting for preset"), std::string::npos)
       << read("stderr");
   expect_whole_recording();
