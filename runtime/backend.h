@@ -51,6 +51,12 @@ struct Pass {
   void (*compute)(const void* program, const Tile& tile, int slot, WorkerContext& ctx) = nullptr;
 };
 
+// What the calling thread does between the tiles it computes in Backend::help.
+struct HostProgress {
+  void (*poll)(void* user) = nullptr;
+  void* user = nullptr;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -62,6 +68,11 @@ class Backend {
   virtual void dispatch(const Pass& pass, std::span<const Tile> tiles) = 0;
   // Returns when every dispatched pass has finished and its results are in the fields.
   virtual void sync() = 0;
+  // When the calling thread is one of the back end's workers (the threads back end's host):
+  // runs its part of what was dispatched since the last sync() now, calling progress.poll
+  // between tiles, so that it can drive other work (an MPI exchange) while it computes. sync()
+  // still waits for the other workers. Nothing to do by default.
+  virtual void help(HostProgress /*progress*/) {}
   // Whether dispatch runs exactly the tiles it is given (so a pass may be dispatched in parts:
   // the tiles that read no halo while a halo exchange is in flight, then the rest), not the
   // whole grid whatever the tiles.

@@ -115,6 +115,9 @@ class HaloChannel {
   // fields' own cells have been read: until finish() returns, the caller may read and write
   // the fields' own cells but no halo cell within the depths.
   virtual void begin(std::span<const HaloField> fields) = 0;
+  // Lets the messages of the exchange in flight move, without waiting (a channel whose
+  // transport has no progress thread of its own needs its owner to call in now and then).
+  virtual void progress() {}
   // Returns when the halos begin() started are filled.
   virtual void finish() = 0;
   // begin and finish of one field.

@@ -369,7 +369,13 @@ void FramePlan::run(Backend& backend, bool with_rd) {
       const std::span<const Tile> tiles = p.exchange_order;
       const std::size_t inner = backend.runs_tiles() ? p.inner_tiles : 0;
       options_.halo->begin(p.exchange);
-      if (inner > 0) backend.dispatch(p.pass, tiles.first(inner));
+      if (inner > 0) {
+        backend.dispatch(p.pass, tiles.first(inner));
+        // The host thread's own part of those tiles (when it is a worker), moving the
+        // messages between them.
+        backend.help(
+            {[](void* halo) { static_cast<HaloChannel*>(halo)->progress(); }, options_.halo});
+      }
       options_.halo->finish();
       if (inner < tiles.size()) backend.dispatch(p.pass, tiles.subspan(inner));
     } else {

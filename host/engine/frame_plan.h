@@ -36,8 +36,8 @@
 // The exchange overlaps the pass: once it has begun (the fields' own cells sent), the tiles
 // whose reads hold no cell the exchange writes are handed to the back end while the halos are
 // in flight, the others after they have arrived (on a back end that runs tiles; the serial
-// reference waits first). A threads back end whose host thread is a worker computes them with
-// its other workers while the host waits for the messages.
+// reference waits first). A threads back end whose host thread is a worker computes them on
+// every worker, the host moving the messages between its tiles (Backend::help).
 // Boundary conditions still apply on the domain's edges only; a block's other edges are like a
 // tile's: sweeps shrink there, so the blocks together give the bits one block gives. Advection
 // back-traces must stay inside the block's halo (the fields' halo bounds the CFL number).

@@ -52,9 +52,9 @@ class MpiWorld {
 // rank, the boxes it owns of this block's halo, every field's in one message, and posts the
 // non-blocking receives and sends; copies from this block itself (a periodic wrap) are made in
 // place. finish waits for the messages and unpacks them: in between, the caller's workers compute
-// what reads no halo (Open MPI has no progress thread: the messages move inside finish's wait;
-// a threads back end whose host thread is one of its workers computes with the others only,
-// and with one worker, not at all). Buffers grow in the first frame only.
+// what reads no halo. Open MPI has no progress thread: the messages move inside MPI calls, so
+// the host thread, when it computes tiles too, calls progress (MPI_Testall) between them
+// (FramePlan::run, Backend::help). Buffers grow in the first frame only.
 class MpiHaloChannel final : public HaloChannel {
  public:
   static constexpr std::size_t kMaxFields = 16;  // fields of one exchange step
@@ -64,6 +64,7 @@ class MpiHaloChannel final : public HaloChannel {
   int width() const override { return exchange_.width(); }
   bool fills_any(const Box2& box) const override { return exchange_.fills_any(block_, box); }
   void begin(std::span<const HaloField> fields) override;
+  void progress() override;
   void finish() override;
   // Halo cells this rank receives per exchanged field.
   std::size_t cells_in() const { return exchange_.cells_into(block_); }

@@ -90,9 +90,15 @@ void ThreadBackend::dispatch(const Pass& pass, std::span<const Tile> tiles) {
   ++outstanding_;
 }
 
+void ThreadBackend::help(HostProgress progress) {
+  if (!host_is_worker_) return;
+  for (; host_ran_ < outstanding_; ++host_ran_)
+    run_share(*workers_[0], host_queue_[std::size_t(host_ran_)], progress);
+}
+
 void ThreadBackend::sync() {
-  if (host_is_worker_)
-    for (int i = 0; i < outstanding_; ++i) run_share(*workers_[0], host_queue_[std::size_t(i)]);
+  help({});
+  host_ran_ = 0;
   for (; outstanding_ > 0; --outstanding_)
     for (auto& w : workers_)
       if (w->thread.joinable()) (void)w->outbox.pop(kSpin, kYields);
@@ -117,7 +123,7 @@ void ThreadBackend::run_worker(Worker& w) {
 // are in its own caches), then helps with the other shares: every share has a claim counter, so
 // a descheduled worker's tiles go to the others. Double-buffered: the next tile is claimed and
 // fetched into the other slot before the current one computes.
-void ThreadBackend::run_share(Worker& w, const Command& cmd) {
+void ThreadBackend::run_share(Worker& w, const Command& cmd, HostProgress progress) {
   const Pass& pass = *cmd.pass;
   const std::size_t n = std::size_t(w.count);
   std::size_t share = 0;  // shares visited so far, starting with the worker's own
@@ -135,7 +141,10 @@ void ThreadBackend::run_share(Worker& w, const Command& cmd) {
   if (!pass.fetch) {
     // In place: nothing to fetch ahead, so a tile is claimed only when the worker can start it
     // (a look-ahead claim would take the last tiles of the others' shares from idle workers).
-    for (; i < cmd.count; i = claim()) pass.compute(pass.program, cmd.tiles[i], 0, w.ctx);
+    for (; i < cmd.count; i = claim()) {
+      pass.compute(pass.program, cmd.tiles[i], 0, w.ctx);
+      if (progress.poll) progress.poll(progress.user);
+    }
     return;
   }
   pass.fetch(pass.program, cmd.tiles[i], 0, w.ctx);
@@ -143,6 +152,7 @@ void ThreadBackend::run_share(Worker& w, const Command& cmd) {
     const std::size_t j = claim();
     if (j < cmd.count) pass.fetch(pass.program, cmd.tiles[j], slot ^ 1, w.ctx);
     pass.compute(pass.program, cmd.tiles[i], slot, w.ctx);
+    if (progress.poll) progress.poll(progress.user);
     if (j >= cmd.count) break;
     i = j;
   }

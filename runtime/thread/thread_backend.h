@@ -48,6 +48,7 @@ class ThreadBackend final : public Backend {
   int workers() const override { return int(workers_.size()); }
   void dispatch(const Pass& pass, std::span<const Tile> tiles) override;
   void sync() override;
+  void help(HostProgress progress) override;
 
   // Bytes each worker's Dma has moved (in + out), summed; for the benchmark's counters.
   std::uint64_t dma_bytes() const;
@@ -64,7 +65,8 @@ class ThreadBackend final : public Backend {
   static void run_worker(Worker& w);
 
   std::size_t store_bytes_;
-  static void run_share(Worker& w, const Command& cmd);
+  // Worker w's part of cmd; the host calls progress.poll after each tile it computes.
+  static void run_share(Worker& w, const Command& cmd, HostProgress progress = {});
 
   std::vector<std::unique_ptr<Worker>> workers_;
   bool host_is_worker_ = true;
@@ -75,6 +77,7 @@ class ThreadBackend final : public Backend {
   // Claim counters, one per share (worker) per dispatch between two syncs.
   std::unique_ptr<std::atomic<std::size_t>[]> claims_;
   int outstanding_ = 0;  // dispatches not yet collected by sync()
+  int host_ran_ = 0;     // of those, the ones whose host share help() has run
 };
 
 }  // namespace ardcell

@@ -139,12 +139,14 @@ class InFlightChannel final : public HaloChannel {
     fields_.assign(fields.begin(), fields.end());
     in_flight = true;
   }
+  void progress() override { ++polls; }
   void finish() override {
     inner_.begin(fields_);  // reads the blocks' own cells, writes this block's halos
     inner_.finish();
     in_flight = false;
   }
   bool in_flight = false;
+  int polls = 0;
 
  private:
   HaloChannel& inner_;
@@ -171,6 +173,7 @@ class OverlapCheckingBackend final : public Backend {
     inner_.dispatch(pass, tiles);
   }
   void sync() override { inner_.sync(); }
+  void help(HostProgress progress) override { inner_.help(progress); }
   int during = 0, after = 0, reading_halo_during = 0;
 
  private:
@@ -191,47 +194,55 @@ TEST(FramePlan, InnerTilesComputeWhileTheHalosAreInFlight) {
     SerialBackend serial;
     plan.run(serial);
   }
-  const BlockLayout layout = BlockLayout::split(grid, {2, 1});
-  LocalBlockGroup group(layout, kSweeps);
-  std::vector<std::thread> threads;
-  std::vector<int> during(2), after(2), reading_halo(2);
-  std::vector<FieldF> out(2);
-  for (int b = 0; b < 2; ++b)
-    threads.emplace_back([&, b] {
-      const Box2 block = layout.block(b);
-      // The block's fields: its own cells and the domain's ring from the whole grid's.
-      FieldF bx = FieldF::over(block, kSweeps), brhs = FieldF::over(block, kSweeps);
+  // 1 worker: the host thread computes every inner tile, moving the exchange after each
+  // (Backend::help); 2: a second worker beside it, the halos filled while it computes.
+  for (int workers : {1, 2}) {
+    const BlockLayout layout = BlockLayout::split(grid, {2, 1});
+    LocalBlockGroup group(layout, kSweeps);
+    std::vector<std::thread> threads;
+    std::vector<int> during(2), after(2), reading_halo(2), polls(2);
+    std::vector<FieldF> out(2);
+    for (int b = 0; b < 2; ++b)
+      threads.emplace_back([&, b] {
+        const Box2 block = layout.block(b);
+        // The block's fields: its own cells and the domain's ring from the whole grid's.
+        FieldF bx = FieldF::over(block, kSweeps), brhs = FieldF::over(block, kSweeps);
+        const Box2 owned = layout.owned(b);
+        for (int y = owned.min.y; y < owned.max.y; ++y)
+          for (int i = owned.min.x; i < owned.max.x; ++i) {
+            bx(i, y) = x(i, y);
+            brhs(i, y) = rhs(i, y);
+          }
+        out[std::size_t(b)] = FieldF::over(block, kSweeps);
+        InFlightChannel channel(group.channel(b));
+        FramePlanOptions o = small_tiles(grid, workers);
+        o.block = block;
+        o.halo = &channel;
+        o.field_halo = kSweeps;
+        FramePlan plan(o);
+        add_blocked_solve(plan, bx, brhs, out[std::size_t(b)], kSweeps);
+        ThreadBackend threads_backend({workers, 512 * 1024, false});
+        OverlapCheckingBackend checking(threads_backend, channel, grid, block);
+        plan.run(checking);
+        during[std::size_t(b)] = checking.during;
+        after[std::size_t(b)] = checking.after;
+        reading_halo[std::size_t(b)] = checking.reading_halo_during;
+        polls[std::size_t(b)] = channel.polls;
+      });
+    for (std::thread& t : threads) t.join();
+    for (int b = 0; b < 2; ++b) {
+      const std::size_t k = std::size_t(b);
+      const std::string what = std::to_string(workers) + " workers, block " + std::to_string(b);
+      EXPECT_GT(during[k], 0) << what << ": no tile overlapped the exchange";
+      EXPECT_GT(after[k], 0) << what << ": no tile waited for the halos";
+      EXPECT_EQ(reading_halo[k], 0) << what;
+      if (workers == 1) EXPECT_EQ(polls[k], during[k]) << what;
       const Box2 owned = layout.owned(b);
       for (int y = owned.min.y; y < owned.max.y; ++y)
-        for (int i = owned.min.x; i < owned.max.x; ++i) {
-          bx(i, y) = x(i, y);
-          brhs(i, y) = rhs(i, y);
-        }
-      out[std::size_t(b)] = FieldF::over(block, kSweeps);
-      InFlightChannel channel(group.channel(b));
-      FramePlanOptions o = small_tiles(grid, 2);
-      o.block = block;
-      o.halo = &channel;
-      o.field_halo = kSweeps;
-      FramePlan plan(o);
-      add_blocked_solve(plan, bx, brhs, out[std::size_t(b)], kSweeps);
-      ThreadBackend threads_backend({2, 512 * 1024, false});
-      OverlapCheckingBackend checking(threads_backend, channel, grid, block);
-      plan.run(checking);
-      during[std::size_t(b)] = checking.during;
-      after[std::size_t(b)] = checking.after;
-      reading_halo[std::size_t(b)] = checking.reading_halo_during;
-    });
-  for (std::thread& t : threads) t.join();
-  for (int b = 0; b < 2; ++b) {
-    EXPECT_GT(during[std::size_t(b)], 0) << "block " << b << ": no tile overlapped the exchange";
-    EXPECT_GT(after[std::size_t(b)], 0) << "block " << b << ": no tile waited for the halos";
-    EXPECT_EQ(reading_halo[std::size_t(b)], 0) << "block " << b;
-    const Box2 owned = layout.owned(b);
-    for (int y = owned.min.y; y < owned.max.y; ++y)
-      for (int i = owned.min.x; i < owned.max.x; ++i)
-        ASSERT_EQ(std::memcmp(&out[std::size_t(b)](i, y), &whole(i, y), sizeof(float)), 0)
-            << "block " << b << " cell (" << i << ", " << y << ")";
+        for (int i = owned.min.x; i < owned.max.x; ++i)
+          ASSERT_EQ(std::memcmp(&out[k](i, y), &whole(i, y), sizeof(float)), 0)
+              << what << " cell (" << i << ", " << y << ")";
+    }
   }
 }
 
