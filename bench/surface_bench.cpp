@@ -10,6 +10,13 @@
 //   Surface/mg/<mesh>/<N>   the same with the diffusion solved by multigrid V-cycles
 //   (`ardcell surface --solver mg`, host/surface/surface_multigrid.h).
 //   SurfaceWorkers/genus2/<N>   the double torus (50 patches) on one worker against every core.
+//   Surface/fluid/<mesh>/<N>   seed 004's Table 1: one full step of stable fluids
+//   (`ardcell surface --fluid walk`: dye sources, dye and velocity advection, the walkers' force,
+//   the projection by multigrid to a relative residual of 1e-6; no viscosity) after 20 steps, on
+//   the meshes of Table 1 (torus-1127 and torus-1292 at N = 8, 16 and 32, as in the paper; their
+//   coarsest grids are solved by smoothing sweeps, not the dense solve), beside the paper's GPU
+//   and CPU ms per full step; counters forces_ms, projection_ms, sources_ms, dye_advection_ms and
+//   advection_ms are the sub-steps of Table 2 (its fertility, 166 patches, N = 32: box-166/32).
 // Counters: ms_per_step, sweeps (Jacobi or smoothing sweeps on the finest grid a step, both
 // solves), cycles (mg: V-cycles a step, both solves), paper_cpu_ms, paper_gpu_ms, x_paper_cpu (the
 // paper's CPU time over ours, wall clock: > 1 is faster).
@@ -25,6 +32,7 @@
 #include "host/surface/limit_surface.h"
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
+#include "host/surface/surface_fluid.h"
 #include "host/surface/surface_gray_scott.h"
 #include "host/surface/surface_multigrid.h"
 #include "runtime/row_executor.h"
@@ -149,6 +157,70 @@ void BM_SurfaceWorkers(benchmark::State& state, int n) {
   state.counters["same_bits"] = one->rd->a() == all->rd->a() && one->rd->b() == all->rd->b();
 }
 
+// Seed 004, Table 1 (gpu/cpu ms per full fluid step), the rows our meshes stand in for.
+constexpr TableRow kTable1[] = {
+    {"torus-128", 128, {16, 17, 34, 78}, {41, 131, 474, 1764}},
+    {"box-166", 166, {16, 21, 42, 98}, {52, 172, 609, 2216}},
+    {"box-238", 238, {17, 28, 58, 141}, {73, 246, 904, 3352}},
+    {"torus-1127", 1127, {65, 107, 235, 0}, {368, 1394, 4638, 0}},
+    {"torus-1292", 1292, {73, 122, 270, 0}, {430, 1536, 5367, 0}},
+};
+
+struct FluidRun {
+  LimitSurface surface;
+  std::unique_ptr<SurfaceLaplacian> op;
+  std::unique_ptr<ThreadBackend> backend;
+  std::unique_ptr<RowExecutor> executor;
+  std::unique_ptr<SurfaceMultigrid> multigrid;
+  std::unique_ptr<SurfaceFluid> fluid;
+};
+
+void BM_SurfaceFluid(benchmark::State& state, const TableRow& row, int column) {
+  const int n = 8 << column;
+  FluidRun r;
+  if (Status s = LimitSurface::build(mesh_for(row.mesh), {}, r.surface); !s) {
+    state.SkipWithError(s.message().c_str());
+    return;
+  }
+  {
+    const PatchMetric metric = sample_limit_metric(r.surface, n);
+    r.op = std::make_unique<SurfaceLaplacian>(r.surface.topology(), metric);
+    ThreadBackendOptions threads;
+    threads.pin = false;
+    r.backend = std::make_unique<ThreadBackend>(threads);
+    r.executor = std::make_unique<RowExecutor>(*r.backend);
+    r.op->set_executor(*r.executor);
+    r.multigrid = std::make_unique<SurfaceMultigrid>(r.surface, *r.op);
+    SurfaceFluidParams params;  // `ardcell surface --fluid walk`'s
+    params.force = FluidForce::kWalk;
+    r.fluid = std::make_unique<SurfaceFluid>(r.surface, metric, *r.op, *r.multigrid, params);
+  }
+  for (int i = 0; i < 20; ++i) r.fluid->step();
+  const FluidTimings before = r.fluid->timings();
+  long long cycles = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) cycles += r.fluid->step().cycles;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double steps = double(state.iterations());
+  const FluidTimings& after = r.fluid->timings();
+  const auto ms = [&](double FluidTimings::*field) {
+    return 1e3 * (after.*field - before.*field) / steps;
+  };
+  state.counters["ms_per_step"] = 1e3 * seconds / steps;
+  state.counters["cycles"] = double(cycles) / steps;
+  state.counters["forces_ms"] = ms(&FluidTimings::forces);
+  state.counters["projection_ms"] = ms(&FluidTimings::projection);
+  state.counters["sources_ms"] = ms(&FluidTimings::sources);
+  state.counters["dye_advection_ms"] = ms(&FluidTimings::dye_advection);
+  state.counters["advection_ms"] = ms(&FluidTimings::velocity_advection);
+  state.counters["patches"] = r.op->patches();
+  state.counters["workers"] = r.backend->workers();
+  state.counters["paper_cpu_ms"] = row.cpu_ms[column];
+  state.counters["paper_gpu_ms"] = row.gpu_ms[column];
+  state.counters["x_paper_cpu"] = row.cpu_ms[column] * 1e-3 * steps / seconds;
+}
+
 #endif
 
 }  // namespace
@@ -170,6 +242,15 @@ int main(int argc, char** argv) {
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
       }
+  for (const TableRow& row : kTable1)
+    for (int column = 0; column < 4; ++column) {
+      if (row.cpu_ms[column] == 0) continue;
+      benchmark::RegisterBenchmark(
+          (std::string("Surface/fluid/") + row.mesh + "/" + std::to_string(8 << column)).c_str(),
+          [&row, column](benchmark::State& s) { BM_SurfaceFluid(s, row, column); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
   for (int n : {16, 32})
     benchmark::RegisterBenchmark(("SurfaceWorkers/genus2/" + std::to_string(n)).c_str(),
                                  [n](benchmark::State& s) { BM_SurfaceWorkers(s, n); })

@@ -1,18 +1,21 @@
 // `ardcell surface`: Gray-Scott reaction-diffusion on the Catmull-Clark limit surface of a
-// control mesh (seed 004, docs/surfaces.md), written as a PLY of the limit surface with the
-// field as vertex colours (--out), as a texture atlas with a UV-mapped OBJ (--atlas) and/or as a
-// PNG render (--render).
+// control mesh (seed 004, docs/surfaces.md), or with --fluid stable fluids carrying a dye
+// (host/surface/surface_fluid.h), written as a PLY of the limit surface with the field as vertex
+// colours (--out), as a texture atlas with a UV-mapped OBJ (--atlas) and/or as a PNG render
+// (--render).
 //
 // A subcommand of its own, not a scene of `ardcell run`: the patches do not run on the engine
 // yet (no Device ops, back ends, frames or state files, which run's flags are about); once
 // patches are blocks of the frame plan it becomes `ardcell run surface-gray-scott`.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "drivers/cli.h"
 
@@ -25,6 +28,7 @@
 #include "host/surface/limit_surface.h"
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
+#include "host/surface/surface_fluid.h"
 #include "host/surface/surface_gray_scott.h"
 #include "host/surface/surface_multigrid.h"
 #include "host/surface/surface_render.h"
@@ -49,8 +53,13 @@ struct SurfaceArgs {
   double F = 0.055, k = 0.062, dt = 1.0, scale = 0, tolerance = 1e-6;
   std::string solver = "jacobi";
   std::string preset;
+  // --fluid: stable fluids with a dye instead of reaction-diffusion.
+  std::string fluid, down = "0,0,-1";
+  double viscosity = 0, dye_diffusion = 0, force = 1, source_rate = 1;
+  bool conserve_dye = false;
   CLI::Option *mesh_opt, *shape_opt, *scale_opt, *reaction_opt, *field_opt, *f_opt, *k_opt, *dt_opt,
-      *seed_opt;
+      *seed_opt, *steps_opt, *solver_opt, *preset_opt, *fluid_opt, *down_opt;
+  std::vector<CLI::Option*> fluid_only;  // --viscosity, --dye-diffusion, --force, ...
 };
 
 // A flat scene's reaction-diffusion on the surface (--preset): its model and parameters, rates,
@@ -115,6 +124,134 @@ Status control_mesh(const SurfaceArgs& a, PolyMesh& mesh) {
   return Status::ok();
 }
 
+// --out, --atlas and --render of `field` (cells of `grid`), in that order; the first failure.
+Status write_outputs(const SurfaceArgs& a, const LimitSurface& surface, const PatchGrid& grid,
+                     const PatchField& field, const SurfaceColours& colours,
+                     const SurfaceView& view) {
+  const auto atlas_file = [&](const char* extension) {
+    return std::filesystem::path(a.atlas + extension);
+  };
+  Status written = Status::ok();
+  if (!a.out.empty()) written = write_surface_ply(a.out, surface, grid, field, colours);
+  if (written && !a.atlas.empty()) {
+    const AtlasLayout layout = atlas_layout(surface.patches(), grid.n());
+    written = write_png(atlas_file(".png"), surface_atlas_image(grid, field, layout, colours));
+    if (written)
+      written = write_surface_obj(atlas_file(".obj"), atlas_file(".mtl"),
+                                  atlas_file(".png").filename().string(), surface, layout);
+  }
+  if (written && !a.render.empty())
+    written = write_png(a.render, render_surface(surface, grid, field, colours, view));
+  return written;
+}
+
+// The cells' range of a field.
+std::pair<double, double> cell_range(const PatchGrid& g, const PatchField& f) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int p = 0; p < g.patches(); ++p)
+    for (int j = 0; j < g.n(); ++j)
+      for (int i = 0; i < g.n(); ++i) {
+        lo = std::min(lo, f[g.index(p, i, j)]);
+        hi = std::max(hi, f[g.index(p, i, j)]);
+      }
+  return {lo, hi};
+}
+
+// A flag's value, when one is given (--flag=VALUE): true or false, 1 or 0, nothing else (CLI11
+// would read any number as a bool).
+const CLI::Validator flag_value(
+    [](std::string& value) -> std::string {
+      for (const char* ok : {"", "true", "false", "1", "0"})
+        if (value == ok) return {};
+      return "expected no value, true or false, got '" + value + "'";
+    },
+    "", "flag");
+
+// --fluid: stable fluids on the surface (seed 004, Sec. 5), the dye from sources at the patches'
+// centres (the seed's Fig. 8) written as the field.
+int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
+              const std::array<double, 3>& down, SurfaceColours colours, const SurfaceView& view) {
+  auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "surface", m); };
+  const int n = a.patch_cells;
+  const auto start = std::chrono::steady_clock::now();
+  auto metric = std::make_unique<PatchMetric>(sample_limit_metric(surface, n));
+  if (Status s = metric->check_nondegenerate(); !s)
+    return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + s.message());
+  SurfaceLaplacian op(surface.topology(), *metric);
+  ThreadBackendOptions threads;
+  threads.workers = a.workers;
+  threads.pin = false;  // a short command beside whatever else runs
+  ThreadBackend backend(threads);
+  RowExecutor executor(backend);
+  op.set_executor(executor);
+  const SurfaceMultigrid multigrid(surface, op);
+  SurfaceFluidParams params;
+  params.dt = a.dt_opt->count() ? a.dt : 0.05;
+  params.force = a.fluid == "walk" ? FluidForce::kWalk : FluidForce::kGravity;
+  params.strength = a.force;
+  params.down = down;
+  params.viscosity = a.viscosity;
+  params.dye_diffusion = a.dye_diffusion;
+  params.source_rate = a.source_rate;
+  params.conserve_dye = a.conserve_dye;
+  params.projection.tolerance = a.tolerance;
+  SurfaceFluid fluid(surface, *metric, op, multigrid, params);
+  metric.reset();  // only the construction reads it
+  const int steps = a.steps_opt->count() ? a.steps : 200;
+  std::fprintf(ctx.out,
+               "patches=%d%s cells=%lld area=%.4g fluid=%s dt=%g force=%g viscosity=%g "
+               "dye_diffusion=%g workers=%d\n",
+               surface.patches(), surface.refined() ? " (refined once)" : "",
+               (long long)surface.patches() * n * n, op.area(), a.fluid.c_str(), params.dt,
+               params.strength, params.viscosity, params.dye_diffusion, backend.workers());
+  std::fflush(ctx.out);
+  StopSignals signals;
+  int done = 0;
+  long long cycles = 0;
+  bool warned = false;          // a projection that stopped short of the tolerance is said once
+  bool warned_viscous = false;  // and a viscosity solve at its sweep limit
+  for (; done < steps && !StopSignals::requested(); ++done) {
+    const FluidReport r = fluid.step();
+    cycles += r.cycles;
+    if (!warned_viscous && r.viscosity_sweeps >= params.viscous.max_sweeps) {
+      warned_viscous = true;
+      std::fprintf(ctx.err,
+                   "ardcell surface: step %d: the viscosity's Jacobi sweeps stopped at their limit "
+                   "(%d) above a relative residual of %g (a smaller --viscosity or --dt)\n",
+                   done + 1, params.viscous.max_sweeps, params.viscous.tolerance);
+    }
+    if (!warned && !(r.residual <= params.projection.tolerance)) {
+      warned = true;
+      std::fprintf(ctx.err,
+                   "ardcell surface: step %d: the projection stopped at relative residual %.3g, "
+                   "above --tolerance %g (%d V-cycles)\n",
+                   done + 1, r.residual, params.projection.tolerance, params.projection.max_sweeps);
+    }
+  }
+  if (done < steps) {
+    std::fprintf(ctx.err, "ardcell surface: interrupted after %d of %d steps; nothing written\n",
+                 done, steps);
+    return StopSignals::exit_code(kExitOk);
+  }
+  colours.lo = 0, colours.hi = 1;  // the dye's concentration, 0 to 100%
+  if (Status written = write_outputs(a, surface, op.grid(), fluid.dye(), colours, view); !written) {
+    std::fprintf(ctx.err, "ardcell surface: %s\n", written.message().c_str());
+    return kExitFailure;
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto [lo, hi] = cell_range(op.grid(), fluid.dye());
+  std::fprintf(ctx.out,
+               "steps=%d mean_cycles=%.1f seconds=%.2f s=[%.4g, %.4g] total=%.4g max_div=%.3g "
+               "out=%s%s%s%s%s\n",
+               done, done ? double(cycles) / done : 0.0, seconds, lo, hi, fluid.dye_total(),
+               fluid.max_divergence(), a.out.empty() ? "-" : a.out.c_str(),
+               a.atlas.empty() ? "" : " atlas=", a.atlas.empty() ? "" : (a.atlas + ".obj").c_str(),
+               a.render.empty() ? "" : " render=", a.render.c_str());
+  std::fflush(ctx.out);
+  return StopSignals::exit_code(kExitOk);
+}
+
 int do_surface(SurfaceArgs& a, CliContext& ctx) {
   auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "surface", m); };
   const int n = a.patch_cells;
@@ -123,6 +260,29 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (a.steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
   if (a.workers < 0 || a.workers > 256)
     return usage("--workers " + std::to_string(a.workers) + ": expected 1..256 (0: one per core)");
+  const bool fluid = a.fluid_opt->count() > 0;
+  std::array<double, 3> down{0, 0, -1};
+  if (fluid) {
+    if (a.fluid != "gravity" && a.fluid != "walk")
+      return usage("--fluid '" + a.fluid + "': expected gravity or walk");
+    for (CLI::Option* o : {a.preset_opt, a.f_opt, a.k_opt, a.reaction_opt, a.field_opt, a.scale_opt,
+                           a.solver_opt, a.seed_opt})
+      if (o->count())
+        return usage(o->get_name() + ": a reaction-diffusion setting (expected no " +
+                     o->get_name() + " with --fluid)");
+    if (a.fluid == "walk" && a.down_opt->count())
+      return usage("--down: a gravity setting (expected no --down with --fluid walk)");
+    char tail = 0;
+    // A direction: finite, not all 0 (its length is taken after scaling, never squared here).
+    if (std::sscanf(a.down.c_str(), "%lf,%lf,%lf%c", &down[0], &down[1], &down[2], &tail) != 3 ||
+        !std::isfinite(down[0]) || !std::isfinite(down[1]) || !std::isfinite(down[2]) ||
+        (down[0] == 0 && down[1] == 0 && down[2] == 0))
+      return usage("--down '" + a.down + "': expected X,Y,Z, a finite direction (not 0,0,0)");
+  } else {
+    for (CLI::Option* o : a.fluid_only)
+      if (o->count())
+        return usage(o->get_name() + ": a fluid setting (expected --fluid gravity or walk)");
+  }
   SurfaceRdParams params;
   PresetRd flat;
   const bool from_preset = !a.preset.empty();
@@ -186,6 +346,13 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
     return usage(std::to_string(surface.patches()) + " patches of " + std::to_string(n) + "^2 " +
                  "cells are " + std::to_string(cells) + " cells (expected at most " +
                  std::to_string(kMaxCells) + ": a smaller --patch-cells)");
+  if (fluid) {
+    // The projection's pressure is fixed up to one constant: one connected surface.
+    if (const int pieces = connected_pieces(surface.topology()); pieces > 1)
+      return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + std::to_string(pieces) +
+                   " separate pieces (expected one connected surface with --fluid)");
+    return run_fluid(a, ctx, surface, down, colours, view);
+  }
 
   const auto start = std::chrono::steady_clock::now();
   Status geometry = Status::ok();
@@ -274,17 +441,7 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
     colours.lo = a.field == "a" ? 0.2 : 0.0;
     colours.hi = a.field == "a" ? 1.0 : 0.45;
   }
-  Status written = Status::ok();
-  if (!a.out.empty()) written = write_surface_ply(a.out, surface, op.grid(), field, colours);
-  if (written && !a.atlas.empty()) {
-    const AtlasLayout layout = atlas_layout(surface.patches(), n);
-    written = write_png(atlas_file(".png"), surface_atlas_image(op.grid(), field, layout, colours));
-    if (written)
-      written = write_surface_obj(atlas_file(".obj"), atlas_file(".mtl"),
-                                  atlas_file(".png").filename().string(), surface, layout);
-  }
-  if (written && !a.render.empty())
-    written = write_png(a.render, render_surface(surface, op.grid(), field, colours, view));
+  const Status written = write_outputs(a, surface, op.grid(), field, colours, view);
   if (!written) {
     std::fprintf(ctx.err, "ardcell surface: %s\n", written.message().c_str());
     return kExitFailure;
@@ -292,19 +449,8 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // The cells' range of each chemical: whether a pattern grew (and what the colours span).
-  const auto range = [&](const PatchField& f) {
-    const PatchGrid& g = op.grid();
-    double lo = INFINITY, hi = -INFINITY;
-    for (int p = 0; p < g.patches(); ++p)
-      for (int j = 0; j < g.n(); ++j)
-        for (int i = 0; i < g.n(); ++i) {
-          lo = std::min(lo, f[g.index(p, i, j)]);
-          hi = std::max(hi, f[g.index(p, i, j)]);
-        }
-    return std::pair(lo, hi);
-  };
-  const auto [a_lo, a_hi] = range(rd.a());
-  const auto [b_lo, b_hi] = range(rd.b());
+  const auto [a_lo, a_hi] = cell_range(op.grid(), rd.a());
+  const auto [b_lo, b_hi] = cell_range(op.grid(), rd.b());
   char mean_cycles[48] = "";  // multigrid's V-cycles a solve
   if (multigrid)
     std::snprintf(mean_cycles, sizeof mean_cycles, " mean_cycles=%.1f",
@@ -339,7 +485,7 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
                                 "cube-sphere (24) or genus2 (a double torus, 50)");
   a.mesh_opt->excludes(a.shape_opt);
   cmd->add_option("--patch-cells", a.patch_cells, "N: N x N cells a patch, a power of two (16)");
-  cmd->add_option("--steps", a.steps, "steps of dt (3000)");
+  a.steps_opt = cmd->add_option("--steps", a.steps, "steps of dt (3000; with --fluid 200)");
   cmd->add_option("--workers", a.workers,
                   "threads that run the patches side by side, 0: one per core (0; the same "
                   "result for any number)");
@@ -355,24 +501,53 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
       cmd->add_option("--reaction", a.reaction,
                       "euler (the seed's forward Euler) or implicit (ardcell's backward Euler; "
                       "the default with --preset)");
-  cmd->add_option("--preset", a.preset,
-                  "a scene or preset's reaction-diffusion on the surface (its model, parameters, "
-                  "rates, step and start; e.g. turing-spots, meinhardt-spots)");
+  a.preset_opt = cmd->add_option(
+      "--preset", a.preset,
+      "a scene or preset's reaction-diffusion on the surface (its model, parameters, "
+      "rates, step and start; e.g. turing-spots, meinhardt-spots)");
   a.f_opt = cmd->add_option("--F", a.F, "Gray-Scott feed (0.055)")->check(finite_range(0, 1));
   a.k_opt = cmd->add_option("--k", a.k, "Gray-Scott kill (0.062)")->check(finite_range(0, 1));
-  a.dt_opt = cmd->add_option("--dt", a.dt, "time step (1; with --preset the preset's)")
-                 ->check(finite_range(1e-6, 100));
+  a.dt_opt =
+      cmd->add_option("--dt", a.dt, "time step (1; with --preset the preset's; with --fluid 0.05)")
+          ->check(finite_range(1e-6, 100));
   a.scale_opt = cmd->add_option("--scale", a.scale,
                                 "the flat model's cell in surface units: sets the wavelength "
                                 "(default: a patch's side / 20)")
                     ->check(finite_range(1e-9, 1e9));
-  cmd->add_option("--tolerance", a.tolerance, "implicit diffusion's relative residual (1e-6)")
+  cmd->add_option("--tolerance", a.tolerance,
+                  "implicit diffusion's (with --fluid the projection's) relative residual (1e-6)")
       ->check(finite_range(1e-14, 1));
-  cmd->add_option("--solver", a.solver,
-                  "implicit diffusion: jacobi (the seed's sweeps) or mg (multigrid V-cycles)");
+  a.solver_opt =
+      cmd->add_option("--solver", a.solver,
+                      "implicit diffusion: jacobi (the seed's sweeps) or mg (multigrid V-cycles)");
   a.seed_opt = cmd->add_option("--seed", a.seed, "random start (1; with --preset the preset's)");
   a.field_opt = cmd->add_option("--field", a.field, "a or b (b; with --preset a)");
   cmd->add_option("--colormap", a.colormap, std::string(colormap_names()) + " (magma)");
+  a.fluid_opt = cmd->add_option(
+      "--fluid", a.fluid,
+      "stable fluids instead of reaction-diffusion: gravity (dye sinks along --down) or walk "
+      "(a point circling each patch pushes the fluid); the field drawn is the dye, from sources "
+      "at the patches' centres");
+  a.fluid_only = {
+      cmd->add_option("--viscosity", a.viscosity,
+                      "--fluid: kinematic viscosity, surface area per unit time (0)")
+          ->check(finite_range(0, 1e6)),
+      cmd->add_option("--dye-diffusion", a.dye_diffusion,
+                      "--fluid: the dye's diffusion, surface area per unit time (0)")
+          ->check(finite_range(0, 1e6)),
+      cmd->add_option("--force", a.force,
+                      "--fluid: gravity's acceleration per unit dye, or the walkers' push (1)")
+          ->check(finite_range(0, 1e6)),
+      a.down_opt = cmd->add_option(
+          "--down", a.down,
+          "--fluid gravity: the downward direction X,Y,Z in the mesh's coordinates (0,0,-1)"),
+      cmd->add_option("--source-rate", a.source_rate,
+                      "--fluid: dye added per unit time at the sources, up to 1 (1)")
+          ->check(finite_range(0, 1e6)),
+      cmd->add_flag("--conserve-dye", a.conserve_dye,
+                    "--fluid: each advection keeps the dye's total, the dye within [0, 1] "
+                    "(advection alone drifts)")
+          ->check(flag_value)};
   cmd->callback([args, &ctx] {
     try {
       ctx.exit_code = do_surface(*args, ctx);

@@ -74,6 +74,13 @@ class SurfaceLaplacian {
   // r = b - (I - c lap) x on every interior cell (x's ghost ring is filled first); returns
   // max |r|.
   double residual(PatchField& x, const PatchField& b, double c, PatchField& r) const;
+  // The Poisson problem lap x = b (the fluid's projection, host/surface/surface_fluid.h; lap is
+  // singular: constants are its null space, and b must have total 0): `sweeps` l1-Jacobi sweeps
+  // x' = x + (b - lap x) / d, d minus the row's absolute sum (as smoothing_sweeps). x's buffer
+  // exchanged as by implicit_diffusion.
+  void poisson_sweeps(PatchField& x, const PatchField& b, int sweeps) const;
+  // r = b - lap x on every interior cell (x's ghost ring is filled first); returns max |r|.
+  double poisson_residual(PatchField& x, const PatchField& b, PatchField& r) const;
   // max |f| over the interior cells.
   double max_abs(const PatchField& f) const;
   // x += s on every interior cell.

@@ -84,6 +84,44 @@ void prolong_add(const SurfaceLaplacian& coarse_op, PatchField& coarse,
   });
 }
 
+// In place: a (k x k, row-major) becomes its LU factors with partial pivoting, row swaps in
+// pivot.
+void lu_factor(std::vector<double>& a, std::vector<int>& pivot, int k) {
+  pivot.assign(std::size_t(k), 0);
+  for (int col = 0; col < k; ++col) {
+    int best = col;
+    for (int r = col + 1; r < k; ++r)
+      if (std::abs(a[std::size_t(r) * k + col]) > std::abs(a[std::size_t(best) * k + col]))
+        best = r;
+    pivot[std::size_t(col)] = best;
+    if (best != col)
+      std::swap_ranges(a.begin() + std::ptrdiff_t(col) * k, a.begin() + std::ptrdiff_t(col + 1) * k,
+                       a.begin() + std::ptrdiff_t(best) * k);
+    const double d = a[std::size_t(col) * k + col];
+    ARDCELL_CHECK(d != 0, "SurfaceMultigrid: the coarsest matrix is singular");
+    for (int r = col + 1; r < k; ++r) {
+      double& e = a[std::size_t(r) * k + col];
+      e /= d;
+      for (int j = col + 1; j < k; ++j)
+        a[std::size_t(r) * k + j] -= e * a[std::size_t(col) * k + j];
+    }
+  }
+}
+
+// rhs = (LU)^-1 rhs.
+void lu_solve(const std::vector<double>& lu, const std::vector<int>& pivot, int k,
+              std::vector<double>& rhs) {
+  for (int q = 0; q < k; ++q) std::swap(rhs[std::size_t(q)], rhs[std::size_t(pivot[q])]);
+  for (int r = 0; r < k; ++r)
+    for (int j = 0; j < r; ++j)
+      rhs[std::size_t(r)] -= lu[std::size_t(r) * k + j] * rhs[std::size_t(j)];
+  for (int r = k - 1; r >= 0; --r) {
+    for (int j = r + 1; j < k; ++j)
+      rhs[std::size_t(r)] -= lu[std::size_t(r) * k + j] * rhs[std::size_t(j)];
+    rhs[std::size_t(r)] /= lu[std::size_t(r) * k + r];
+  }
+}
+
 }  // namespace
 
 void SurfaceMultigrid::cycle(int level, double c) const {
@@ -122,26 +160,7 @@ const SurfaceMultigrid::Factor& SurfaceMultigrid::factor_for(double c) const {
     for (int r = 0; r < k; ++r)
       f.lu[std::size_t(r) * k + q] = (r == q ? 1.0 : 0.0) - c * lap_[cell(r)];
   }
-  f.pivot.assign(std::size_t(k), 0);
-  for (int col = 0; col < k; ++col) {
-    int best = col;
-    for (int r = col + 1; r < k; ++r)
-      if (std::abs(f.lu[std::size_t(r) * k + col]) > std::abs(f.lu[std::size_t(best) * k + col]))
-        best = r;
-    f.pivot[std::size_t(col)] = best;
-    if (best != col)
-      std::swap_ranges(f.lu.begin() + std::ptrdiff_t(col) * k,
-                       f.lu.begin() + std::ptrdiff_t(col + 1) * k,
-                       f.lu.begin() + std::ptrdiff_t(best) * k);
-    const double d = f.lu[std::size_t(col) * k + col];
-    ARDCELL_CHECK(d != 0, "SurfaceMultigrid: the coarsest matrix is singular");
-    for (int r = col + 1; r < k; ++r) {
-      double& e = f.lu[std::size_t(r) * k + col];
-      e /= d;
-      for (int j = col + 1; j < k; ++j)
-        f.lu[std::size_t(r) * k + j] -= e * f.lu[std::size_t(col) * k + j];
-    }
-  }
+  lu_factor(f.lu, f.pivot, k);
   f.c = c;
   return f;
 }
@@ -156,15 +175,7 @@ bool SurfaceMultigrid::solve_coarsest(double c) const {
   const Factor& f = factor_for(c);
   rhs_.resize(std::size_t(k));
   for (int q = 0; q < k; ++q) rhs_[std::size_t(q)] = l.b[cell(q)];
-  for (int q = 0; q < k; ++q) std::swap(rhs_[std::size_t(q)], rhs_[std::size_t(f.pivot[q])]);
-  for (int r = 0; r < k; ++r)
-    for (int j = 0; j < r; ++j)
-      rhs_[std::size_t(r)] -= f.lu[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
-  for (int r = k - 1; r >= 0; --r) {
-    for (int j = r + 1; j < k; ++j)
-      rhs_[std::size_t(r)] -= f.lu[std::size_t(r) * k + j] * rhs_[std::size_t(j)];
-    rhs_[std::size_t(r)] /= f.lu[std::size_t(r) * k + r];
-  }
+  lu_solve(f.lu, f.pivot, k, rhs_);
   for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
   return true;
 }
@@ -193,6 +204,85 @@ DiffusionReport SurfaceMultigrid::implicit_diffusion(PatchField& x, const PatchF
   // As SurfaceLaplacian::implicit_diffusion: the total of the exact solution, which a finished
   // iterate keeps only to its residual (a constant is in lap's null space).
   op.add(x, (op.total(b) - op.total(x)) / op.area());
+  return report;
+}
+
+void SurfaceMultigrid::poisson_cycle(int level) const {
+  const Level& l = *levels_[std::size_t(level)];
+  if (level + 1 == levels()) {
+    if (!solve_coarsest_poisson()) l.op->poisson_sweeps(l.x, l.b, kCoarseSweeps);
+    return;
+  }
+  l.op->poisson_sweeps(l.x, l.b, kPreSweeps);
+  l.op->poisson_residual(l.x, l.b, l.r);
+  const Level& next = *levels_[std::size_t(level) + 1];
+  restrict_mean(*l.op, l.r, *next.op, next.b);
+  std::fill(next.x.begin(), next.x.end(), 0.0);
+  poisson_cycle(level + 1);
+  prolong_add(*next.op, next.x, *l.op, l.x);
+  l.op->poisson_sweeps(l.x, l.b, kPostSweeps);
+}
+
+bool SurfaceMultigrid::solve_coarsest_poisson() const {
+  const Level& l = *levels_.back();
+  const SurfaceLaplacian& op = *l.op;
+  const PatchGrid& g = op.grid();
+  const int m = g.n();
+  const int k = g.patches() * m * m;
+  if (k > kMaxDirectCells) return false;
+  const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
+  std::vector<double>& w = poisson_weight_;
+  Factor& f = poisson_factor_;
+  if (f.lu.empty()) {
+    const double area = op.area();
+    w.resize(std::size_t(k));
+    for (int q = 0; q < k; ++q)
+      w[std::size_t(q)] = op.cell_area(q / (m * m), q % m, (q / m) % m) / area;
+    const auto weight = [&](int q) { return w[std::size_t(q)]; };
+    // Column q of lap + 1 w^T: the operator applied to the q-th unit field, plus w_q in every row.
+    f.lu.assign(std::size_t(k) * k, 0.0);
+    unit_.assign(g.make_field().size(), 0.0);
+    lap_.assign(unit_.size(), 0.0);
+    for (int q = 0; q < k; ++q) {
+      unit_[cell(q)] = 1;
+      op.apply(unit_, lap_);
+      unit_[cell(q)] = 0;
+      for (int r = 0; r < k; ++r) f.lu[std::size_t(r) * k + q] = lap_[cell(r)] + weight(q);
+    }
+    lu_factor(f.lu, f.pivot, k);
+  }
+  // The restricted residual's total is 0 only to the levels' differences: take its mean out, so
+  // that the bordered system's solution solves lap x = b.
+  rhs_.resize(std::size_t(k));
+  double mean = 0;
+  for (int q = 0; q < k; ++q) mean += w[std::size_t(q)] * l.b[cell(q)];
+  for (int q = 0; q < k; ++q) rhs_[std::size_t(q)] = l.b[cell(q)] - mean;
+  lu_solve(f.lu, f.pivot, k, rhs_);
+  for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
+  return true;
+}
+
+DiffusionReport SurfaceMultigrid::solve_poisson(PatchField& x, const PatchField& b,
+                                                const DiffusionSolve& solve) const {
+  const SurfaceLaplacian& op = *levels_.front()->op;
+  Level& top = *levels_.front();
+  ARDCELL_CHECK(b.size() == top.b.size() && x.size() == top.x.size(),
+                "SurfaceMultigrid: fields of another grid");
+  top.b = b;  // same size: a copy into the level's storage (x may be b)
+  op.add(top.b, -op.total(top.b) / op.area());
+  double bmax = op.max_abs(top.b);
+  if (bmax == 0) bmax = 1;
+  std::swap(top.x, x);
+  DiffusionReport report;
+  for (;;) {
+    report.residual = op.poisson_residual(top.x, top.b, top.r) / bmax;
+    if (report.residual <= solve.tolerance || report.cycles >= solve.max_sweeps) break;
+    poisson_cycle(0);
+    ++report.cycles;
+    report.sweeps += kPreSweeps + kPostSweeps;
+  }
+  std::swap(top.x, x);
+  op.add(x, -op.total(x) / op.area());
   return report;
 }
 

@@ -44,12 +44,25 @@ class SurfaceMultigrid {
   // SurfaceLaplacian::implicit_diffusion.
   DiffusionReport implicit_diffusion(PatchField& x, const PatchField& b, double c,
                                      const DiffusionSolve& solve) const;
+  // Solves the Poisson problem lap x = b (the fluid's projection, host/surface/surface_fluid.h)
+  // by V-cycles of the same levels with SurfaceLaplacian::poisson_sweeps. lap is singular on a
+  // closed surface (and with no-flux boundaries): its range is the fields of total 0 and its
+  // null space the constants. So b's area-weighted mean is taken out first (it is rounding for
+  // a divergence), the coarsest grid solves the bordered system (lap + 1 w^T) x = b, w the
+  // cells' areas over the total (whose solution is the one with total 0), and x comes back with
+  // total 0. Same stopping rule as implicit_diffusion: max |b - lap x| / max |b| (b after the
+  // mean is taken out) to solve.tolerance or solve.max_sweeps V-cycles. x holds the first guess
+  // (a constant in it is irrelevant); its buffer may come back exchanged with a level's scratch.
+  DiffusionReport solve_poisson(PatchField& x, const PatchField& b,
+                                const DiffusionSolve& solve) const;
 
  private:
   struct Level;
   void cycle(int level, double c) const;
+  void poisson_cycle(int level) const;
   // The coarsest level's x from its b, exactly (false: too many cells for a dense solve).
   bool solve_coarsest(double c) const;
+  bool solve_coarsest_poisson() const;
 
   std::vector<std::unique_ptr<Level>> levels_;  // finest first
   // The coarsest matrix I - c lap factored (row-major LU, partial pivoting), one for each of
@@ -63,7 +76,9 @@ class SurfaceMultigrid {
   static constexpr int kFactors = 2;
   const Factor& factor_for(double c) const;
   mutable Factor factors_[kFactors];
-  mutable int next_factor_ = 0;  // the slot a new c replaces
+  mutable Factor poisson_factor_;               // lap + 1 w^T, built on the first Poisson solve
+  mutable std::vector<double> poisson_weight_;  // w: the coarsest cells' areas over the total
+  mutable int next_factor_ = 0;                 // the slot a new c replaces
   mutable std::vector<double> rhs_;
   mutable PatchField unit_, lap_;  // the columns' scratch
 };

@@ -1,8 +1,9 @@
 // `ardcell surface` (the real binary): a PLY of the limit surface with the field as vertex
 // colours from the built-in meshes and from an OBJ, the texture atlas with its UV-mapped OBJ,
-// and bad input as one line, exit 2, nothing written.
+// stable fluids' dye, and bad input as one line, exit 2, nothing written.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include <cstring>
@@ -149,6 +150,58 @@ TEST_F(SurfaceCli, PresetsRunTheirModelOnTheSurface) {
   EXPECT_GT(a_range(r.out), 1.0) << r.out;
 }
 
+// Stable fluids (--fluid): the dye from the patches' sources, written as the field; the summary
+// gives the projection's V-cycles, the dye's range and the divergence left.
+TEST_F(SurfaceCli, FluidCarriesDyeFromTheSources) {
+  const BinaryRunResult r =
+      run("surface --fluid walk --patch-cells 4 --steps 10 --viscosity 0.01 --out f.ply "
+          "--render f.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(r.out.rfind("patches=32 cells=512 ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find(" fluid=walk dt=0.05 force=1 viscosity=0.01 "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("steps=10 mean_cycles="), std::string::npos) << r.out;
+  double lo = -1, hi = -1;
+  const auto at = r.out.find(" s=[");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at, " s=[%lf, %lf]", &lo, &hi), 2) << r.out;
+  EXPECT_GE(lo, 0.0);
+  EXPECT_GT(hi, 0.2);  // 10 steps of 0.05 at the sources, carried a little
+  EXPECT_LE(hi, 1.0);
+  expect_ply(work() / "f.ply", 32 * 25, 32 * 16);
+  EXPECT_EQ(slurp(work() / "f.png").substr(1, 3), "PNG");
+  EXPECT_NE(r.out.find(" out=f.ply render=f.png"), std::string::npos) << r.out;
+}
+
+// --down is a direction: 1e200,0,0 is 1,0,0 (scaled before its length is taken), the same run
+// to the bit; and --conserve-dye keeps the dye within [0, 1] (its range in the summary).
+TEST_F(SurfaceCli, FluidDownIsADirectionAndConservedDyeStaysWithinOne) {
+  const auto summary = [&](const std::string& args) {
+    const BinaryRunResult r = run("surface --fluid gravity --patch-cells 4 --steps 20 --force 4 " +
+                                  args + " --out f.ply");
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.err;
+    EXPECT_EQ(r.err, "") << args;
+    const auto at = r.out.find("mean_cycles=");
+    const auto end = r.out.find(" out=");
+    EXPECT_NE(at, std::string::npos) << r.out;
+    EXPECT_NE(end, std::string::npos) << r.out;
+    // The summary but the wall clock.
+    std::string line = r.out.substr(at, end - at);
+    const auto s0 = line.find(" seconds="), s1 = line.find(" s=[");
+    return line.erase(s0, s1 - s0);
+  };
+  const std::string unit = summary("--down 1,0,0");
+  EXPECT_EQ(summary("--down 1e200,0,0"), unit);
+  EXPECT_NE(summary("--down 0,0,-1"), unit);
+  const std::string conserved = summary("--down 1,0,0 --conserve-dye");
+  double lo = -1, hi = -1;
+  const auto at = conserved.find(" s=[");
+  ASSERT_NE(at, std::string::npos) << conserved;
+  ASSERT_EQ(std::sscanf(conserved.c_str() + at, " s=[%lf, %lf]", &lo, &hi), 2) << conserved;
+  EXPECT_GE(lo, 0.0) << conserved;
+  EXPECT_LE(hi, 1.0) << conserved;
+}
+
 TEST_F(SurfaceCli, PresetsASurfaceCannotRunAreRefused) {
   const struct {
     const char* args;
@@ -177,6 +230,26 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
   std::ofstream(work() / "point.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
                                          "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 4 3 2\nf 5 6 7 8\n"
                                          "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  // Two tori side by side: a surface in two pieces.
+  {
+    std::ofstream two(work() / "two.obj");
+    for (int piece = 0; piece < 2; ++piece)
+      for (int a = 0; a < 4; ++a)
+        for (int t = 0; t < 3; ++t) {
+          const double u = 2 * 3.14159265358979 * a / 4, v = 2 * 3.14159265358979 * t / 3;
+          two << "v " << (2 + std::cos(v)) * std::cos(u) + 10 * piece << ' '
+              << (2 + std::cos(v)) * std::sin(u) << ' ' << std::sin(v) << '\n';
+        }
+    for (int piece = 0; piece < 2; ++piece)
+      for (int a = 0; a < 4; ++a)
+        for (int t = 0; t < 3; ++t) {
+          const auto vertex = [&](int da, int dt) {
+            return 1 + 12 * piece + ((a + da) % 4) * 3 + (t + dt) % 3;
+          };
+          two << "f " << vertex(0, 0) << ' ' << vertex(1, 0) << ' ' << vertex(1, 1) << ' '
+              << vertex(0, 1) << '\n';
+        }
+  }
   const std::pair<const char*, const char*> cases[] = {
       {"surface --patch-cells 12 --out x.ply",
        "ardcell surface: --patch-cells 12: expected a power of two in 2..1024\n"},
@@ -203,6 +276,26 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
       {"surface --render x.png --view 10",
        "ardcell surface: --view '10': expected AZIMUTH,ELEVATION in degrees, elevation in "
        "-90..90\n"},
+      {"surface --fluid swirl --out x.ply",
+       "ardcell surface: --fluid 'swirl': expected gravity or walk\n"},
+      {"surface --fluid gravity --F 0.05 --out x.ply",
+       "ardcell surface: --F: a reaction-diffusion setting (expected no --F with --fluid)\n"},
+      {"surface --viscosity 1 --out x.ply",
+       "ardcell surface: --viscosity: a fluid setting (expected --fluid gravity or walk)\n"},
+      {"surface --fluid gravity --down 0,0,0 --out x.ply",
+       "ardcell surface: --down '0,0,0': expected X,Y,Z, a finite direction (not 0,0,0)\n"},
+      {"surface --fluid gravity --down 1e999,0,0 --out x.ply",
+       "ardcell surface: --down '1e999,0,0': expected X,Y,Z, a finite direction (not 0,0,0)\n"},
+      {"surface --fluid gravity --down nan,0,1 --out x.ply",
+       "ardcell surface: --down 'nan,0,1': expected X,Y,Z, a finite direction (not 0,0,0)\n"},
+      {"surface --fluid walk --down 0,0,1 --out x.ply",
+       "ardcell surface: --down: a gravity setting (expected no --down with --fluid walk)\n"},
+      {"surface --fluid gravity --conserve-dye=2 --out x.ply",
+       "ardcell surface: --conserve-dye: expected no value, true or false, got '2' (see ardcell "
+       "surface --help)\n"},
+      {"surface --fluid gravity --mesh two.obj --out x.ply",
+       "ardcell surface: two.obj: 2 separate pieces (expected one connected surface with "
+       "--fluid)\n"},
       {"surface --render x.png --view 10,95",
        "ardcell surface: --view '10,95': expected AZIMUTH,ELEVATION in degrees, elevation in "
        "-90..90\n"},
