@@ -125,10 +125,11 @@ void SurfaceFluid::conserve_dye(double before) {
   const PatchGrid& g = op_.grid();
   // The dye into [0, 1] first (an extrapolated corner ghost may take a trace's value past it).
   // Then the one factor c with sum area min(1, c s) = before: c = before / after when no cell
-  // reaches 1; otherwise the cells at 1 stay there and c grows to put the rest on the others
-  // (the set held at 1 only grows, so this ends in a few passes). held: the area of the cells
-  // with c s >= 1; rest: sum area s over the others. Per patch, then summed in patch order: the
-  // same bits for any number of workers.
+  // reaches 1; otherwise the cells at 1 stay there and c changes to put the rest on the others
+  // (a fixed-point iteration that settles in a few passes; at most 64). held: the area of the
+  // cells with c s >= 1; rest: sum area s over the others. Per patch, then summed in patch
+  // order: the same bits for any number of workers. A c that is not finite (a total that does
+  // not fit beside a dye of denormal size) stops the iteration at the last finite c.
   double c = 1;
   for (int pass = 0; pass < 64; ++pass) {
     op_.executor().for_rows(patches_, n * n, [&](int p0, int p1) {
@@ -152,6 +153,7 @@ void SurfaceFluid::conserve_dye(double before) {
       held += patch_sums_[2 * std::size_t(p)], rest += patch_sums_[2 * std::size_t(p) + 1];
     if (!(rest > 0)) break;  // all the dye at 1: it holds what fits
     const double next = std::max(0.0, before - held) / rest;
+    if (!std::isfinite(next)) break;
     const bool settled = next == c;
     c = next;
     if (settled) break;

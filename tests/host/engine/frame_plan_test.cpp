@@ -139,7 +139,7 @@ class InFlightChannel final : public HaloChannel {
     fields_.assign(fields.begin(), fields.end());
     in_flight = true;
   }
-  void progress() override { ++polls; }
+  void progress() override { polls += in_flight; }  // only polls that can move a message
   void finish() override {
     inner_.begin(fields_);  // reads the blocks' own cells, writes this block's halos
     inner_.finish();

@@ -11,13 +11,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <memory>
-#include <random>
+#include <vector>
 
 #include "host/surface/patch_metric.h"
-#include "host/surface/procedural_mesh.h"
-#include "runtime/row_executor.h"
-#include "runtime/thread/thread_backend.h"
 #include "tests/host/surface/surface_fluid_test_util.h"
 
 namespace ardcell {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -26,7 +28,9 @@ struct Sim {
 inline std::unique_ptr<Sim> make_sim(PolyMesh mesh, int n, const SurfaceFluidParams& params,
                                      RowExecutor* executor = nullptr) {
   auto s = std::make_unique<Sim>();
-  EXPECT_TRUE(LimitSurface::build(std::move(mesh), {}, s->surface).is_ok());
+  // A surface that does not build fails the test (gtest reports the exception).
+  if (const Status built = LimitSurface::build(std::move(mesh), {}, s->surface); !built)
+    throw std::runtime_error("make_sim: " + built.message());
   const PatchMetric metric = sample_limit_metric(s->surface, n);
   s->op = std::make_unique<SurfaceLaplacian>(s->surface.topology(), metric);
   if (executor) s->op->set_executor(*executor);
