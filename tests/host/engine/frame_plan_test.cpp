@@ -236,7 +236,9 @@ TEST(FramePlan, InnerTilesComputeWhileTheHalosAreInFlight) {
       EXPECT_GT(during[k], 0) << what << ": no tile overlapped the exchange";
       EXPECT_GT(after[k], 0) << what << ": no tile waited for the halos";
       EXPECT_EQ(reading_halo[k], 0) << what;
-      if (workers == 1) EXPECT_EQ(polls[k], during[k]) << what;
+      if (workers == 1) {
+        EXPECT_EQ(polls[k], during[k]) << what;
+      }
       const Box2 owned = layout.owned(b);
       for (int y = owned.min.y; y < owned.max.y; ++y)
         for (int i = owned.min.x; i < owned.max.x; ++i)
