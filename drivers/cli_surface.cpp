@@ -167,6 +167,15 @@ const CLI::Validator flag_value(
     },
     "", "flag");
 
+// The threads back end the patches run on side by side (the same bits for any --workers),
+// unpinned: a short command beside whatever else runs.
+ThreadBackendOptions surface_threads(int workers) {
+  ThreadBackendOptions threads;
+  threads.workers = workers;
+  threads.pin = false;
+  return threads;
+}
+
 // --fluid: stable fluids on the surface (seed 004, Sec. 5), the dye from sources at the patches'
 // centres (the seed's Fig. 8) written as the field.
 int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
@@ -178,10 +187,7 @@ int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
   if (Status s = metric->check_nondegenerate(); !s)
     return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + s.message());
   SurfaceLaplacian op(surface.topology(), *metric);
-  ThreadBackendOptions threads;
-  threads.workers = a.workers;
-  threads.pin = false;  // a short command beside whatever else runs
-  ThreadBackend backend(threads);
+  ThreadBackend backend(surface_threads(a.workers));
   RowExecutor executor(backend);
   op.set_executor(executor);
   const SurfaceMultigrid multigrid(surface, op);
@@ -364,10 +370,7 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (!geometry)
     return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + geometry.message());
   // The patches run side by side on the threads back end (the same bits for any --workers).
-  ThreadBackendOptions threads;
-  threads.workers = a.workers;
-  threads.pin = false;  // a short command beside whatever else runs
-  ThreadBackend backend(threads);
+  ThreadBackend backend(surface_threads(a.workers));
   RowExecutor executor(backend);
   op.set_executor(executor);
   // Pattern scale: the classic flat model's cell, 1/20 of a mean patch's side by default.

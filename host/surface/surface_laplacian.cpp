@@ -220,27 +220,6 @@ void SurfaceLaplacian::smoothing_sweeps(PatchField& x, const PatchField& b, doub
   }
 }
 
-double SurfaceLaplacian::residual(PatchField& x, const PatchField& b, double c,
-                                  PatchField& r) const {
-  const int n = grid_.n(), patches = grid_.patches();
-  if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
-  fluxes(x);
-  executor_->for_rows(patches, n * n, [&](int p0, int p1) {
-    for (int p = p0; p < p1; ++p) {
-      divergence(p, r);  // r holds lap x, then the residual
-      double m = 0;
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          const std::size_t k = grid_.index(p, i, j);
-          r[k] = b[k] - x[k] + c * r[k];
-          m = std::max(m, std::abs(r[k]));
-        }
-      patch_max_[std::size_t(p)] = m;
-    }
-  });
-  return *std::max_element(patch_max_.begin(), patch_max_.end());
-}
-
 void SurfaceLaplacian::poisson_sweeps(PatchField& x, const PatchField& b, int sweeps) const {
   const int n = grid_.n(), patches = grid_.patches();
   if (lap_interior_.size() != x.size()) lap_interior_.assign(x.size(), 0.0);
@@ -262,7 +241,17 @@ void SurfaceLaplacian::poisson_sweeps(PatchField& x, const PatchField& b, int sw
   }
 }
 
+double SurfaceLaplacian::residual(PatchField& x, const PatchField& b, double c,
+                                  PatchField& r) const {
+  return residual_of(x, b, 1, c, r);
+}
+
 double SurfaceLaplacian::poisson_residual(PatchField& x, const PatchField& b, PatchField& r) const {
+  return residual_of(x, b, 0, -1, r);
+}
+
+double SurfaceLaplacian::residual_of(PatchField& x, const PatchField& b, double x_weight,
+                                     double lap_weight, PatchField& r) const {
   const int n = grid_.n(), patches = grid_.patches();
   if (patch_max_.size() != std::size_t(patches)) patch_max_.assign(std::size_t(patches), 0.0);
   fluxes(x);
@@ -273,7 +262,8 @@ double SurfaceLaplacian::poisson_residual(PatchField& x, const PatchField& b, Pa
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
           const std::size_t k = grid_.index(p, i, j);
-          r[k] = b[k] - r[k];
+          // x_weight 0 skips x (not 0 * x: an inf or NaN there stays out of the residual).
+          r[k] = (x_weight != 0 ? b[k] - x_weight * x[k] : b[k]) + lap_weight * r[k];
           m = std::max(m, std::abs(r[k]));
         }
       patch_max_[std::size_t(p)] = m;

@@ -95,6 +95,10 @@ class SurfaceLaplacian {
   void fluxes(PatchField& phi) const;
   // out = the divergence of the fluxes on patch p's interior (after fluxes()).
   void divergence(int p, PatchField& out) const;
+  // r = b - x_weight x + lap_weight lap x on every interior cell (x's ghost ring filled
+  // first): (I - c lap) with (1, c), the Poisson problem lap x = b with (0, -1); max |r|.
+  double residual_of(PatchField& x, const PatchField& b, double x_weight, double lap_weight,
+                     PatchField& r) const;
   // One Jacobi sweep of x into next_ (the fluxes of x, then per patch its lap, residual and
   // update); returns x's max |r|.
   double sweep_into_next(PatchField& x, const PatchField& b, double c,

@@ -17,6 +17,7 @@
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
 #include "tests/host/surface/surface_fluid_test_util.h"
+#include "tests/host/surface/surface_test_util.h"
 #include "tests/support/alloc_counter.h"
 
 namespace ardcell {
@@ -50,16 +51,7 @@ TEST(SurfaceFluid, ViscosityDampsAFourierModeByBackwardEuler) {
     // axes du, dv (unit lattice vectors) and a point's global (X, Y) in [0, 1)^2.
     const auto place = [&](int p, double x, double y, double out[2], double du[2], double dv[2]) {
       double corner[4][2];
-      const int* v = mesh.face(p);
-      const int a0 = v[0] / k, t0 = v[0] % k;
-      for (int c = 0; c < 4; ++c) {
-        int a = v[c] / k, t = v[c] % k;
-        if (a - a0 > 1) a -= k;
-        if (a0 - a > 1) a += k;
-        if (t - t0 > 1) t -= k;
-        if (t0 - t > 1) t += k;
-        corner[c][0] = a, corner[c][1] = t;
-      }
+      surface_test::flat_torus_corners(mesh, k, p, corner);
       for (int d = 0; d < 2; ++d) {
         out[d] = ((1 - x) * (1 - y) * corner[0][d] + x * (1 - y) * corner[1][d] +
                   x * y * corner[2][d] + (1 - x) * y * corner[3][d]) /

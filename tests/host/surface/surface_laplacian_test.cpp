@@ -32,16 +32,7 @@ struct FlatTorus {
   // the patch's corners are lattice points (a, t) of its vertices, unwrapped around corner 0.
   std::array<int, 2> global_cell(int p, int i, int j) const {
     double corner[4][2];
-    const int* v = mesh.face(p);
-    const int a0 = v[0] / k, t0 = v[0] % k;
-    for (int c = 0; c < 4; ++c) {
-      int a = v[c] / k, t = v[c] % k;
-      if (a - a0 > 1) a -= k;
-      if (a0 - a > 1) a += k;
-      if (t - t0 > 1) t -= k;
-      if (t0 - t > 1) t += k;
-      corner[c][0] = a, corner[c][1] = t;
-    }
+    flat_torus_corners(mesh, k, p, corner);
     const double x = (i + 0.5) / n, y = (j + 0.5) / n;
     double g[2];
     for (int d = 0; d < 2; ++d)

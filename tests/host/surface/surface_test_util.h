@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "host/surface/limit_surface.h"
+#include "host/surface/poly_mesh.h"
 #include "host/surface/surface_laplacian.h"
 
 namespace ardcell::surface_test {
@@ -69,6 +70,22 @@ inline double inner(const SurfaceLaplacian& op, const PatchField& a, const Patch
       for (int i = 0; i < g.n(); ++i)
         s += op.cell_area(p, i, j) * a[g.index(p, i, j)] * b[g.index(p, i, j)];
   return s;
+}
+
+// The flat torus as k x k quads (procedural_mesh.h's torus_mesh(k, k, ...), vertex a k + t at
+// lattice point (a, t)): patch p's four corners as lattice points, unwrapped around its corner 0
+// so that the quad does not straddle the period.
+inline void flat_torus_corners(const PolyMesh& mesh, int k, int p, double corner[4][2]) {
+  const int* v = mesh.face(p);
+  const int a0 = v[0] / k, t0 = v[0] % k;
+  for (int c = 0; c < 4; ++c) {
+    int a = v[c] / k, t = v[c] % k;
+    if (a - a0 > 1) a -= k;
+    if (a0 - a > 1) a += k;
+    if (t - t0 > 1) t -= k;
+    if (t0 - t > 1) t += k;
+    corner[c][0] = a, corner[c][1] = t;
+  }
 }
 
 }  // namespace ardcell::surface_test
