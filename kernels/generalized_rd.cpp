@@ -74,36 +74,36 @@ inline Vec16 load16(const float* p) {
 }
 
 // One chunk's sums K f over cells [x0, x0 + kChunk): tap_rows[t] points at the wrapped row of tap
-// t, shifted by its dx. Sixteen cells at a time hold their sum in a register while every group is
-// added (its balanced tree, GeneralizedTaps; the same order for every cell wherever it sits).
+// t, shifted by its dx. The chunk's sums stay in registers (kChunk / 16 vectors of sixteen cells)
+// while every group is added in turn (its balanced tree, GeneralizedTaps; the same order for every
+// cell wherever it sits): one branch on the group's size per chunk, not per vector.
 inline void chunk_sums(const GeneralizedTaps& k, const float* const tap_rows[25], int x0,
                        float* __restrict acc) {
-  for (int i = 0; i < kChunk; i += 16) {
-    Vec16 sum = {};
-    for (int g = 0; g < k.group_count; ++g) {
-      const GeneralizedTaps::Group& group = k.groups[g];
-      const float* const* r = tap_rows + group.first;
-      const int at = x0 + i;
-      Vec16 tree;
-      switch (group.count) {
-        case 1:
-          tree = load16(r[0] + at);
-          break;
-        case 2:
-          tree = load16(r[0] + at) + load16(r[1] + at);
-          break;
-        case 4:
-          tree = (load16(r[0] + at) + load16(r[1] + at)) + (load16(r[2] + at) + load16(r[3] + at));
-          break;
-        default:
-          tree =
-              ((load16(r[0] + at) + load16(r[1] + at)) + (load16(r[2] + at) + load16(r[3] + at))) +
-              ((load16(r[4] + at) + load16(r[5] + at)) + (load16(r[6] + at) + load16(r[7] + at)));
-      }
-      sum += group.weight * tree;
+  constexpr int kVecs = kChunk / 16;
+  Vec16 sum[kVecs] = {};
+  for (int g = 0; g < k.group_count; ++g) {
+    const GeneralizedTaps::Group& group = k.groups[g];
+    const float* const* r = tap_rows + group.first;
+    const float w = group.weight;
+    const auto at = [&](int t, int v) { return load16(r[t] + x0 + 16 * v); };
+    switch (group.count) {
+      case 1:
+        for (int v = 0; v < kVecs; ++v) sum[v] += w * at(0, v);
+        break;
+      case 2:
+        for (int v = 0; v < kVecs; ++v) sum[v] += w * (at(0, v) + at(1, v));
+        break;
+      case 4:
+        for (int v = 0; v < kVecs; ++v)
+          sum[v] += w * ((at(0, v) + at(1, v)) + (at(2, v) + at(3, v)));
+        break;
+      default:
+        for (int v = 0; v < kVecs; ++v)
+          sum[v] += w * (((at(0, v) + at(1, v)) + (at(2, v) + at(3, v))) +
+                         ((at(4, v) + at(5, v)) + (at(6, v) + at(7, v))));
     }
-    std::memcpy(acc + i, &sum, sizeof sum);
   }
+  std::memcpy(acc, sum, sizeof sum);
 }
 
 // One output row y (unwrapped: it picks the ring slots; y_cell, wrapped, is the row the
