@@ -78,6 +78,26 @@ EdgeTransition make_transition(int neighbour, int e, int f) {
   return tr;
 }
 
+std::vector<int> patch_pieces(const PatchTopology& topo) {
+  std::vector<int> piece(std::size_t(topo.patches), -1), stack;
+  int pieces = 0;
+  for (int start = 0; start < topo.patches; ++start) {
+    if (piece[std::size_t(start)] >= 0) continue;
+    piece[std::size_t(start)] = pieces;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const int p = stack.back();
+      stack.pop_back();
+      for (int e = 0; e < 4; ++e) {
+        const int q = topo.transition(p, e).patch;
+        if (q >= 0 && piece[std::size_t(q)] < 0) piece[std::size_t(q)] = pieces, stack.push_back(q);
+      }
+    }
+    ++pieces;
+  }
+  return piece;
+}
+
 Status build_patch_topology(const PolyMesh& quads, PatchTopology& out) {
   out = PatchTopology{};
   const int faces = quads.face_count();

@@ -68,6 +68,10 @@ struct PatchTopology {
   }
 };
 
+// The connected piece of each patch (across shared edges), numbered 0, 1, ... in the order of
+// each piece's first patch.
+std::vector<int> patch_pieces(const PatchTopology& topo);
+
 // Adjacency of an all-quad mesh that passed check_manifold; an error for a non-quad face.
 Status build_patch_topology(const PolyMesh& quads, PatchTopology& out);
 

@@ -20,23 +20,8 @@ double seconds_since(Clock::time_point t0) {
 }  // namespace
 
 int connected_pieces(const PatchTopology& topo) {
-  std::vector<int> piece(std::size_t(topo.patches), -1), stack;
-  int pieces = 0;
-  for (int start = 0; start < topo.patches; ++start) {
-    if (piece[std::size_t(start)] >= 0) continue;
-    piece[std::size_t(start)] = pieces;
-    stack.assign(1, start);
-    while (!stack.empty()) {
-      const int p = stack.back();
-      stack.pop_back();
-      for (int e = 0; e < 4; ++e) {
-        const int q = topo.transition(p, e).patch;
-        if (q >= 0 && piece[std::size_t(q)] < 0) piece[std::size_t(q)] = pieces, stack.push_back(q);
-      }
-    }
-    ++pieces;
-  }
-  return pieces;
+  const std::vector<int> pieces = patch_pieces(topo);
+  return pieces.empty() ? 0 : *std::max_element(pieces.begin(), pieces.end()) + 1;
 }
 
 SurfaceFluid::SurfaceFluid(const LimitSurface& surface, const PatchMetric& metric,
@@ -50,9 +35,6 @@ SurfaceFluid::SurfaceFluid(const LimitSurface& surface, const PatchMetric& metri
       patches_(op.patches()) {
   ARDCELL_CHECK(metric.n() == n_ && metric.patches() == patches_,
                 "SurfaceFluid: the metric is not the operator's");
-  ARDCELL_CHECK(connected_pieces(topo_) == 1,
-                "SurfaceFluid: the surface is in several pieces (the projection's coarse solve "
-                "fixes one constant)");
   const int n = n_;
   const double h = 1.0 / n;
   face_block_ = std::size_t(n + 3) * (n + 2);

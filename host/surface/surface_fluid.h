@@ -72,8 +72,7 @@
 
 namespace ardcell {
 
-// The connected pieces of the patches (across shared edges). The projection's coarse solve fixes
-// one constant, so SurfaceFluid takes one piece only (a check); callers refuse more first.
+// The number of connected pieces of the patches (across shared edges; patch_pieces).
 int connected_pieces(const PatchTopology& topo);
 
 enum class FluidForce : std::uint8_t { kNone, kGravity, kWalk };
@@ -116,8 +115,8 @@ class SurfaceFluid {
  public:
   // `metric` must be the one `op` was built from (op's grid is the dye's); `surface` gives the
   // faces' tangents and the patches' topology. Keeps references to surface's topology, op and
-  // multigrid, which must all outlive it (metric is read here only). The patches must form one
-  // connected piece (connected_pieces).
+  // multigrid, which must all outlive it (metric is read here only). The surface may be in
+  // several pieces (the projection fixes one pressure constant on each).
   SurfaceFluid(const LimitSurface& surface, const PatchMetric& metric, const SurfaceLaplacian& op,
                const SurfaceMultigrid& multigrid, const SurfaceFluidParams& params);
 

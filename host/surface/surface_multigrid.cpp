@@ -35,6 +35,10 @@ SurfaceMultigrid::SurfaceMultigrid(const LimitSurface& surface, const SurfaceLap
     levels_.push_back(std::move(l));
     if (m == kCoarsestCells || m == 1) break;
   }
+  for (PatchField* f : {&b_, &r_, &shadow_, &p_, &v_, &y_, &z_, &t_}) *f = fine.grid().make_field();
+  pieces_ = patch_pieces(surface.topology());
+  piece_sums_.assign(std::size_t(*std::max_element(pieces_.begin(), pieces_.end()) + 1), 0.0);
+  patch_sums_.assign(pieces_.size(), 0.0);
 }
 
 SurfaceMultigrid::~SurfaceMultigrid() = default;
@@ -81,6 +85,33 @@ void prolong_add(const SurfaceLaplacian& coarse_op, PatchField& coarse,
                3 * coarse[cg.index(p, ci, cj + sj)] + coarse[cg.index(p, ci + si, cj + sj)]) /
               16;
         }
+  });
+}
+
+// sum over interior cells of a b, per-patch partials added in patch order (the same bits on any
+// number of workers).
+double dot(const SurfaceLaplacian& op, const PatchField& a, const PatchField& b) {
+  const PatchGrid& g = op.grid();
+  const int n = g.n();
+  return op.executor().sum_rows(g.patches(), n * n, [&](int p0, int p1, double* partial) {
+    for (int p = p0; p < p1; ++p) {
+      double sum = 0;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) sum += a[g.index(p, i, j)] * b[g.index(p, i, j)];
+      partial[p] = sum;
+    }
+  });
+}
+
+// f(cell index) on every interior cell, per patch on the executor.
+template <class F>
+void for_cells(const SurfaceLaplacian& op, const F& f) {
+  const PatchGrid& g = op.grid();
+  const int n = g.n();
+  op.executor().for_rows(g.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) f(g.index(p, i, j));
   });
 }
 
@@ -180,30 +211,96 @@ bool SurfaceMultigrid::solve_coarsest(double c) const {
   return true;
 }
 
+void SurfaceMultigrid::precondition(const PatchField& q, PatchField& y, double c,
+                                    bool poisson) const {
+  Level& top = *levels_.front();
+  top.b = q;  // same size: a copy
+  std::fill(top.x.begin(), top.x.end(), 0.0);
+  if (poisson)
+    poisson_cycle(0);
+  else
+    cycle(0, c);
+  std::swap(top.x, y);
+}
+
+template <class Residual, class Apply, class Precondition>
+DiffusionReport SurfaceMultigrid::bicgstab(PatchField& x, double bmax, const DiffusionSolve& solve,
+                                           const Residual& residual, const Apply& apply,
+                                           const Precondition& precondition) const {
+  const SurfaceLaplacian& op = *levels_.front()->op;
+  DiffusionReport report;
+  const auto cycled = [&] {
+    ++report.cycles;
+    report.sweeps += kPreSweeps + kPostSweeps;
+  };
+  const auto done = [&](double max_residual) {
+    report.residual = max_residual / bmax;
+    return report.residual <= solve.tolerance || report.cycles >= solve.max_sweeps;
+  };
+  // Each pass starts from the true residual b - A x (a restart when the recurrence's residual
+  // has drifted from it, or after a breakdown), and ends when the recurrence's residual meets
+  // the tolerance, the cycles run out, or a denominator vanishes.
+  while (!done(residual(x, r_))) {
+    shadow_ = r_;
+    double rho = 1, alpha = 1, omega = 1;
+    std::fill(p_.begin(), p_.end(), 0.0);
+    std::fill(v_.begin(), v_.end(), 0.0);
+    for (;;) {
+      const double rho_next = dot(op, shadow_, r_);
+      if (rho_next == 0 || omega == 0) break;
+      const double beta = (rho_next / rho) * (alpha / omega);
+      rho = rho_next;
+      for_cells(op, [&](std::size_t q) { p_[q] = r_[q] + beta * (p_[q] - omega * v_[q]); });
+      precondition(p_, y_);
+      apply(y_, v_);
+      cycled();
+      const double shadow_v = dot(op, shadow_, v_);
+      if (shadow_v == 0) break;
+      alpha = rho / shadow_v;
+      // r becomes s = r - alpha v; x takes the half step.
+      for_cells(op, [&](std::size_t q) {
+        r_[q] -= alpha * v_[q];
+        x[q] += alpha * y_[q];
+      });
+      if (done(op.max_abs(r_))) break;
+      precondition(r_, z_);
+      apply(z_, t_);
+      cycled();
+      const double tt = dot(op, t_, t_);
+      omega = tt == 0 ? 0 : dot(op, t_, r_) / tt;
+      for_cells(op, [&](std::size_t q) {
+        x[q] += omega * z_[q];
+        r_[q] -= omega * t_[q];
+      });
+      if (done(op.max_abs(r_))) break;
+    }
+    if (report.cycles >= solve.max_sweeps) {
+      report.residual = residual(x, r_) / bmax;
+      break;
+    }
+  }
+  return report;
+}
+
 DiffusionReport SurfaceMultigrid::implicit_diffusion(PatchField& x, const PatchField& b, double c,
                                                      const DiffusionSolve& solve) const {
   const SurfaceLaplacian& op = *levels_.front()->op;
   Level& top = *levels_.front();
   double bmax = op.max_abs(b);
   if (bmax == 0) bmax = 1;
-  // The finest level solves for x itself: its right-hand side is b (copied first: x may be b),
-  // its iterate x.
   ARDCELL_CHECK(b.size() == top.b.size() && x.size() == top.x.size(),
                 "SurfaceMultigrid: fields of another grid");
-  top.b = b;  // same size: a copy into the level's storage
-  std::swap(top.x, x);
-  DiffusionReport report;
-  for (;;) {
-    report.residual = op.residual(top.x, top.b, c, top.r) / bmax;
-    if (report.residual <= solve.tolerance || report.cycles >= solve.max_sweeps) break;
-    cycle(0, c);
-    ++report.cycles;
-    report.sweeps += kPreSweeps + kPostSweeps;
-  }
-  std::swap(top.x, x);
+  b_ = b;  // same size: a copy (x may be b)
+  const DiffusionReport report = bicgstab(
+      x, bmax, solve, [&](PatchField& y, PatchField& r) { return op.residual(y, b_, c, r); },
+      [&](PatchField& y, PatchField& out) {
+        op.apply(y, out);
+        for_cells(op, [&](std::size_t q) { out[q] = y[q] - c * out[q]; });
+      },
+      [&](const PatchField& q, PatchField& y) { precondition(q, y, c, false); });
   // As SurfaceLaplacian::implicit_diffusion: the total of the exact solution, which a finished
   // iterate keeps only to its residual (a constant is in lap's null space).
-  op.add(x, (op.total(b) - op.total(x)) / op.area());
+  op.add(x, (op.total(b_) - op.total(x)) / op.area());
   return report;
 }
 
@@ -223,6 +320,44 @@ void SurfaceMultigrid::poisson_cycle(int level) const {
   l.op->poisson_sweeps(l.x, l.b, kPostSweeps);
 }
 
+const std::vector<double>& SurfaceMultigrid::piece_areas(const SurfaceLaplacian& op) const {
+  // In the order of SurfaceLaplacian::area (cells of every patch in turn), so that one piece's
+  // area is area()'s bits.
+  std::vector<double>& areas =
+      op.n() == levels_.front()->op->n() ? fine_piece_areas_ : coarse_piece_areas_;
+  if (areas.empty()) {
+    areas.assign(piece_sums_.size(), 0.0);
+    const int n = op.n();
+    for (int p = 0; p < op.patches(); ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          areas[std::size_t(pieces_[std::size_t(p)])] += op.cell_area(p, i, j);
+  }
+  return areas;
+}
+
+void SurfaceMultigrid::remove_piece_means(const SurfaceLaplacian& op, PatchField& f) const {
+  // Each patch's integral on the executor, added per piece in patch order (SurfaceLaplacian::
+  // total's order and bits for one piece).
+  const PatchGrid& g = op.grid();
+  const int n = g.n();
+  op.executor().for_rows(g.patches(), n * n, [&](int p0, int p1) {
+    for (int p = p0; p < p1; ++p) {
+      double sum = 0;
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) sum += op.cell_area(p, i, j) * f[g.index(p, i, j)];
+      patch_sums_[std::size_t(p)] = sum;
+    }
+  });
+  piece_sums_.assign(piece_sums_.size(), 0.0);
+  for (int p = 0; p < g.patches(); ++p)
+    piece_sums_[std::size_t(pieces_[std::size_t(p)])] += patch_sums_[std::size_t(p)];
+  const std::vector<double>& area = piece_areas(op);
+  for (std::size_t k = 0; k < piece_sums_.size(); ++k) piece_sums_[k] /= area[k];
+  for_cells(op,
+            [&](std::size_t q) { f[q] -= piece_sums_[std::size_t(pieces_[q / g.patch_cells()])]; });
+}
+
 bool SurfaceMultigrid::solve_coarsest_poisson() const {
   const Level& l = *levels_.back();
   const SurfaceLaplacian& op = *l.op;
@@ -231,15 +366,17 @@ bool SurfaceMultigrid::solve_coarsest_poisson() const {
   const int k = g.patches() * m * m;
   if (k > kMaxDirectCells) return false;
   const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
+  const auto piece = [&](int q) { return pieces_[std::size_t(q / (m * m))]; };
   std::vector<double>& w = poisson_weight_;
   Factor& f = poisson_factor_;
   if (f.lu.empty()) {
-    const double area = op.area();
+    const std::vector<double>& area = piece_areas(op);
     w.resize(std::size_t(k));
     for (int q = 0; q < k; ++q)
-      w[std::size_t(q)] = op.cell_area(q / (m * m), q % m, (q / m) % m) / area;
-    const auto weight = [&](int q) { return w[std::size_t(q)]; };
-    // Column q of lap + 1 w^T: the operator applied to the q-th unit field, plus w_q in every row.
+      w[std::size_t(q)] =
+          op.cell_area(q / (m * m), q % m, (q / m) % m) / area[std::size_t(piece(q))];
+    // Column q of lap + sum over pieces of 1_piece w_piece^T: the operator applied to the q-th
+    // unit field, plus w_q in every row of q's piece.
     f.lu.assign(std::size_t(k) * k, 0.0);
     unit_.assign(g.make_field().size(), 0.0);
     lap_.assign(unit_.size(), 0.0);
@@ -247,16 +384,20 @@ bool SurfaceMultigrid::solve_coarsest_poisson() const {
       unit_[cell(q)] = 1;
       op.apply(unit_, lap_);
       unit_[cell(q)] = 0;
-      for (int r = 0; r < k; ++r) f.lu[std::size_t(r) * k + q] = lap_[cell(r)] + weight(q);
+      for (int r = 0; r < k; ++r)
+        f.lu[std::size_t(r) * k + q] =
+            lap_[cell(r)] + (piece(r) == piece(q) ? w[std::size_t(q)] : 0);
     }
     lu_factor(f.lu, f.pivot, k);
   }
-  // The restricted residual's total is 0 only to the levels' differences: take its mean out, so
-  // that the bordered system's solution solves lap x = b.
+  // The restricted residual's total on each piece is 0 only to the levels' differences: take
+  // each piece's mean out, so that the bordered system's solution solves lap x = b.
   rhs_.resize(std::size_t(k));
-  double mean = 0;
-  for (int q = 0; q < k; ++q) mean += w[std::size_t(q)] * l.b[cell(q)];
-  for (int q = 0; q < k; ++q) rhs_[std::size_t(q)] = l.b[cell(q)] - mean;
+  piece_sums_.assign(piece_sums_.size(), 0.0);
+  for (int q = 0; q < k; ++q)
+    piece_sums_[std::size_t(piece(q))] += w[std::size_t(q)] * l.b[cell(q)];
+  for (int q = 0; q < k; ++q)
+    rhs_[std::size_t(q)] = l.b[cell(q)] - piece_sums_[std::size_t(piece(q))];
   lu_solve(f.lu, f.pivot, k, rhs_);
   for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
   return true;
@@ -268,21 +409,15 @@ DiffusionReport SurfaceMultigrid::solve_poisson(PatchField& x, const PatchField&
   Level& top = *levels_.front();
   ARDCELL_CHECK(b.size() == top.b.size() && x.size() == top.x.size(),
                 "SurfaceMultigrid: fields of another grid");
-  top.b = b;  // same size: a copy into the level's storage (x may be b)
-  op.add(top.b, -op.total(top.b) / op.area());
-  double bmax = op.max_abs(top.b);
+  b_ = b;  // same size: a copy (x may be b)
+  remove_piece_means(op, b_);
+  double bmax = op.max_abs(b_);
   if (bmax == 0) bmax = 1;
-  std::swap(top.x, x);
-  DiffusionReport report;
-  for (;;) {
-    report.residual = op.poisson_residual(top.x, top.b, top.r) / bmax;
-    if (report.residual <= solve.tolerance || report.cycles >= solve.max_sweeps) break;
-    poisson_cycle(0);
-    ++report.cycles;
-    report.sweeps += kPreSweeps + kPostSweeps;
-  }
-  std::swap(top.x, x);
-  op.add(x, -op.total(x) / op.area());
+  const DiffusionReport report = bicgstab(
+      x, bmax, solve, [&](PatchField& y, PatchField& r) { return op.poisson_residual(y, b_, r); },
+      [&](PatchField& y, PatchField& out) { op.apply(y, out); },
+      [&](const PatchField& q, PatchField& y) { precondition(q, y, 0, true); });
+  remove_piece_means(op, x);
   return report;
 }
 

@@ -17,7 +17,16 @@
 // matrix, built column by column from the operator and kept while c stays the same) when it has
 // at most kMaxDirectCells cells, else by kCoarseSweeps sweeps: the global modes a stiff step
 // leaves there would take Jacobi thousands of sweeps.
-// Work runs per patch on the fine operator's executor: the same bits for any number of workers.
+// The coarsest grid has one cell a patch (so the dense solve covers meshes of up to
+// kMaxDirectCells patches at any N).
+// Krylov acceleration: the V-cycle is the right preconditioner of BiCGSTAB (van der Vorst 1992;
+// the operator is not symmetric: the cross terms read corner ghosts each patch fills its own
+// way), not the iteration itself. Point smoothing leaves the modes along a patch's long side
+// where patches are stretched (3:1 on a torus of 38 x 34 quads: 37 plain V-cycles a projection
+// against 16 on 49 x 23), and the Krylov recurrence removes the few such modes the cycle damps
+// poorly. Each BiCGSTAB step runs two V-cycles; DiffusionReport::cycles counts V-cycles.
+// Work runs per patch on the fine operator's executor, and every dot product adds per-patch
+// partials in patch order: the same bits for any number of workers.
 #include <memory>
 #include <vector>
 
@@ -30,7 +39,7 @@ class SurfaceMultigrid {
  public:
   static constexpr int kPreSweeps = 2, kPostSweeps = 2, kCoarseSweeps = 200;
   static constexpr int kMaxDirectCells = 1536;
-  static constexpr int kCoarsestCells = 2;  // cells along a patch's side on the coarsest grid
+  static constexpr int kCoarsestCells = 1;  // cells along a patch's side on the coarsest grid
 
   // `fine` is the operator on N x N cells a patch (kept by reference; it must outlive this);
   // the coarser operators are built from `surface`'s metric. Allocates every level's fields.
@@ -46,13 +55,15 @@ class SurfaceMultigrid {
                                      const DiffusionSolve& solve) const;
   // Solves the Poisson problem lap x = b (the fluid's projection, host/surface/surface_fluid.h)
   // by V-cycles of the same levels with SurfaceLaplacian::poisson_sweeps. lap is singular on a
-  // closed surface (and with no-flux boundaries): its range is the fields of total 0 and its
-  // null space the constants. So b's area-weighted mean is taken out first (it is rounding for
-  // a divergence), the coarsest grid solves the bordered system (lap + 1 w^T) x = b, w the
-  // cells' areas over the total (whose solution is the one with total 0), and x comes back with
-  // total 0. Same stopping rule as implicit_diffusion: max |b - lap x| / max |b| (b after the
-  // mean is taken out) to solve.tolerance or solve.max_sweeps V-cycles. x holds the first guess
-  // (a constant in it is irrelevant); its buffer may come back exchanged with a level's scratch.
+  // closed surface (and with no-flux boundaries): on a surface of several connected pieces its
+  // range is the fields of total 0 on every piece and its null space the fields constant on
+  // each. So b's area-weighted mean on each piece is taken out first (it is rounding for a
+  // divergence), the coarsest grid solves the bordered system (lap + sum over pieces of
+  // 1_piece w_piece^T) x = b, w_piece the piece's cells' areas over its area (whose solution is
+  // the one with total 0 on every piece), and x comes back with total 0 on every piece. Same
+  // stopping rule as implicit_diffusion: max |b - lap x| / max |b| (b after the means are taken
+  // out) to solve.tolerance or solve.max_sweeps V-cycles. x holds the first guess (a constant
+  // per piece in it is irrelevant).
   DiffusionReport solve_poisson(PatchField& x, const PatchField& b,
                                 const DiffusionSolve& solve) const;
 
@@ -64,7 +75,30 @@ class SurfaceMultigrid {
   bool solve_coarsest(double c) const;
   bool solve_coarsest_poisson() const;
 
+  // BiCGSTAB on the finest grid, right-preconditioned by one V-cycle: x from its first guess to
+  // max |residual| / bmax <= solve.tolerance or solve.max_sweeps V-cycles. residual(x, r) sets
+  // r = b - A x and returns max |r|; apply(y, out) sets out = A y; precondition(q, y) sets y to
+  // one V-cycle's approximation of A^-1 q from 0.
+  template <class Residual, class Apply, class Precondition>
+  DiffusionReport bicgstab(PatchField& x, double bmax, const DiffusionSolve& solve,
+                           const Residual& residual, const Apply& apply,
+                           const Precondition& precondition) const;
+  // One V-cycle of (I - c lap) (c >= 0) or, with poisson, of lap, from 0 for the right-hand
+  // side q: y = M^-1 q.
+  void precondition(const PatchField& q, PatchField& y, double c, bool poisson) const;
+
+  // The integral of f over each connected piece of the surface taken out: lap's null space is the
+  // fields constant on each piece, its range the fields of total 0 on each.
+  void remove_piece_means(const SurfaceLaplacian& op, PatchField& f) const;
+  // The area of each piece on op's grid (the finest or the coarsest), computed once.
+  const std::vector<double>& piece_areas(const SurfaceLaplacian& op) const;
+
   std::vector<std::unique_ptr<Level>> levels_;  // finest first
+  std::vector<int> pieces_;                     // the connected piece of each patch (patch_pieces)
+  mutable std::vector<double> patch_sums_, piece_sums_, fine_piece_areas_, coarse_piece_areas_;
+  // The finest grid's right-hand side, and BiCGSTAB's vectors there: residual, shadow residual,
+  // search direction, A y, the two preconditioned directions and A z.
+  mutable PatchField b_, r_, shadow_, p_, v_, y_, z_, t_;
   // The coarsest matrix I - c lap factored (row-major LU, partial pivoting), one for each of
   // the last kFactors values of c (a reaction-diffusion step solves for two chemicals, each its
   // own c): a factorisation is built once per c, not once per solve.

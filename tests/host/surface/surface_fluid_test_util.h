@@ -49,6 +49,19 @@ inline SurfaceFluidParams quiet() {
 inline PolyMesh cube() { return rotate_faces(cube_mesh(2), 5); }
 inline PolyMesh torus() { return rotate_faces(torus_mesh(8, 4, 2.0, 0.8), 3); }
 
+// A cube and a torus beside it: a surface in two pieces.
+inline PolyMesh two_pieces() {
+  PolyMesh two = cube_mesh(1);
+  const PolyMesh other = torus_mesh(4, 3, 2.0, 0.8);
+  const int base = int(two.points.size());
+  for (const auto& q : other.points) two.points.push_back({q[0] + 5, q[1], q[2]});
+  for (int f = 0; f < other.face_count(); ++f) {
+    const int* v = other.face(f);
+    two.add_face({v[0] + base, v[1] + base, v[2] + base, v[3] + base});
+  }
+  return two;
+}
+
 // The cube-sphere's control mesh with one quad of its top taken out: an open surface whose
 // boundary (4 edges) runs through an extraordinary corner.
 inline PolyMesh open_box() {
