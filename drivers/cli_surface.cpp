@@ -12,6 +12,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <utility>
@@ -60,7 +62,14 @@ struct SurfaceArgs {
   CLI::Option *mesh_opt, *shape_opt, *scale_opt, *reaction_opt, *field_opt, *f_opt, *k_opt, *dt_opt,
       *seed_opt, *steps_opt, *solver_opt, *preset_opt, *fluid_opt, *down_opt;
   std::vector<CLI::Option*> fluid_only;  // --viscosity, --dye-diffusion, --force, ...
+  // What messages about the control mesh start with: the --mesh file, "--shape eight" for a
+  // packaged mesh, nothing for one built in code (set by control_mesh).
+  std::string mesh_label;
 };
+
+std::string mesh_prefix(const SurfaceArgs& a) {
+  return a.mesh_label.empty() ? std::string() : a.mesh_label + ": ";
+}
 
 // A flat scene's reaction-diffusion on the surface (--preset): its model and parameters, rates,
 // step and start; `why` names the first setting a surface cannot take.
@@ -111,8 +120,39 @@ Status preset_rd(const std::string& name, PresetRd& out) {
   return Status::ok();
 }
 
-Status control_mesh(const SurfaceArgs& a, PolyMesh& mesh) {
-  if (a.mesh_opt->count()) return read_obj(a.mesh, {}, mesh);
+// Sculpture-like meshes Debian ships in libcgal-demo's /usr/share/doc/libcgal-dev/data.tar.gz.
+// CMake extracts them at configure time into ARDCELL_MESH_DIR (no download); the environment
+// variable of that name, when set, names another folder.
+struct PackagedShape {
+  const char* name;
+  const char* file;
+};
+constexpr PackagedShape kPackagedShapes[] = {{"eight", "eight.off"}, {"elephant", "elephant.off"}};
+
+std::filesystem::path packaged_mesh_dir() {
+  if (const char* dir = std::getenv("ARDCELL_MESH_DIR"); dir && *dir) return dir;
+#ifdef ARDCELL_MESH_DIR
+  return ARDCELL_MESH_DIR;
+#else
+  return {};
+#endif
+}
+
+Status control_mesh(SurfaceArgs& a, PolyMesh& mesh) {
+  if (a.mesh_opt->count()) {
+    a.mesh_label = a.mesh;
+    return read_mesh(a.mesh, {}, mesh);
+  }
+  for (const PackagedShape& shape : kPackagedShapes) {
+    if (a.shape != shape.name) continue;
+    const std::filesystem::path path = packaged_mesh_dir() / shape.file;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec))
+      return Status::error("--shape " + a.shape + ": needs Debian's libcgal-demo (data/meshes/" +
+                           shape.file + " from /usr/share/doc/libcgal-dev/data.tar.gz)");
+    a.mesh_label = "--shape " + a.shape;
+    return read_mesh(path, {}, mesh);
+  }
   if (a.shape == "torus")
     mesh = torus_mesh(8, 4, 2.0, 0.8);
   else if (a.shape == "cube-sphere")
@@ -120,7 +160,8 @@ Status control_mesh(const SurfaceArgs& a, PolyMesh& mesh) {
   else if (a.shape == "genus2")
     mesh = genus2_mesh(1.0);
   else
-    return Status::error("--shape '" + a.shape + "': expected torus, cube-sphere or genus2");
+    return Status::error("--shape '" + a.shape +
+                         "': expected torus, cube-sphere, genus2, eight or elephant");
   return Status::ok();
 }
 
@@ -184,8 +225,7 @@ int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
   const int n = a.patch_cells;
   const auto start = std::chrono::steady_clock::now();
   auto metric = std::make_unique<PatchMetric>(sample_limit_metric(surface, n));
-  if (Status s = metric->check_nondegenerate(); !s)
-    return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + s.message());
+  if (Status s = metric->check_nondegenerate(); !s) return usage(mesh_prefix(a) + s.message());
   SurfaceLaplacian op(surface.topology(), *metric);
   ThreadBackend backend(surface_threads(a.workers));
   RowExecutor executor(backend);
@@ -346,19 +386,13 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (Status s = control_mesh(a, mesh); !s) return usage(s.message());
   LimitSurface surface;
   if (Status s = LimitSurface::build(std::move(mesh), {}, surface); !s)
-    return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + s.message());
+    return usage(mesh_prefix(a) + s.message());
   const long long cells = (long long)surface.patches() * n * n;
   if (cells > kMaxCells)
     return usage(std::to_string(surface.patches()) + " patches of " + std::to_string(n) + "^2 " +
                  "cells are " + std::to_string(cells) + " cells (expected at most " +
                  std::to_string(kMaxCells) + ": a smaller --patch-cells)");
-  if (fluid) {
-    // The projection's pressure is fixed up to one constant: one connected surface.
-    if (const int pieces = connected_pieces(surface.topology()); pieces > 1)
-      return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + std::to_string(pieces) +
-                   " separate pieces (expected one connected surface with --fluid)");
-    return run_fluid(a, ctx, surface, down, colours, view);
-  }
+  if (fluid) return run_fluid(a, ctx, surface, down, colours, view);
 
   const auto start = std::chrono::steady_clock::now();
   Status geometry = Status::ok();
@@ -367,8 +401,7 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
     geometry = metric.check_nondegenerate();
     return SurfaceLaplacian(surface.topology(), metric);
   }();
-  if (!geometry)
-    return usage((a.mesh_opt->count() ? a.mesh + ": " : std::string()) + geometry.message());
+  if (!geometry) return usage(mesh_prefix(a) + geometry.message());
   // The patches run side by side on the threads back end (the same bits for any --workers).
   ThreadBackend backend(surface_threads(a.workers));
   RowExecutor executor(backend);
@@ -476,16 +509,21 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
 void add_surface_command(CLI::App& app, CliContext& ctx) {
   CLI::App* cmd = app.add_subcommand(
       "surface",
-      "Gray-Scott on the Catmull-Clark limit surface of a mesh (OBJ or built in), written as a "
+      "Gray-Scott on the Catmull-Clark limit surface of a mesh (OBJ, OFF or built in), written as "
+      "a "
       "PLY with the field as vertex colours or as a texture atlas with a UV-mapped OBJ");
 #if ARDCELL_WITH_OPENSUBDIV
   auto args = std::make_shared<SurfaceArgs>();
   SurfaceArgs& a = *args;
-  a.mesh_opt = cmd->add_option("--mesh", a.mesh,
-                               "control mesh, a Wavefront OBJ (quads, or mixed: refined once)");
-  a.shape_opt = cmd->add_option("--shape", a.shape,
-                                "built-in mesh when no --mesh: torus (32 patches, default), "
-                                "cube-sphere (24) or genus2 (a double torus, 50)");
+  a.mesh_opt =
+      cmd->add_option("--mesh", a.mesh,
+                      "control mesh, a Wavefront OBJ or OFF file (quads, or mixed: refined once)");
+  a.shape_opt = cmd->add_option(
+      "--shape", a.shape,
+      "built-in mesh when no --mesh: torus (32 patches, default), cube-sphere (24), genus2 (a "
+      "double torus, 50), or from Debian's libcgal-demo eight (a genus-2 figure eight, 1902) or "
+      "elephant (genus 3, 16674: --patch-cells 8 at most; ARDCELL_MESH_DIR overrides the folder "
+      "they are read from)");
   a.mesh_opt->excludes(a.shape_opt);
   cmd->add_option("--patch-cells", a.patch_cells, "N: N x N cells a patch, a power of two (16)");
   a.steps_opt = cmd->add_option("--steps", a.steps, "steps of dt (3000; with --fluid 200)");

@@ -16,7 +16,7 @@ PACKAGES=(
   libhidapi-dev libgpiod-dev libsdl2-dev libpng-dev libcli11-dev libtomlplusplus-dev
   nlohmann-json3-dev liblo-dev libsystemd-dev libplplot-dev libfftw3-dev
   clang libclang-rt-14-dev
-  libosd-dev
+  libosd-dev libcgal-demo
   libopenmpi-dev openmpi-bin
   xvfb xauth python3-numpy
 )

@@ -1,6 +1,7 @@
 // `ardcell surface` (the real binary): a PLY of the limit surface with the field as vertex
-// colours from the built-in meshes and from an OBJ, the texture atlas with its UV-mapped OBJ,
-// stable fluids' dye, and bad input as one line, exit 2, nothing written.
+// colours from the built-in meshes, from an OBJ or OFF file and from the figure eight of Debian's
+// libcgal-demo, the texture atlas with its UV-mapped OBJ, stable fluids' dye, and bad input as
+// one line, exit 2, nothing written.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -126,6 +127,46 @@ TEST_F(SurfaceCli, MixedObjIsRefinedOnce) {
   expect_ply(work() / "p.ply", 16 * 25, 16 * 16);
 }
 
+// The same pyramid as OFF (0-based, the header's counts, a colour after a face): the same
+// patches.
+TEST_F(SurfaceCli, OffMeshIsReadAsObjIs) {
+  std::ofstream(work() / "p.off") << "OFF\n5 5 8\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n0 0 1.5\n"
+                                     "4 3 2 1 0\n3 0 1 4 255 0 0\n3 1 2 4\n3 2 3 4\n3 3 0 4\n";
+  const BinaryRunResult r = run("surface --mesh p.off --patch-cells 4 --steps 5 --out p.ply");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("patches=16 (refined once) cells=256 ", 0), 0u) << r.out;
+  expect_ply(work() / "p.ply", 16 * 25, 16 * 16);
+}
+
+// --shape eight: CGAL's figure eight from libcgal-demo (634 triangles, 1902 patches), skipped
+// only without the package; without its file (ARDCELL_MESH_DIR naming an empty folder) the
+// shape says what to install, one line, exit 2.
+TEST_F(SurfaceCli, PackagedEightToPly) {
+  const bool packaged = fs::exists(fs::path(ARDCELL_MESH_DIR) / "eight.off");
+  if (!packaged) {
+    EXPECT_FALSE(fs::exists(ARDCELL_CGAL_DATA_ARCHIVE)) << ARDCELL_MESH_DIR
+        "/eight.off is missing though libcgal-demo is installed: run cmake "
+        "again";
+  } else {
+    const BinaryRunResult r = run("surface --shape eight --patch-cells 2 --steps 5 --out e.ply");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.out.rfind("patches=1902 (refined once) cells=7608 ", 0), 0u) << r.out;
+    expect_ply(work() / "e.ply", 1902 * 9, 1902 * 4);
+  }
+  fs::create_directories(work() / "empty");
+  for (const char* shape : {"eight", "elephant"}) {
+    const BinaryRunResult r =
+        run_command("ARDCELL_MESH_DIR=empty exec '" ARDCELL_BINARY "' surface --shape " +
+                    std::string(shape) + " --out x.ply");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err, "ardcell surface: --shape " + std::string(shape) +
+                         ": needs Debian's libcgal-demo (data/meshes/" + shape +
+                         ".off from /usr/share/doc/libcgal-dev/data.tar.gz)\n");
+    EXPECT_FALSE(fs::exists(work() / "x.ply"));
+  }
+  if (!packaged) GTEST_SKIP() << "needs Debian's libcgal-demo (" ARDCELL_CGAL_DATA_ARCHIVE ")";
+}
+
 // A flat scene's reaction-diffusion on the torus: Meinhardt's spots grow from the preset's noisy
 // start (a spreads from 1.6 +- 5% to more than +-0.2), FitzHugh-Nagumo's waves are excited.
 TEST_F(SurfaceCli, PresetsRunTheirModelOnTheSurface) {
@@ -171,6 +212,44 @@ TEST_F(SurfaceCli, FluidCarriesDyeFromTheSources) {
   expect_ply(work() / "f.ply", 32 * 25, 32 * 16);
   EXPECT_EQ(slurp(work() / "f.png").substr(1, 3), "PNG");
   EXPECT_NE(r.out.find(" out=f.ply render=f.png"), std::string::npos) << r.out;
+}
+
+// Two tori side by side, written as an OBJ: a surface in two pieces.
+void write_two_tori(const std::filesystem::path& path) {
+  std::ofstream two(path);
+  for (int piece = 0; piece < 2; ++piece)
+    for (int a = 0; a < 4; ++a)
+      for (int t = 0; t < 3; ++t) {
+        const double u = 2 * 3.14159265358979 * a / 4, v = 2 * 3.14159265358979 * t / 3;
+        two << "v " << (2 + std::cos(v)) * std::cos(u) + 10 * piece << ' '
+            << (2 + std::cos(v)) * std::sin(u) << ' ' << std::sin(v) << '\n';
+      }
+  for (int piece = 0; piece < 2; ++piece)
+    for (int a = 0; a < 4; ++a)
+      for (int t = 0; t < 3; ++t) {
+        const auto vertex = [&](int da, int dt) {
+          return 1 + 12 * piece + ((a + da) % 4) * 3 + (t + dt) % 3;
+        };
+        two << "f " << vertex(0, 0) << ' ' << vertex(1, 0) << ' ' << vertex(1, 1) << ' '
+            << vertex(0, 1) << '\n';
+      }
+}
+
+// A mesh of two pieces: the projection fixes a pressure constant on each, and the flow is
+// divergence-free on both.
+TEST_F(SurfaceCli, FluidRunsOnASurfaceOfTwoPieces) {
+  write_two_tori(work() / "two.obj");
+  const BinaryRunResult r =
+      run("surface --fluid gravity --mesh two.obj --patch-cells 4 --steps 5 --out f.ply");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(r.out.rfind("patches=24 cells=384 ", 0), 0u) << r.out;
+  double max_div = -1;
+  const auto at = r.out.find(" max_div=");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at, " max_div=%lf", &max_div), 1) << r.out;
+  EXPECT_LT(max_div, 1e-4) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(work() / "f.ply"));
 }
 
 // --down is a direction: 1e200,0,0 is 1,0,0 (scaled before its length is taken), the same run
@@ -225,31 +304,12 @@ TEST_F(SurfaceCli, PresetsASurfaceCannotRunAreRefused) {
 
 TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
   std::ofstream(work() / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";
+  std::ofstream(work() / "bad.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
   std::ofstream(work() / "fin.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 1\nv 0 0 1\n"
                                        "v 1 0 -1\nv 0 0 -1\nf 1 2 3 4\nf 2 1 6 5\nf 1 2 7 8\n";
   std::ofstream(work() / "point.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
                                          "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 4 3 2\nf 5 6 7 8\n"
                                          "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
-  // Two tori side by side: a surface in two pieces.
-  {
-    std::ofstream two(work() / "two.obj");
-    for (int piece = 0; piece < 2; ++piece)
-      for (int a = 0; a < 4; ++a)
-        for (int t = 0; t < 3; ++t) {
-          const double u = 2 * 3.14159265358979 * a / 4, v = 2 * 3.14159265358979 * t / 3;
-          two << "v " << (2 + std::cos(v)) * std::cos(u) + 10 * piece << ' '
-              << (2 + std::cos(v)) * std::sin(u) << ' ' << std::sin(v) << '\n';
-        }
-    for (int piece = 0; piece < 2; ++piece)
-      for (int a = 0; a < 4; ++a)
-        for (int t = 0; t < 3; ++t) {
-          const auto vertex = [&](int da, int dt) {
-            return 1 + 12 * piece + ((a + da) % 4) * 3 + (t + dt) % 3;
-          };
-          two << "f " << vertex(0, 0) << ' ' << vertex(1, 0) << ' ' << vertex(1, 1) << ' '
-              << vertex(0, 1) << '\n';
-        }
-  }
   const std::pair<const char*, const char*> cases[] = {
       {"surface --patch-cells 12 --out x.ply",
        "ardcell surface: --patch-cells 12: expected a power of two in 2..1024\n"},
@@ -262,7 +322,10 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
        "ardcell surface: point.obj: the limit surface is degenerate (no tangent plane) in patch 1 "
        "at (0.25, 0): coincident or folded control points?\n"},
       {"surface --shape klein --out x.ply",
-       "ardcell surface: --shape 'klein': expected torus, cube-sphere or genus2\n"},
+       "ardcell surface: --shape 'klein': expected torus, cube-sphere, genus2, eight or "
+       "elephant\n"},
+      {"surface --mesh bad.off --out x.ply",
+       "ardcell surface: bad.off: line 6: face 0: index 3 names no vertex (3 in the file)\n"},
       {"surface --reaction rk4 --out x.ply",
        "ardcell surface: --reaction 'rk4': expected euler (the seed's) or implicit\n"},
       {"surface --solver cg --out x.ply",
@@ -293,9 +356,6 @@ TEST_F(SurfaceCli, BadInputIsOneLineAndWritesNothing) {
       {"surface --fluid gravity --conserve-dye=2 --out x.ply",
        "ardcell surface: --conserve-dye: expected no value, true or false, got '2' (see ardcell "
        "surface --help)\n"},
-      {"surface --fluid gravity --mesh two.obj --out x.ply",
-       "ardcell surface: two.obj: 2 separate pieces (expected one connected surface with "
-       "--fluid)\n"},
       {"surface --render x.png --view 10,95",
        "ardcell surface: --view '10,95': expected AZIMUTH,ELEVATION in degrees, elevation in "
        "-90..90\n"},

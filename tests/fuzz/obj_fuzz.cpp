@@ -1,7 +1,9 @@
-// libFuzzer target for the OBJ reader and the mesh checks (host/surface/poly_mesh.h): any input
-// either parses or gives one line; what parses names only vertices it has; a mesh that passes
-// check_manifold (and is small) builds a limit surface whose patch adjacency is symmetric.
-// Seeds: tests/fuzz/corpus/obj_fuzz/ (a cube, a pyramid with every face index form).
+// libFuzzer target for the mesh readers and the mesh checks (host/surface/poly_mesh.h): an input
+// whose first token names an OFF header goes to the OFF reader (as read_mesh sends it), any other
+// to the OBJ reader; either it parses or gives one line; what parses names only vertices it has;
+// a mesh that passes check_manifold (and is small) builds a limit surface whose patch adjacency
+// is symmetric. Seeds: tests/fuzz/corpus/obj_fuzz/ (a cube, a pyramid with every face index
+// form, a pinched vertex; an OFF tetrahedron with face colours, an OFF pentagon and triangles).
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -17,11 +19,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 #if ARDCELL_WITH_OPENSUBDIV
   using namespace ardcell;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  ObjLimits limits;
+  MeshLimits limits;
   limits.max_points = 4096;
   limits.max_faces = 4096;
   PolyMesh mesh;
-  const Status s = parse_obj(text, limits, mesh);
+  const Status s = mesh_format("fuzz", text) == MeshFormat::kOff ? parse_off(text, limits, mesh)
+                                                                 : parse_obj(text, limits, mesh);
   if (!s.is_ok()) {
     if (s.message().find('\n') != std::string::npos) std::abort();
     return 0;
