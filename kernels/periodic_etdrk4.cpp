@@ -127,6 +127,8 @@ void PeriodicEtdrk4::set_step(double dt, double rate_a, double rate_b) {
       }
   });
   dt_ = dt;
+  rates_[0] = rate_a;
+  rates_[1] = rate_b;
 }
 
 void PeriodicEtdrk4::reaction_row(float* a, float* b, int n) const {

@@ -59,6 +59,19 @@ class PeriodicEtdrk4 {
   // O(N) work on the executor, no allocation. dt, c_A, c_B finite and >= 0.
   void set_step(double dt, double rate_a, double rate_b);
   double dt() const { return dt_; }
+  // The diffusion rate set_step took for chemical 0 (A) or 1 (B).
+  double rate(int chemical) const { return rates_[chemical]; }
+
+  // The coefficients the step applies to mode (mx, my) of chemical 0 (A) or 1 (B), as floats
+  // (device twins upload these tables: kernels/cl/opencl_fft.h).
+  struct ModeCoefficients {
+    float e, e2, q, f1, f2, f3;
+  };
+  ModeCoefficients coefficients(int chemical, int mx, int my) const {
+    const Coefficients& c = coef_[chemical];
+    const std::size_t i = spectral_index(mx, my);
+    return {c.e[i], c.e2[i], c.q[i], c.f1[i], c.f2[i], c.f3[i]};
+  }
 
   // The 5-point Laplacian's symbol at mode (mx, my) in cells (mx in [0, nx / 2], my in [0, ny)).
   double symbol(int mx, int my) const;
@@ -94,6 +107,7 @@ class PeriodicEtdrk4 {
   int width_ = 0;                  // nx / 2 + 1
   std::ptrdiff_t col_stride_ = 0;  // ny rounded up to kColumnBlock (keeps the alignment)
   double dt_ = 0;
+  double rates_[2] = {0, 0};
   Coefficients coef_[2];
   const ReactionParams* reaction_ = nullptr;  // during step()
   // Row layout [y][mx] (after the row transforms): the stage's field and its N, per chemical.

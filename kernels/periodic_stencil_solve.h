@@ -99,6 +99,11 @@ class PeriodicStencilSolve {
   std::complex<double> multiplier(int mx, int my, double delta) const {
     return 1.0 / (1.0 - delta * symbol(mx, my));
   }
+  // The multiplier solve() applies to mode (mx, my) at delta(): multiplier(mx, my, delta()) / (nx
+  // ny), rounded to float once (device twins upload this table: kernels/cl/opencl_fft.h).
+  std::complex<float> applied_multiplier(int mx, int my) const {
+    return multipliers_[std::size_t(mx) * std::size_t(size_.y) + std::size_t(my)];
+  }
 
   // One line naming why (I - delta K)^{-1} is not defined (delta not finite, or the smallest
   // |1 - delta symbol| with its wavenumber, see kMinDenominator); "" when delta is fine.

@@ -34,13 +34,14 @@ void OpenClDevice::reserve(Int2 grid) {
   }
 }
 
-// Every op but the FFT ones (the periodic solve, the ETDRK4 step) has a twin; solves run here
-// with every solver (ICCG where the device has doubles) and implicit diffusion with ICCG or
-// fixed Jacobi or RBGS sweeps; the other settings fall back (implicit_diffusion, solve).
+// Every op has a twin; solves run here with every solver (ICCG where the device has doubles),
+// implicit diffusion with ICCG or fixed Jacobi or RBGS sweeps, and the FFT steps at the sizes
+// clFFT transforms; the other settings fall back (implicit_diffusion, solve, periodic_solve,
+// etdrk4_step).
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;
-  return op != DeviceOp::kCount && op != DeviceOp::kPeriodicSolve && op != DeviceOp::kEtdrk4;
+  return op != DeviceOp::kCount;
 }
 
 // --- residency ---------------------------------------------------------------------------
@@ -648,75 +649,6 @@ void OpenClDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, Fiel
   host_in(a);
   host_in(b);
   cpu_.gray_scott9_steps(blocked, a, b, steps, p);
-  host_wrote(a);
-  host_wrote(b);
-}
-
-const OpenClBuffer& OpenClDevice::stencil_weights(const GeneralizedTaps& k) {
-  const auto same = [](const GeneralizedTaps& a, const GeneralizedTaps& b) {
-    if (a.count != b.count) return false;
-    for (int t = 0; t < a.count; ++t)
-      if (a.taps[t].dx != b.taps[t].dx || a.taps[t].dy != b.taps[t].dy ||
-          a.taps[t].weight != b.taps[t].weight)
-        return false;
-    return true;
-  };
-  for (StencilTwin& t : stencils_)
-    if (t.host == &k) {
-      if (!same(t.uploaded, k)) {
-        t.weights = cl_->stencil_groups(k);
-        t.uploaded = k;
-      }
-      return t.weights;
-    }
-  stencils_.push_back({&k, k, cl_->stencil_groups(k)});
-  return stencils_.back().weights;
-}
-
-void OpenClDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                                  const GeneralizedTaps& k, const GeneralizedRdParams& p) {
-  const OpenClBuffer& weights = stencil_weights(k);
-  const DeviceField& da = in(a);
-  const DeviceField& db = in(b);
-  cl_->generalized_rd(da, db, out(a_out), out(b_out), weights, p);
-}
-
-void OpenClDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                                   const Rank2FaceField& d, const GeneralizedRdParams& p) {
-  cl_->tensor_field_rd(in(a), in(b), out(a_out), out(b_out), in(d.x_xx), in(d.x_xy), in(d.y_xy),
-                       in(d.y_yy), p);
-}
-
-void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
-  say_fallback(DeviceOp::kPeriodicSolve, "rd.scheme implicit or semi-implicit",
-               "the device has no FFT; rd.scheme explicit runs on it");
-  host_in(x);
-  cpu_.periodic_solve(solve, x);
-  host_wrote(x);
-}
-
-void OpenClDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
-  DeviceField& da = out(a);
-  DeviceField& db = out(b);
-  cl_->reaction_trapezoidal(da, db, da, db, box_of_size(a.size()), p, dt);
-}
-
-void OpenClDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
-                            const SbdfRhsParams& p) {
-  DeviceField& da = out(a);
-  DeviceField& db = out(b);
-  DeviceField& dap = out(a_prev);
-  DeviceField& dbp = out(b_prev);
-  cl_->sbdf_rhs(da, db, dap, dbp, box_of_size(a.size()), p);
-}
-
-void OpenClDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
-                               const ReactionParams* reaction) {
-  say_fallback(DeviceOp::kEtdrk4, "rd.scheme etdrk4",
-               "the device has no FFT; rd.scheme sbdf2 runs on it");
-  host_in(a);
-  host_in(b);
-  cpu_.etdrk4_step(etdrk4, a, b, reaction);
   host_wrote(a);
   host_wrote(b);
 }

@@ -9,19 +9,24 @@
 // when the host asks for it (the shown field, a saved state). So a frame moves nothing between
 // host and device unless someone looks.
 //
-// Every op has a twin. A setting a twin lacks (ICCG on a device without doubles; implicit
-// diffusion with multigrid, or with Jacobi or RBGS sweeps to a tolerance) runs that op on the
-// CPU device instead: its inputs come to the host, its outputs go back when a device op next
-// reads them, and the first time each op falls back, one line says so on stderr.
+// Every op has a twin; the periodic FFT steps (seed 003's semi-implicit solve, ETDRK4) run by
+// clFFT (kernels/cl/opencl_fft.h), their plans baked on the first step of a size. A setting a
+// twin lacks (ICCG on a device without doubles; implicit diffusion with multigrid, or with
+// Jacobi or RBGS sweeps to a tolerance; an FFT size with a prime factor above 13, which clFFT
+// cannot transform) runs that op on the CPU device instead: its inputs come to the host, its
+// outputs go back when a device op next reads them, and the first time each op falls back, one
+// line says so on stderr.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
 #include <deque>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "host/engine/device.h"
 #include "kernels/cl/opencl_diffusion.h"
+#include "kernels/cl/opencl_fft.h"
 #include "kernels/cl/opencl_iccg.h"
 #include "kernels/cl/opencl_kernels.h"
 #include "kernels/stencil_sweeps.h"
@@ -99,12 +104,12 @@ class OpenClDevice final : public Device {
   // On the CPU (no device twin of the per-cell tensor field yet), with one line.
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
-  // On the CPU (no FFT on the device yet), with one line.
+  // By clFFT (OpenClPeriodicSolve); on the CPU, with one line, at a size clFFT cannot transform.
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
                 const SbdfRhsParams& p) override;
-  // On the CPU (no FFT on the device), with one line.
+  // By clFFT (OpenClEtdrk4); on the CPU, with one line, at a size clFFT cannot transform.
   void etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
                    const ReactionParams* reaction) override;
 
@@ -158,6 +163,25 @@ class OpenClDevice final : public Device {
   };
   const OpenClBuffer& stencil_weights(const GeneralizedTaps& k);
 
+  // The FFT twins of a CPU solve or ETDRK4 step (made on its first use: plans and buffers), or
+  // none (device null) and why, for a size clFFT cannot transform.
+  struct PeriodicSolveTwin {
+    const PeriodicStencilSolve* cpu = nullptr;
+    Int2 size{};
+    std::unique_ptr<OpenClPeriodicSolve> device;
+    std::string why_not;
+  };
+  struct Etdrk4Twin {
+    const PeriodicEtdrk4* cpu = nullptr;
+    Int2 size{};
+    std::unique_ptr<OpenClEtdrk4> device;
+    std::string why_not;
+  };
+  PeriodicSolveTwin& periodic_twin(const PeriodicStencilSolve& solve);
+  Etdrk4Twin& etdrk4_twin(const PeriodicEtdrk4& etdrk4);
+  // The transforms of `batch` fields of `size`, shared by the twins of that size (made once).
+  ClFft2d& fft(Int2 size, int batch);
+
   Mirror& mirror(const FieldF& f);
   // f's mirror, uploaded first when the host wrote f since.
   Mirror& current_on_device(const FieldF& f);
@@ -199,6 +223,9 @@ class OpenClDevice final : public Device {
   std::deque<DiffusionTwin> diffusions_;
   std::deque<OperatorTwin> operators_;
   std::deque<StencilTwin> stencils_;
+  std::deque<std::unique_ptr<ClFft2d>> ffts_;
+  std::deque<PeriodicSolveTwin> periodic_twins_;
+  std::deque<Etdrk4Twin> etdrk4_twins_;
   ClRowPartials partial_sum_, partial_lo_, partial_hi_;
   std::vector<double> host_lo_, host_hi_;
   ClReactionTable table_;

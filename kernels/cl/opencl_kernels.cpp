@@ -48,8 +48,20 @@ bool device_has_fp64(cl_device_id device) {
   return extensions.find("cl_khr_fp64") != std::string::npos;
 }
 
-// A model's parameters as reaction.cl's p0..p4 (see its table).
-void reaction_args(const ReactionParams& p, float q[5]) {
+// The model's invariant box (a_lo, a_hi, b_lo, b_hi), into which the implicit updates clamp
+// their inputs.
+cl_float4 invariant_box_arg(const ReactionParams& p) {
+  const ConcentrationBox box = invariant_box(p);
+  return {{float(box.a_lo), float(box.a_hi), float(box.b_lo), float(box.b_hi)}};
+}
+
+int tiles_of(Box2 region, int tw, int th) {
+  return ((region.width() + tw - 1) / tw) * ((region.height() + th - 1) / th);
+}
+
+}  // namespace
+
+void cl_reaction_args(const ReactionParams& p, float q[5]) {
   std::fill(q, q + 5, 0.0f);
   switch (p.model) {
     case ReactionModel::kGrayScott:
@@ -72,19 +84,6 @@ void reaction_args(const ReactionParams& p, float q[5]) {
       break;
   }
 }
-
-// The model's invariant box (a_lo, a_hi, b_lo, b_hi), into which the implicit updates clamp
-// their inputs.
-cl_float4 invariant_box_arg(const ReactionParams& p) {
-  const ConcentrationBox box = invariant_box(p);
-  return {{float(box.a_lo), float(box.a_hi), float(box.b_lo), float(box.b_hi)}};
-}
-
-int tiles_of(Box2 region, int tw, int th) {
-  return ((region.width() + tw - 1) / tw) * ((region.height() + th - 1) / th);
-}
-
-}  // namespace
 
 ClTiling default_tiling(const OpenClDeviceInfo& device) {
   if (device.type == "cpu" || !device.local_mem_dedicated) return ClTiling{256, 32, 1, 4};
@@ -141,7 +140,7 @@ void OpenClKernels::reaction_implicit(const DeviceField& a, const DeviceField& b
   check_same_layout(a, b, a_out, b_out);
   if (region.empty()) return;
   float q[5];
-  reaction_args(p, q);
+  cl_reaction_args(p, q);
   const cl_float4 clamp_box = invariant_box_arg(p);
   const int tw = tiling_.tile_w, th = tiling_.tile_h;
   cl_kernel k = kernel("reaction_implicit");
@@ -863,7 +862,7 @@ void OpenClKernels::reaction_trapezoidal(const DeviceField& a, const DeviceField
   check_same_layout(a, b, a_out, b_out);
   if (region.empty()) return;
   float q[5];
-  reaction_args(p, q);
+  cl_reaction_args(p, q);
   cl_kernel k = kernel("reaction_trapezoidal");
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
                   box4(region), int(p.model), q[0], q[1], q[2], q[3], q[4], invariant_box_arg(p),
@@ -876,7 +875,7 @@ void OpenClKernels::sbdf_rhs(DeviceField& a, DeviceField& b, DeviceField& a_prev
   check_same_layout(a, b, a_prev, b_prev);
   if (region.empty()) return;
   float q[5];
-  reaction_args(p.reaction, q);
+  cl_reaction_args(p.reaction, q);
   cl_kernel k = kernel("sbdf_rhs");
   set_kernel_args(k, a.buffer, b.buffer, a_prev.buffer, b_prev.buffer, a.stride, a.origin,
                   box4(region), int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt, p.order,
@@ -903,7 +902,7 @@ void OpenClKernels::explicit_rd(const DeviceField& a, const DeviceField& b, Devi
                                 bool nine_point) {
   if (!check_explicit_rd_args(a, b, a_out, b_out, region)) return;
   float q[5];
-  reaction_args(p.reaction, q);
+  cl_reaction_args(p.reaction, q);
   cl_kernel k = kernel("explicit_rd");
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
                   box4(region), int(p.reaction.model), q[0], q[1], q[2], q[3], q[4], p.dt,
@@ -961,7 +960,7 @@ void OpenClKernels::generalized_rd(const DeviceField& a, const DeviceField& b, D
   ARDCELL_CHECK(weights.bytes() == kStencilGroupFloats * sizeof(float),
                 "generalized RD: the stencil's groups (stencil_groups)");
   float q[5];
-  reaction_args(p.reaction, q);
+  cl_reaction_args(p.reaction, q);
   cl_kernel k = kernel("generalized_rd");
   const cl_int2 size{{a.size.x, a.size.y}};
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin, size,
@@ -979,7 +978,7 @@ void OpenClKernels::tensor_field_rd(const DeviceField& a, const DeviceField& b, 
   ARDCELL_CHECK(x_xx.size == a.size && x_xx.halo == 0,
                 "tensor-field RD: the face fields are the grid's size, halo 0");
   float q[5];
-  reaction_args(p.reaction, q);
+  cl_reaction_args(p.reaction, q);
   cl_kernel k = kernel("tensor_field_rd");
   const cl_int2 size{{a.size.x, a.size.y}};
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin, size,

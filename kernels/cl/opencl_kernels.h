@@ -50,6 +50,9 @@ struct ClTiling {
 // 1024^2, against 0.5-0.8x with this choice (bench/RESULTS_OPENCL.md).
 ClTiling default_tiling(const OpenClDeviceInfo& device);
 
+// A reaction model's parameters as reaction.cl's p0..p4 (see its table; rd_rates' order).
+void cl_reaction_args(const ReactionParams& p, float q[5]);
+
 // AnisotropyParams as diffusion.cl's aniso_t (passed by value: one kernel argument).
 struct ClAnisotropyArgs {
   cl_int kind;

@@ -1,0 +1,139 @@
+// OpenClDevice's ops of seed 003's generalized operator and of the second-order
+// reaction-diffusion schemes (host/engine/device.h): the explicit step's and the tensor field's
+// twins, the trapezoidal reaction and SBDF's right-hand side, and the periodic FFT steps (the
+// semi-implicit solve of Eqn 28 and ETDRK4) by clFFT (kernels/cl/opencl_fft.h), whose plans and
+// buffers are made on a size's first step and shared by the twins of that size; a size clFFT
+// cannot transform runs them on the CPU with one line.
+#if defined(ARDCELL_WITH_OPENCL)
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "host/engine/opencl_device.h"
+
+namespace ardcell {
+
+const OpenClBuffer& OpenClDevice::stencil_weights(const GeneralizedTaps& k) {
+  const auto same = [](const GeneralizedTaps& a, const GeneralizedTaps& b) {
+    if (a.count != b.count) return false;
+    for (int t = 0; t < a.count; ++t)
+      if (a.taps[t].dx != b.taps[t].dx || a.taps[t].dy != b.taps[t].dy ||
+          a.taps[t].weight != b.taps[t].weight)
+        return false;
+    return true;
+  };
+  for (StencilTwin& t : stencils_)
+    if (t.host == &k) {
+      if (!same(t.uploaded, k)) {
+        t.weights = cl_->stencil_groups(k);
+        t.uploaded = k;
+      }
+      return t.weights;
+    }
+  stencils_.push_back({&k, k, cl_->stencil_groups(k)});
+  return stencils_.back().weights;
+}
+
+void OpenClDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                                  const GeneralizedTaps& k, const GeneralizedRdParams& p) {
+  const OpenClBuffer& weights = stencil_weights(k);
+  const DeviceField& da = in(a);
+  const DeviceField& db = in(b);
+  cl_->generalized_rd(da, db, out(a_out), out(b_out), weights, p);
+}
+
+void OpenClDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
+                                   const Rank2FaceField& d, const GeneralizedRdParams& p) {
+  cl_->tensor_field_rd(in(a), in(b), out(a_out), out(b_out), in(d.x_xx), in(d.x_xy), in(d.y_xy),
+                       in(d.y_yy), p);
+}
+
+ClFft2d& OpenClDevice::fft(Int2 size, int batch) {
+  for (const std::unique_ptr<ClFft2d>& f : ffts_)
+    if (f->size() == size && f->batch() == batch) return *f;
+  ffts_.push_back(std::make_unique<ClFft2d>(ctx_, size, batch));
+  return *ffts_.back();
+}
+
+OpenClDevice::PeriodicSolveTwin& OpenClDevice::periodic_twin(const PeriodicStencilSolve& solve) {
+  for (PeriodicSolveTwin& t : periodic_twins_)
+    if (t.cpu == &solve && t.size == solve.size()) return t;
+  PeriodicSolveTwin t{&solve, solve.size(), nullptr, clfft_size_problem(solve.size())};
+  if (t.why_not.empty()) {
+    try {
+      t.device = std::make_unique<OpenClPeriodicSolve>(*cl_, fft(t.size, 1));
+    } catch (const std::runtime_error& e) {  // clFFT could not plan: the CPU's solve instead
+      t.why_not = e.what();
+    }
+  }
+  // A solve made anew at a freed one's address replaces its twin.
+  for (PeriodicSolveTwin& old : periodic_twins_)
+    if (old.cpu == &solve) return old = std::move(t);
+  periodic_twins_.push_back(std::move(t));
+  return periodic_twins_.back();
+}
+
+OpenClDevice::Etdrk4Twin& OpenClDevice::etdrk4_twin(const PeriodicEtdrk4& etdrk4) {
+  for (Etdrk4Twin& t : etdrk4_twins_)
+    if (t.cpu == &etdrk4 && t.size == etdrk4.size()) return t;
+  Etdrk4Twin t{&etdrk4, etdrk4.size(), nullptr, clfft_size_problem(etdrk4.size())};
+  if (t.why_not.empty()) {
+    try {
+      t.device = std::make_unique<OpenClEtdrk4>(*cl_, fft(t.size, 2));
+    } catch (const std::runtime_error& e) {
+      t.why_not = e.what();
+    }
+  }
+  for (Etdrk4Twin& old : etdrk4_twins_)
+    if (old.cpu == &etdrk4) return old = std::move(t);
+  etdrk4_twins_.push_back(std::move(t));
+  return etdrk4_twins_.back();
+}
+
+void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
+  PeriodicSolveTwin& twin = periodic_twin(solve);
+  if (twin.device) {
+    twin.device->solve(solve, out(x));
+    return;
+  }
+  say_fallback(DeviceOp::kPeriodicSolve, "rd.scheme implicit or semi-implicit",
+               twin.why_not.c_str());
+  host_in(x);
+  cpu_.periodic_solve(solve, x);
+  host_wrote(x);
+}
+
+void OpenClDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  cl_->reaction_trapezoidal(da, db, da, db, box_of_size(a.size()), p, dt);
+}
+
+void OpenClDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
+                            const SbdfRhsParams& p) {
+  DeviceField& da = out(a);
+  DeviceField& db = out(b);
+  DeviceField& dap = out(a_prev);
+  DeviceField& dbp = out(b_prev);
+  cl_->sbdf_rhs(da, db, dap, dbp, box_of_size(a.size()), p);
+}
+
+void OpenClDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
+                               const ReactionParams* reaction) {
+  Etdrk4Twin& twin = etdrk4_twin(etdrk4);
+  if (twin.device) {
+    DeviceField& da = out(a);
+    twin.device->step(etdrk4, da, out(b), reaction);
+    return;
+  }
+  say_fallback(DeviceOp::kEtdrk4, "rd.scheme etdrk4", twin.why_not.c_str());
+  host_in(a);
+  host_in(b);
+  cpu_.etdrk4_step(etdrk4, a, b, reaction);
+  host_wrote(a);
+  host_wrote(b);
+}
+
+}  // namespace ardcell
+#endif
