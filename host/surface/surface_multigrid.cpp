@@ -35,7 +35,8 @@ SurfaceMultigrid::SurfaceMultigrid(const LimitSurface& surface, const SurfaceLap
     levels_.push_back(std::move(l));
     if (m == kCoarsestCells || m == 1) break;
   }
-  for (PatchField* f : {&b_, &r_, &shadow_, &p_, &v_, &y_, &z_, &t_}) *f = fine.grid().make_field();
+  b_ = fine.grid().make_field();
+  fine_krylov_.allocate(fine.grid());
   pieces_ = patch_pieces(surface.topology());
   piece_sums_.assign(std::size_t(*std::max_element(pieces_.begin(), pieces_.end()) + 1), 0.0);
   patch_sums_.assign(pieces_.size(), 0.0);
@@ -223,11 +224,15 @@ void SurfaceMultigrid::precondition(const PatchField& q, PatchField& y, double c
   std::swap(top.x, y);
 }
 
+void SurfaceMultigrid::Krylov::allocate(const PatchGrid& grid) {
+  for (PatchField* f : {&r, &shadow, &p, &v, &y, &z, &t}) *f = grid.make_field();
+}
+
 template <class Residual, class Apply, class Precondition>
-DiffusionReport SurfaceMultigrid::bicgstab(PatchField& x, double bmax, const DiffusionSolve& solve,
+DiffusionReport SurfaceMultigrid::bicgstab(const SurfaceLaplacian& op, Krylov& k, PatchField& x,
+                                           double bmax, const DiffusionSolve& solve,
                                            const Residual& residual, const Apply& apply,
                                            const Precondition& precondition) const {
-  const SurfaceLaplacian& op = *levels_.front()->op;
   DiffusionReport report;
   const auto cycled = [&] {
     ++report.cycles;
@@ -240,42 +245,50 @@ DiffusionReport SurfaceMultigrid::bicgstab(PatchField& x, double bmax, const Dif
   // Each pass starts from the true residual b - A x (a restart when the recurrence's residual
   // has drifted from it, or after a breakdown), and ends when the recurrence's residual meets
   // the tolerance, the cycles run out, or a denominator vanishes.
-  while (!done(residual(x, r_))) {
-    shadow_ = r_;
+  while (!done(residual(x, k.r))) {
+    const int cycles_before = report.cycles;
+    k.shadow = k.r;
     double rho = 1, alpha = 1, omega = 1;
-    std::fill(p_.begin(), p_.end(), 0.0);
-    std::fill(v_.begin(), v_.end(), 0.0);
+    std::fill(k.p.begin(), k.p.end(), 0.0);
+    std::fill(k.v.begin(), k.v.end(), 0.0);
     for (;;) {
-      const double rho_next = dot(op, shadow_, r_);
+      const double rho_next = dot(op, k.shadow, k.r);
       if (rho_next == 0 || omega == 0) break;
       const double beta = (rho_next / rho) * (alpha / omega);
       rho = rho_next;
-      for_cells(op, [&](std::size_t q) { p_[q] = r_[q] + beta * (p_[q] - omega * v_[q]); });
-      precondition(p_, y_);
-      apply(y_, v_);
+      for_cells(op, [&](std::size_t q) { k.p[q] = k.r[q] + beta * (k.p[q] - omega * k.v[q]); });
+      precondition(k.p, k.y);
+      apply(k.y, k.v);
       cycled();
-      const double shadow_v = dot(op, shadow_, v_);
+      const double shadow_v = dot(op, k.shadow, k.v);
       if (shadow_v == 0) break;
       alpha = rho / shadow_v;
       // r becomes s = r - alpha v; x takes the half step.
       for_cells(op, [&](std::size_t q) {
-        r_[q] -= alpha * v_[q];
-        x[q] += alpha * y_[q];
+        k.r[q] -= alpha * k.v[q];
+        x[q] += alpha * k.y[q];
       });
-      if (done(op.max_abs(r_))) break;
-      precondition(r_, z_);
-      apply(z_, t_);
+      if (done(op.max_abs(k.r))) break;
+      precondition(k.r, k.z);
+      apply(k.z, k.t);
       cycled();
-      const double tt = dot(op, t_, t_);
-      omega = tt == 0 ? 0 : dot(op, t_, r_) / tt;
+      const double tt = dot(op, k.t, k.t);
+      omega = tt == 0 ? 0 : dot(op, k.t, k.r) / tt;
       for_cells(op, [&](std::size_t q) {
-        x[q] += omega * z_[q];
-        r_[q] -= omega * t_[q];
+        x[q] += omega * k.z[q];
+        k.r[q] -= omega * k.t[q];
       });
-      if (done(op.max_abs(r_))) break;
+      if (done(op.max_abs(k.r))) break;
+    }
+    // A pass that broke down before its first cycle (r r underflowing to 0 while r is not 0)
+    // takes one plain preconditioned step instead, so every pass makes progress and counts.
+    if (report.cycles == cycles_before) {
+      precondition(k.r, k.y);
+      for_cells(op, [&](std::size_t q) { x[q] += k.y[q]; });
+      cycled();
     }
     if (report.cycles >= solve.max_sweeps) {
-      report.residual = residual(x, r_) / bmax;
+      report.residual = residual(x, k.r) / bmax;
       break;
     }
   }
@@ -292,7 +305,8 @@ DiffusionReport SurfaceMultigrid::implicit_diffusion(PatchField& x, const PatchF
                 "SurfaceMultigrid: fields of another grid");
   b_ = b;  // same size: a copy (x may be b)
   const DiffusionReport report = bicgstab(
-      x, bmax, solve, [&](PatchField& y, PatchField& r) { return op.residual(y, b_, c, r); },
+      op, fine_krylov_, x, bmax, solve,
+      [&](PatchField& y, PatchField& r) { return op.residual(y, b_, c, r); },
       [&](PatchField& y, PatchField& out) {
         op.apply(y, out);
         for_cells(op, [&](std::size_t q) { out[q] = y[q] - c * out[q]; });
@@ -323,8 +337,7 @@ void SurfaceMultigrid::poisson_cycle(int level) const {
 const std::vector<double>& SurfaceMultigrid::piece_areas(const SurfaceLaplacian& op) const {
   // In the order of SurfaceLaplacian::area (cells of every patch in turn), so that one piece's
   // area is area()'s bits.
-  std::vector<double>& areas =
-      op.n() == levels_.front()->op->n() ? fine_piece_areas_ : coarse_piece_areas_;
+  std::vector<double>& areas = &op == levels_.front()->op ? fine_piece_areas_ : coarse_piece_areas_;
   if (areas.empty()) {
     areas.assign(piece_sums_.size(), 0.0);
     const int n = op.n();
@@ -414,7 +427,8 @@ DiffusionReport SurfaceMultigrid::solve_poisson(PatchField& x, const PatchField&
   double bmax = op.max_abs(b_);
   if (bmax == 0) bmax = 1;
   const DiffusionReport report = bicgstab(
-      x, bmax, solve, [&](PatchField& y, PatchField& r) { return op.poisson_residual(y, b_, r); },
+      op, fine_krylov_, x, bmax, solve,
+      [&](PatchField& y, PatchField& r) { return op.poisson_residual(y, b_, r); },
       [&](PatchField& y, PatchField& out) { op.apply(y, out); },
       [&](const PatchField& q, PatchField& y) { precondition(q, y, 0, true); });
   remove_piece_means(op, x);

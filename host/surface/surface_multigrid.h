@@ -16,7 +16,10 @@
 // exchanged first), two more sweeps. The coarsest grid is solved exactly (a dense LU of its
 // matrix, built column by column from the operator and kept while c stays the same) when it has
 // at most kMaxDirectCells cells, else by kCoarseSweeps sweeps: the global modes a stiff step
-// leaves there would take Jacobi thousands of sweeps.
+// leaves there would take Jacobi thousands of sweeps. (BiCGSTAB on the coarsest grid instead of
+// the sweeps made the preconditioner nonlinear: truncated at 60 steps the outer iteration no
+// longer converged on the elephant's 16674 patches, and run to 1e-4 it cost more than the
+// cycles it saved.)
 // The coarsest grid has one cell a patch (so the dense solve covers meshes of up to
 // kMaxDirectCells patches at any N).
 // Krylov acceleration: the V-cycle is the right preconditioner of BiCGSTAB (van der Vorst 1992;
@@ -38,8 +41,8 @@ namespace ardcell {
 class SurfaceMultigrid {
  public:
   static constexpr int kPreSweeps = 2, kPostSweeps = 2, kCoarseSweeps = 200;
-  static constexpr int kMaxDirectCells = 1536;
-  static constexpr int kCoarsestCells = 1;  // cells along a patch's side on the coarsest grid
+  static constexpr int kMaxDirectCells = 2048;  // a 32 MiB matrix, factored in about a second
+  static constexpr int kCoarsestCells = 1;      // cells along a patch's side on the coarsest grid
 
   // `fine` is the operator on N x N cells a patch (kept by reference; it must outlive this);
   // the coarser operators are built from `surface`'s metric. Allocates every level's fields.
@@ -75,14 +78,20 @@ class SurfaceMultigrid {
   bool solve_coarsest(double c) const;
   bool solve_coarsest_poisson() const;
 
-  // BiCGSTAB on the finest grid, right-preconditioned by one V-cycle: x from its first guess to
-  // max |residual| / bmax <= solve.tolerance or solve.max_sweeps V-cycles. residual(x, r) sets
-  // r = b - A x and returns max |r|; apply(y, out) sets out = A y; precondition(q, y) sets y to
-  // one V-cycle's approximation of A^-1 q from 0.
+  // BiCGSTAB's vectors on one grid: residual, shadow residual, search direction, A y, the two
+  // preconditioned directions and A z.
+  struct Krylov {
+    PatchField r, shadow, p, v, y, z, t;
+    void allocate(const PatchGrid& grid);
+  };
+  // BiCGSTAB on op's grid, right-preconditioned: x from its first guess to max |residual| /
+  // bmax <= solve.tolerance or solve.max_sweeps preconditioner applications (the report's
+  // cycles). residual(x, r) sets r = b - A x and returns max |r|; apply(y, out) sets out = A y;
+  // precondition(q, y) sets y to M^-1 q.
   template <class Residual, class Apply, class Precondition>
-  DiffusionReport bicgstab(PatchField& x, double bmax, const DiffusionSolve& solve,
-                           const Residual& residual, const Apply& apply,
-                           const Precondition& precondition) const;
+  DiffusionReport bicgstab(const SurfaceLaplacian& op, Krylov& k, PatchField& x, double bmax,
+                           const DiffusionSolve& solve, const Residual& residual,
+                           const Apply& apply, const Precondition& precondition) const;
   // One V-cycle of (I - c lap) (c >= 0) or, with poisson, of lap, from 0 for the right-hand
   // side q: y = M^-1 q.
   void precondition(const PatchField& q, PatchField& y, double c, bool poisson) const;
@@ -90,15 +99,16 @@ class SurfaceMultigrid {
   // The integral of f over each connected piece of the surface taken out: lap's null space is the
   // fields constant on each piece, its range the fields of total 0 on each.
   void remove_piece_means(const SurfaceLaplacian& op, PatchField& f) const;
-  // The area of each piece on op's grid (the finest or the coarsest), computed once.
+  // The area of each piece on op's grid (the finest level's operator or the coarsest's),
+  // computed once.
   const std::vector<double>& piece_areas(const SurfaceLaplacian& op) const;
 
   std::vector<std::unique_ptr<Level>> levels_;  // finest first
   std::vector<int> pieces_;                     // the connected piece of each patch (patch_pieces)
   mutable std::vector<double> patch_sums_, piece_sums_, fine_piece_areas_, coarse_piece_areas_;
-  // The finest grid's right-hand side, and BiCGSTAB's vectors there: residual, shadow residual,
-  // search direction, A y, the two preconditioned directions and A z.
-  mutable PatchField b_, r_, shadow_, p_, v_, y_, z_, t_;
+  // The finest grid's right-hand side, and BiCGSTAB's vectors there.
+  mutable PatchField b_;
+  mutable Krylov fine_krylov_;
   // The coarsest matrix I - c lap factored (row-major LU, partial pivoting), one for each of
   // the last kFactors values of c (a reaction-diffusion step solves for two chemicals, each its
   // own c): a factorisation is built once per c, not once per solve.
