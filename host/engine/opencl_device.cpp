@@ -36,8 +36,8 @@ void OpenClDevice::reserve(Int2 grid) {
 
 // Every op has a twin; solves run here with every solver (ICCG where the device has doubles),
 // implicit diffusion with ICCG or fixed Jacobi or RBGS sweeps, and the FFT steps at the sizes
-// clFFT transforms; the other settings fall back (implicit_diffusion, solve, periodic_solve,
-// etdrk4_step).
+// the device FFT transforms; the other settings fall back (implicit_diffusion, solve,
+// periodic_solve, etdrk4_step).
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;

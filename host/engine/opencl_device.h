@@ -10,11 +10,11 @@
 // host and device unless someone looks.
 //
 // Every op has a twin; the periodic FFT steps (seed 003's semi-implicit solve, ETDRK4) run by
-// clFFT (kernels/cl/opencl_fft.h), their plans baked on the first step of a size. A setting a
+// the device FFT (kernels/cl/opencl_fft.h), set up on the first step of a size. A setting a
 // twin lacks (ICCG on a device without doubles; implicit diffusion with multigrid, or with
-// Jacobi or RBGS sweeps to a tolerance; an FFT size with a prime factor above 13, which clFFT
-// cannot transform) runs that op on the CPU device instead: its inputs come to the host, its
-// outputs go back when a device op next reads them, and the first time each op falls back, one
+// Jacobi or RBGS sweeps to a tolerance; an FFT size with a prime factor above 7, which the
+// device FFT cannot transform) runs that op on the CPU device instead: its inputs come to the host,
+// its outputs go back when a device op next reads them, and the first time each op falls back, one
 // line says so on stderr.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
@@ -104,12 +104,12 @@ class OpenClDevice final : public Device {
   // On the CPU (no device twin of the per-cell tensor field yet), with one line.
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
-  // By clFFT (OpenClPeriodicSolve); on the CPU, with one line, at a size clFFT cannot transform.
+  // By the device FFT (OpenClPeriodicSolve); on the CPU, with one line, at a size it lacks.
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
                 const SbdfRhsParams& p) override;
-  // By clFFT (OpenClEtdrk4); on the CPU, with one line, at a size clFFT cannot transform.
+  // By the device FFT (OpenClEtdrk4); on the CPU, with one line, at a size it lacks.
   void etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
                    const ReactionParams* reaction) override;
 
@@ -163,8 +163,8 @@ class OpenClDevice final : public Device {
   };
   const OpenClBuffer& stencil_weights(const GeneralizedTaps& k);
 
-  // The FFT twins of a CPU solve or ETDRK4 step (made on its first use: plans and buffers), or
-  // none (device null) and why, for a size clFFT cannot transform.
+  // The FFT twins of a CPU solve or ETDRK4 step (made on its first use: tables and buffers), or
+  // none (device null) and why, for a size the device FFT cannot transform.
   struct PeriodicSolveTwin {
     const PeriodicStencilSolve* cpu = nullptr;
     Int2 size{};

@@ -1,9 +1,9 @@
 // OpenClDevice's ops of seed 003's generalized operator and of the second-order
 // reaction-diffusion schemes (host/engine/device.h): the explicit step's and the tensor field's
 // twins, the trapezoidal reaction and SBDF's right-hand side, and the periodic FFT steps (the
-// semi-implicit solve of Eqn 28 and ETDRK4) by clFFT (kernels/cl/opencl_fft.h), whose plans and
-// buffers are made on a size's first step and shared by the twins of that size; a size clFFT
-// cannot transform runs them on the CPU with one line.
+// semi-implicit solve of Eqn 28 and ETDRK4) by the device FFT (kernels/cl/opencl_fft.h), whose
+// root tables and buffers are made on a size's first step and shared by the twins of that size;
+// a size the device FFT cannot transform runs them on the CPU with one line.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <memory>
 #include <stdexcept>
@@ -59,11 +59,11 @@ ClFft2d& OpenClDevice::fft(Int2 size, int batch) {
 OpenClDevice::PeriodicSolveTwin& OpenClDevice::periodic_twin(const PeriodicStencilSolve& solve) {
   for (PeriodicSolveTwin& t : periodic_twins_)
     if (t.cpu == &solve && t.size == solve.size()) return t;
-  PeriodicSolveTwin t{&solve, solve.size(), nullptr, clfft_size_problem(solve.size())};
+  PeriodicSolveTwin t{&solve, solve.size(), nullptr, device_fft_size_problem(solve.size())};
   if (t.why_not.empty()) {
     try {
       t.device = std::make_unique<OpenClPeriodicSolve>(*cl_, fft(t.size, 1));
-    } catch (const std::runtime_error& e) {  // clFFT could not plan: the CPU's solve instead
+    } catch (const std::runtime_error& e) {  // no device FFT: the CPU's solve instead
       t.why_not = e.what();
     }
   }
@@ -77,7 +77,7 @@ OpenClDevice::PeriodicSolveTwin& OpenClDevice::periodic_twin(const PeriodicStenc
 OpenClDevice::Etdrk4Twin& OpenClDevice::etdrk4_twin(const PeriodicEtdrk4& etdrk4) {
   for (Etdrk4Twin& t : etdrk4_twins_)
     if (t.cpu == &etdrk4 && t.size == etdrk4.size()) return t;
-  Etdrk4Twin t{&etdrk4, etdrk4.size(), nullptr, clfft_size_problem(etdrk4.size())};
+  Etdrk4Twin t{&etdrk4, etdrk4.size(), nullptr, device_fft_size_problem(etdrk4.size())};
   if (t.why_not.empty()) {
     try {
       t.device = std::make_unique<OpenClEtdrk4>(*cl_, fft(t.size, 2));

@@ -1,51 +1,19 @@
 #if defined(ARDCELL_WITH_OPENCL)
 #include "kernels/cl/opencl_fft.h"
 
-#include <clFFT.h>
-
 #include <algorithm>
-#include <atomic>
+#include <cmath>
 #include <complex>
 #include <cstdio>
 #include <iterator>
+#include <numbers>
 #include <stdexcept>
-#include <type_traits>
 
 #include "runtime/check.h"
 
 namespace ardcell {
 
 namespace {
-
-// clFFT's library state: clfftSetup before the first plan, clfftTeardown when the process exits
-// (it releases every plan, program and kernel clFFT still holds; the kernel signatures it keeps
-// past that, runtime/opencl/opencl_context.cpp has LeakSanitizer suppress).
-std::atomic<bool> g_clfft_torn_down{false};
-
-struct ClfftLibrary {
-  ClfftLibrary() {
-    clfftSetupData setup;
-    clfftInitSetupData(&setup);
-    status = clfftSetup(&setup);
-  }
-  ~ClfftLibrary() {
-    if (status == CLFFT_SUCCESS) clfftTeardown();
-    g_clfft_torn_down = true;
-  }
-  clfftStatus status = CLFFT_SUCCESS;
-};
-
-void clfft_check(clfftStatus status, const char* what) {
-  if (status == CLFFT_SUCCESS) return;
-  char line[160];
-  std::snprintf(line, sizeof line, "clFFT: %s failed (status %d)", what, int(status));
-  throw std::runtime_error(line);
-}
-
-void setup_clfft_once() {
-  static ClfftLibrary library;  // thread-safe initialisation; destroyed at exit
-  clfft_check(library.status, "clfftSetup");
-}
 
 // The largest prime factor of n (n >= 1).
 int largest_prime_factor(int n) {
@@ -55,18 +23,47 @@ int largest_prime_factor(int n) {
   return std::max(largest, n);
 }
 
+// fft.cl's radices for a length whose prime factors are 2, 3, 5, 7, in pass order: the power of
+// two in passes of 16 (fewest passes: each reads and writes every element once), the rest of it
+// in one pass of 8, 4 or 2, then the odd radices. Length 1: one pass of radix 1 (a copy between
+// the layouts).
+std::vector<int> fft_radices(int n) {
+  std::vector<int> radices;
+  while (n % 16 == 0) radices.push_back(16), n /= 16;
+  for (int p : {8, 4, 2})
+    if (n % p == 0) radices.push_back(p), n /= p;
+  for (int p : {3, 5, 7})
+    while (n % p == 0) radices.push_back(p), n /= p;
+  ARDCELL_CHECK(n == 1, "fft_radices: a prime factor above 7");
+  if (radices.empty()) radices.push_back(1);
+  return radices;
+}
+
+// w_n^k = exp(-2 pi i k / n), k < n, in double, rounded to float once.
+OpenClBuffer upload_roots(OpenClContext& ctx, int n) {
+  std::vector<float> roots(std::size_t(2 * n));
+  for (int k = 0; k < n; ++k) {
+    const double angle = -2.0 * std::numbers::pi * double(k) / double(n);
+    roots[std::size_t(2 * k)] = float(std::cos(angle));
+    roots[std::size_t(2 * k + 1)] = float(std::sin(angle));
+  }
+  OpenClBuffer buffer = ctx.allocate(roots.size() * sizeof(float));
+  ctx.write(buffer, roots.data(), roots.size() * sizeof(float));
+  return buffer;
+}
+
+// The passes' work-group shape (see ClFft2d::run).
+constexpr std::size_t kGroupColumns = 16, kGroupRows = 4;
+
 }  // namespace
 
-// The header keeps plan handles as std::size_t, without clFFT.h.
-static_assert(std::is_same_v<clfftPlanHandle, std::size_t>);
-
-std::string clfft_size_problem(Int2 size) {
-  // clFFT 2.12 has radices 2, 3, 5, 7, 11 and 13.
+std::string device_fft_size_problem(Int2 size) {
   for (int n : {size.x, size.y}) {
+    if (n < 1) return std::to_string(n) + " is not a length";
     const int p = largest_prime_factor(n);
-    if (p > 13) {
+    if (p > 7) {
       char line[96];
-      std::snprintf(line, sizeof line, "%d has a prime factor clFFT lacks (%d)", n, p);
+      std::snprintf(line, sizeof line, "%d has a prime factor the device FFT lacks (%d)", n, p);
       return line;
     }
   }
@@ -76,59 +73,34 @@ std::string clfft_size_problem(Int2 size) {
 // --- ClFft2d -----------------------------------------------------------------------------------
 
 ClFft2d::ClFft2d(OpenClContext& ctx, Int2 size, int batch) : ctx_(ctx), size_(size), batch_(batch) {
-  if (std::string why = clfft_size_problem(size); !why.empty())
-    throw std::runtime_error("clFFT: " + why);
-  setup_clfft_once();
-  const std::size_t nx = std::size_t(size.x), ny = std::size_t(size.y), w = std::size_t(width());
-  std::size_t lengths[2] = {nx, ny};
-  std::size_t real_strides[2] = {1, nx};
-  std::size_t spectral_strides[2] = {1, w};
-  std::size_t scratch = 0;
-  cl_command_queue queue = ctx.queue();
-  try {
-    for (bool forward : {true, false}) {
-      clfftPlanHandle& plan = forward ? forward_plan_ : backward_plan_;
-      clfft_check(clfftCreateDefaultPlan(&plan, ctx.context(), CLFFT_2D, lengths),
-                  "clfftCreateDefaultPlan");
-      made_plans_ += 1;
-      clfft_check(clfftSetPlanPrecision(plan, CLFFT_SINGLE), "clfftSetPlanPrecision");
-      clfft_check(forward ? clfftSetLayout(plan, CLFFT_REAL, CLFFT_HERMITIAN_INTERLEAVED)
-                          : clfftSetLayout(plan, CLFFT_HERMITIAN_INTERLEAVED, CLFFT_REAL),
-                  "clfftSetLayout");
-      clfft_check(clfftSetResultLocation(plan, CLFFT_OUTOFPLACE), "clfftSetResultLocation");
-      clfft_check(clfftSetPlanInStride(plan, CLFFT_2D, forward ? real_strides : spectral_strides),
-                  "clfftSetPlanInStride");
-      clfft_check(clfftSetPlanOutStride(plan, CLFFT_2D, forward ? spectral_strides : real_strides),
-                  "clfftSetPlanOutStride");
-      clfft_check(forward ? clfftSetPlanDistance(plan, nx * ny, w * ny)
-                          : clfftSetPlanDistance(plan, w * ny, nx * ny),
-                  "clfftSetPlanDistance");
-      clfft_check(clfftSetPlanBatchSize(plan, std::size_t(batch)), "clfftSetPlanBatchSize");
-      // The CPU's tables fold in 1 / (nx ny): the way back is the plain sum.
-      if (!forward) clfft_check(clfftSetPlanScale(plan, CLFFT_BACKWARD, 1.0f), "clfftSetPlanScale");
-      clfft_check(clfftBakePlan(plan, 1, &queue, nullptr, nullptr), "clfftBakePlan");
-      std::size_t bytes = 0;
-      clfft_check(clfftGetTmpBufSize(plan, &bytes), "clfftGetTmpBufSize");
-      scratch = std::max(scratch, bytes);
-    }
-    // One temporary buffer for both plans (they run in queue order), ours: clFFT would
-    // otherwise allocate one of its own on the first transform.
-    if (scratch > 0) scratch_ = ctx.allocate(scratch);
-  } catch (...) {
-    destroy_plans();
-    throw;
+  if (std::string why = device_fft_size_problem(size); !why.empty())
+    throw std::runtime_error("device FFT: " + why);
+  ARDCELL_CHECK(batch >= 1, "ClFft2d: batch must be at least 1");
+  std::string error;
+  kernels_ = OpenClKernels::create(ctx, &error);
+  if (!kernels_) throw std::runtime_error(error.substr(0, error.find('\n')));
+  for (int radix : {1, 2, 3, 4, 5, 7, 8, 16}) {
+    pass_[radix] = kernels_->kernel(("fft_pass_radix" + std::to_string(radix)).c_str());
+    complex_pass_[radix] =
+        kernels_->kernel(("fft_complex_pass_radix" + std::to_string(radix)).c_str());
   }
-}
-
-ClFft2d::~ClFft2d() { destroy_plans(); }
-
-void ClFft2d::destroy_plans() {
-  // After clfftTeardown (an object that outlives main's) the plans are released already.
-  if (!g_clfft_torn_down) {
-    if (made_plans_ > 0) clfftDestroyPlan(&forward_plan_);
-    if (made_plans_ > 1) clfftDestroyPlan(&backward_plan_);
-  }
-  made_plans_ = 0;
+  const int nx = size.x, ny = size.y, w = width();
+  // An even nx transforms each real row as a complex row of nx / 2 (fft.cl: the split, merge).
+  half_ = nx % 2 == 0 ? nx / 2 : 0;
+  rows_.n = half_ > 0 ? half_ : nx;
+  rows_.radices = fft_radices(rows_.n);
+  rows_.roots = upload_roots(ctx, rows_.n);
+  split_roots_ = upload_roots(ctx, nx);
+  rows_.per_field = ny;
+  columns_.n = ny;
+  columns_.radices = fft_radices(ny);
+  columns_.roots = upload_roots(ctx, ny);
+  columns_.per_field = w;
+  columns_.transforms_fastest = true;
+  const std::size_t complex_rows =
+      std::size_t(batch) * std::size_t(ny) * std::size_t(std::max(rows_.n, w)) * 2 * sizeof(float);
+  rows_a_ = ctx.allocate(complex_rows);
+  rows_b_ = ctx.allocate(complex_rows);
 }
 
 OpenClBuffer ClFft2d::allocate_real() const {
@@ -139,21 +111,99 @@ OpenClBuffer ClFft2d::allocate_spectrum() const {
   return ctx_.allocate(std::size_t(batch_) * std::size_t(modes()) * 2 * sizeof(float));
 }
 
-void ClFft2d::enqueue(std::size_t plan, int direction, const OpenClBuffer& in,
-                      const OpenClBuffer& out) {
-  cl_command_queue queue = ctx_.queue();
-  cl_mem input = in.get(), output = out.get();
-  clfft_check(clfftEnqueueTransform(plan, clfftDirection(direction), 1, &queue, 0, nullptr, nullptr,
-                                    &input, &output, scratch_ ? scratch_.get() : nullptr),
-              "clfftEnqueueTransform");
+void ClFft2d::run(const Dimension& d, bool inverse, const OpenClBuffer& in, const Layout& in_layout,
+                  const OpenClBuffer& out, const Layout& out_layout,
+                  const OpenClBuffer* const scratch[2], const Layout& between) {
+  const int passes = int(d.radices.size());
+  int span = 1;
+  const OpenClBuffer* from = &in;
+  const Layout* from_layout = &in_layout;
+  for (int p = 0; p < passes; ++p) {
+    const int radix = d.radices[std::size_t(p)];
+    const bool last = p == passes - 1;
+    const OpenClBuffer* to = last ? &out : scratch[p % 2];
+    const Layout& a = *from_layout;
+    const Layout& b = last ? out_layout : between;
+    cl_kernel k = a.kind == 0 && b.kind == 0 ? complex_pass_[radix] : pass_[radix];
+    set_kernel_args(k, *from, *to, d.roots, split_roots_, d.n, half_, span, d.n / (span * radix),
+                    int(inverse), d.per_field, int(d.transforms_fastest), a.kind, a.stride,
+                    a.distance, a.field_distance, b.kind, b.stride, b.distance, b.field_distance,
+                    b.keep);
+    // One work-group shape for every pass, 16 along dimension 0 (16 neighbouring columns, or j
+    // of a row): PoCL compiles a kernel once per shape, and a shape fitted to each extent
+    // doubled the compiling on a cold cache for about 5% less time a transform.
+    const std::size_t per_transform = std::size_t(d.n / radix);
+    const std::size_t extent[2] = {d.transforms_fastest ? std::size_t(d.per_field) : per_transform,
+                                   d.transforms_fastest ? per_transform : std::size_t(d.per_field)};
+    const std::size_t local[3] = {kGroupColumns, kGroupRows, 1};
+    const std::size_t global[3] = {(extent[0] + local[0] - 1) / local[0] * local[0],
+                                   (extent[1] + local[1] - 1) / local[1] * local[1],
+                                   std::size_t(batch_)};
+    opencl_check(
+        clEnqueueNDRangeKernel(ctx_.queue(), k, 3, nullptr, global, local, 0, nullptr, nullptr),
+        "clEnqueueNDRangeKernel");
+    span *= radix;
+    from = to;
+    from_layout = &between;
+  }
 }
 
+// The layouts of the passes' buffers (fft.cl's kinds): the real rows (an even nx's read and
+// written as complex rows of half its length; an odd one's read as reals, written as real
+// parts), the complex rows between row passes, what the forward row passes leave (an even nx's
+// complex rows Z, an odd one's half spectrum), the half spectrum's columns, and how the first
+// pass of each phase reads what the other phase left.
+struct ClFft2d::Layouts {
+  Layout real_rows, complex_rows, row_output, half_columns, column_input, row_input;
+};
+
+ClFft2d::Layouts ClFft2d::layouts() const {
+  const int nx = size_.x, ny = size_.y, w = width(), m = rows_.n;
+  Layouts l;
+  l.half_columns = {0, w, 1, w * ny, ny};
+  if (half_ > 0) {
+    l.real_rows = l.complex_rows = l.row_output = {0, 1, m, m * ny, m};
+    l.column_input = {3, m, 1, m * ny, ny};  // the split, from the rows' Z
+    l.row_input = {4, 1, w, w * ny, w};      // the merge, from the half spectrum's rows
+  } else {
+    l.real_rows = {1, 1, nx, nx * ny, nx};
+    l.complex_rows = {0, 1, nx, nx * ny, nx};
+    l.row_output = {0, 1, w, w * ny, w};  // the half spectrum's first nx / 2 + 1 columns
+    l.column_input = l.half_columns;      // the row passes kept the half spectrum's columns
+    l.row_input = {2, 1, w, w * ny, w};   // each row rebuilt from its Hermitian half
+  }
+  return l;
+}
+
+// The buffers each pass reads and writes, so that no pass reads the buffer it writes: the row
+// passes ping-pong between rows_a_ and rows_b_; the column passes start from the spectrum when
+// they are two or more (their scratch the rows buffers), else from the rows buffer the last row
+// pass did not read.
 void ClFft2d::forward(const OpenClBuffer& real, const OpenClBuffer& spectrum) {
-  enqueue(forward_plan_, CLFFT_FORWARD, real, spectrum);
+  const Layouts l = layouts();
+  const OpenClBuffer* const a_then_b[2] = {&rows_a_, &rows_b_};
+  const OpenClBuffer* const b_then_a[2] = {&rows_b_, &rows_a_};
+  const int row_passes = int(rows_.radices.size());
+  // The buffer the last row pass reads (real when it is the first).
+  const OpenClBuffer* last_row_input = row_passes == 1 ? &real : a_then_b[(row_passes - 2) % 2];
+  const OpenClBuffer& column_input = columns_.radices.size() >= 2 ? spectrum
+                                     : last_row_input == &rows_a_ ? rows_b_
+                                                                  : rows_a_;
+  run(rows_, false, real, l.real_rows, column_input, l.row_output, a_then_b, l.complex_rows);
+  run(columns_, false, column_input, l.column_input, spectrum, l.half_columns,
+      &column_input == &rows_a_ ? b_then_a : a_then_b, l.half_columns);
 }
 
 void ClFft2d::backward(const OpenClBuffer& spectrum, const OpenClBuffer& real) {
-  enqueue(backward_plan_, CLFFT_BACKWARD, spectrum, real);
+  const Layouts l = layouts();
+  const OpenClBuffer* const a_then_b[2] = {&rows_a_, &rows_b_};
+  const OpenClBuffer* const b_then_a[2] = {&rows_b_, &rows_a_};
+  // Two or more column passes end back in the spectrum (pass 0 reads it, the last writes it).
+  const OpenClBuffer& column_output = columns_.radices.size() >= 2 ? spectrum : rows_a_;
+  run(columns_, true, spectrum, l.half_columns, column_output, l.half_columns, a_then_b,
+      l.half_columns);
+  run(rows_, true, column_output, l.row_input, real, l.real_rows,
+      &column_output == &rows_a_ ? b_then_a : a_then_b, l.complex_rows);
 }
 
 // --- launches shared by the twins ----------------------------------------------------------------
@@ -292,7 +342,7 @@ void OpenClEtdrk4::step(const PeriodicEtdrk4& etdrk4, DeviceField& a, DeviceFiel
     upload(etdrk4);
   pack(cl_, a, u_real_, 0);
   pack(cl_, b, u_real_, 1);
-  // N(u) before u's transform: clFFT may use a real-to-complex transform's input as scratch.
+  // N(u) before u's transform, which the interface lets use its input as scratch.
   reaction(reaction_params);
   fft_.forward(u_real_, v_);
   fft_.forward(n_real_, n_stage_);

@@ -1,25 +1,24 @@
 #pragma once
-// The periodic FFT steps on the OpenCL device, by clFFT (Debian's libclfft-dev):
+// The periodic FFT steps on the OpenCL device, by our own FFT kernels (kernels/cl/fft.cl):
 //   OpenClPeriodicSolve: seed 003, Eqn 28's linear part, x <- (I - delta K)^{-1} x, the twin of
 //     PeriodicStencilSolve::solve (kernels/periodic_stencil_solve.h);
 //   OpenClEtdrk4: the twin of PeriodicEtdrk4::step (kernels/periodic_etdrk4.h).
 // Both read and write a field's interior on the device (no halo read: the wrap is the DFT's).
 // The spectral arithmetic is the CPU's: its tables (the multipliers, the ETDRK4 coefficients:
-// computed in double, rounded to float once) are uploaded, transposed to clFFT's [my][mx]
-// layout, when they change (a new delta, dt or rate), never per step; the transforms are
-// clFFT's (single precision, their own rounding: the result agrees with FFTW's to a few 1e-7 of
-// max |x|, tests/kernels/cl_fft_parity_test.cpp).
+// computed in double, rounded to float once) are uploaded, transposed to the half spectrum's
+// [my][mx] layout, when they change (a new delta, dt or rate), never per step; the transforms
+// are fft.cl's (single precision, their own rounding: the result agrees with FFTW's to a few
+// 1e-7 of max |x|, tests/kernels/cl_fft_parity_test.cpp).
 //
-// clFFT transforms lengths whose prime factors are 2, 3, 5, 7, 11 and 13 (clfft_size_problem
-// names another); the engine runs such a size on the CPU
+// The device FFT transforms lengths whose prime factors are 2, 3, 5 and 7
+// (device_fft_size_problem names another); the engine runs such a size on the CPU
 // (host/engine/opencl_device_schemes.cpp).
 //
-// Resources: plans are baked and buffers allocated in the constructors (the first use for a size
-// in the engine); a step allocates no device memory. clFFT's library state is set up once per
-// process before the first plan (clfftSetup) and torn down at exit (clfftTeardown). Each
-// clfftEnqueueTransform makes a few small heap allocations of clFFT's own (std::vector, lock
-// names: about 38 per 2D real transform, freed before it returns); nothing else here does.
+// Resources: root tables and buffers are made in the constructors (the first use for a size in
+// the engine); a transform, a solve or a step allocates nothing, on the device or the host: it
+// sets kernel arguments and enqueues (tests/host/engine/frame_alloc_test.cpp counts).
 #if defined(ARDCELL_WITH_OPENCL)
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,18 +29,25 @@
 
 namespace ardcell {
 
-// "" when clFFT transforms an nx x ny grid, else one phrase naming why, e.g. "93 has a prime
-// factor clFFT lacks (31)".
-std::string clfft_size_problem(Int2 size);
+// "" when the device FFT transforms an nx x ny grid, else one phrase naming why, e.g. "93 has a
+// prime factor the device FFT lacks (31)".
+std::string device_fft_size_problem(Int2 size);
 
-// The packed fields and half spectra of `batch` 2D real transforms of size nx x ny, and the
-// forward (real-to-complex) and backward (complex-to-real, unscaled: scale 1) clFFT plans
-// between them, out of place, on the context's queue. See spectral.cl for the layouts.
+// `batch` 2D real transforms of size nx x ny between packed fields and half spectra, forward
+// (real-to-complex) and backward (complex-to-real, unscaled), out of place, on the context's
+// queue (see spectral.cl for the layouts). Each is a few passes of fft.cl's mixed-radix Stockham
+// kernels per dimension, each pass one launch over every row (or column) of the batch: forward,
+// the rows, then the nx / 2 + 1 spectral columns; backward, the columns, then the rows. An even
+// nx transforms each real row as a complex row of nx / 2 (pairs of reals), split into the row's
+// half spectrum as the first column pass loads, merged back as the first backward row pass
+// loads; an odd nx as a complex row of nx (the first pass reads the reals; the last keeps the
+// half spectrum; backward, the first rebuilds each row from its Hermitian half, the last keeps
+// the real part).
 class ClFft2d {
  public:
-  // Throws std::runtime_error with one line when clFFT cannot plan (see clfft_size_problem).
+  // Throws std::runtime_error with one line when the device FFT cannot transform the size (see
+  // device_fft_size_problem) or the program cannot be built.
   ClFft2d(OpenClContext& ctx, Int2 size, int batch);
-  ~ClFft2d();
   ClFft2d(const ClFft2d&) = delete;
   ClFft2d& operator=(const ClFft2d&) = delete;
 
@@ -54,28 +60,55 @@ class ClFft2d {
   OpenClBuffer allocate_real() const;
   OpenClBuffer allocate_spectrum() const;
 
+  // The forward transform keeps `real`; the backward one may use `spectrum` as scratch.
   void forward(const OpenClBuffer& real, const OpenClBuffer& spectrum);
-  // clFFT may use either transform's input as scratch: neither is kept.
   void backward(const OpenClBuffer& spectrum, const OpenClBuffer& real);
 
  private:
-  void enqueue(std::size_t plan, int direction, const OpenClBuffer& in, const OpenClBuffer& out);
-  void destroy_plans();
+  // How a pass of fft.cl reads or writes one buffer (see its header).
+  struct Layout {
+    int kind;  // in: 0 complex, 1 real, 2 Hermitian half, 3 split, 4 merge; out: 0 complex, 1 real
+    int stride;          // between a transform's elements
+    int distance;        // between neighbouring transforms of a field
+    int field_distance;  // between fields
+    int keep;            // out, complex: the elements below keep are written
+  };
+  // One dimension's transforms: length, radices in pass order, root table and batch shape.
+  struct Dimension {
+    int n = 0;
+    std::vector<int> radices;  // sized in the constructor
+    OpenClBuffer roots;        // w_n^k, k < n, as float2
+    int per_field = 0;         // transforms per field
+    bool transforms_fastest = false;
+  };
+  struct Layouts;
+  Layouts layouts() const;
+  // Dimension d's passes from (in, in_layout) to (out, out_layout); pass p before the last
+  // writes scratch[p % 2] in `between` (so each pass's input and output differ when in, out
+  // and the scratch buffers allow it: see forward and backward).
+  void run(const Dimension& d, bool inverse, const OpenClBuffer& in, const Layout& in_layout,
+           const OpenClBuffer& out, const Layout& out_layout, const OpenClBuffer* const scratch[2],
+           const Layout& between);
 
   OpenClContext& ctx_;
   Int2 size_;
   int batch_;
-  // clfftPlanHandles (std::size_t: clFFT.h stays in the .cpp); made_plans_ of them exist.
-  std::size_t forward_plan_ = 0, backward_plan_ = 0;
-  int made_plans_ = 0;
-  OpenClBuffer scratch_;  // clFFT's temporary buffer (the larger plan's), when it needs one
+  std::unique_ptr<OpenClKernels> kernels_;  // the one program (fft.cl's kernels are in it)
+  // fft_pass_radixR and fft_complex_pass_radixR at index R.
+  cl_kernel pass_[17] = {}, complex_pass_[17] = {};
+  Dimension rows_, columns_;
+  int half_ = 0;              // nx / 2 for an even nx (rows_.n), else 0
+  OpenClBuffer split_roots_;  // w_nx^k, k < nx: the split's and merge's twiddles
+  // Two buffers of `batch` fields of complex rows (rows_.n or nx / 2 + 1, the larger, x ny
+  // float2): the passes ping-pong between them and the spectrum.
+  OpenClBuffer rows_a_, rows_b_;
 };
 
 // Twin of PeriodicStencilSolve::solve on a device field of the solve's size.
 class OpenClPeriodicSolve {
  public:
   // fft: made for solve's size with batch 1, shared with other solves of that size (the
-  // transforms run in queue order, so its temporary buffer is free between ops).
+  // transforms run in queue order, so its scratch buffers are free between ops).
   OpenClPeriodicSolve(OpenClKernels& cl, ClFft2d& fft);
 
   // x <- (I - solve.delta() K)^{-1} x over x's interior. Uploads solve's multipliers first when

@@ -1,18 +1,18 @@
-// The spectral steps around clFFT's transforms (host side: kernels/cl/opencl_fft.h):
+// The spectral steps around the device FFT's transforms (fft.cl; host side:
+// kernels/cl/opencl_fft.h):
 //   seed 003, Eqn 28's linear part, x <- (I - delta K)^{-1} x, each Fourier mode times
 //     1 / ((1 - delta symbol(k)) nx ny) (kernels/periodic_stencil_solve.h), and
 //   the ETDRK4 step of kernels/periodic_etdrk4.h (Cox & Matthews' ETD4RK with Kassam &
 //     Trefethen's coefficients): the reaction N(u) of the stages in cells, and the stages'
 //     combinations per mode.
-// clFFT transforms packed fields: `batch` fields of nx x ny cells, field f's cell (x, y) at
+// The transforms take packed fields: `batch` fields of nx x ny cells, field f's cell (x, y) at
 // packed[(f ny + y) nx + x]; their half spectra (real-to-complex) at spectrum[(f ny + my) w + mx],
 // w = nx / 2 + 1: the transpose of the CPU tables' [mx][my], which the host transposes on upload.
 // Sorted after reaction.cl in the one program: rd_rates is its.
 
-// A field's interior into field `at` of a packed batch, and back: clFFT's strides could step
-// over a halo, but it takes no offset into a buffer, so a transform cannot start at a field's
-// origin (and a sub-buffer there would break the device's base-address alignment). One work-item
-// per cell.
+// A field's interior into field `at` of a packed batch, and back: the transforms run on packed
+// batches (one launch per pass over every field of a batch), not at a field's origin (a
+// sub-buffer there would break the device's base-address alignment). One work-item per cell.
 __kernel void spectral_pack(__global const float* f, int stride, int origin, int nx, int ny,
                             __global float* packed, int at) {
   const int x = get_global_id(0), y = get_global_id(1);
@@ -57,7 +57,7 @@ inline float etd_coefficient(__global const float* coef, int modes, int c, int t
 // One stage's combination per mode (kernels/periodic_etdrk4.cpp's column pass, in its float
 // order), both chemicals: mode m of chemical c at index c modes + m of every spectrum. v = u^,
 // n_u = N_u^, n_ab = N_a^ (then N_a^ + N_b^), n_stage = the N^ of the stage's field; out = the
-// next stage's field times scale = 1 / (nx ny) (clFFT's backward transform does not scale).
+// next stage's field times scale = 1 / (nx ny) (the backward transform does not scale).
 //   stage 0 (A): n_u = n_stage, out = E2 v + Q n_u
 //   stage 1 (B): n_ab = n_stage, out = E2 v + Q n_ab
 //   stage 2 (C): a = E2 v + Q n_u, n_ab += n_stage, out = E2 a + Q (2 n_stage - n_u)

@@ -6,13 +6,11 @@
 #include <string>
 
 // LeakSanitizer: the OpenCL driver (PoCL and its LLVM) keeps compiler state for the life of the
-// process and never frees it, and clFFT (kernels/cl/opencl_fft.h) keeps a copy of each kernel
-// signature it generates (FFTRepo::setProgramCode) past clfftTeardown. Suppress leaks whose stack
-// passes through the driver or clFFT only, in any sanitizer build that links the OpenCL back
-// end; our own leaks are still reported.
+// process and never frees it. Suppress leaks whose stack passes through the driver only, in any
+// sanitizer build that links the OpenCL back end; our own leaks are still reported.
 #if defined(__SANITIZE_ADDRESS__)
 extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libpocl.so\nleak:libLLVM\nleak:libOpenCL.so\nleak:libclang-cpp\nleak:libclFFT.so\n";
+  return "leak:libpocl.so\nleak:libLLVM\nleak:libOpenCL.so\nleak:libclang-cpp\n";
 }
 #endif
 

@@ -7,10 +7,10 @@
 //   - the scene's own ICCG solves (--solver iccg) run on the device too, with no fallback line
 //     and the same agreement;
 //   - the FFT steps (mcgraw-turing-d's semi-implicit solve, pearson's ETDRK4) run on the device
-//     (clFFT) with no fallback line;
+//     (its own FFT kernels) with no fallback line;
 //   - a setting the device does not run (multigrid implicit diffusion, an FFT of a size with a
-//     prime factor clFFT lacks) runs that op on the CPU with ONE line naming the setting and
-//     why; an invalid --cl-device prints ONE line and runs on the threads back end;
+//     prime factor the device FFT lacks) runs that op on the CPU with ONE line naming the setting
+//     and why; an invalid --cl-device prints ONE line and runs on the threads back end;
 //   - --cl-device with --backend threads is a usage error (exit 2, one line).
 #include <gtest/gtest.h>
 
@@ -141,8 +141,8 @@ TEST_F(RunOpenClCliTest, WhatTheDeviceCannotRunFallsBackWithOneLine) {
   const bool device = have_opencl_device();
   const Case cases[] = {
       {"run pearson --size 34 --steps 2 --every 0 --backend opencl",
-       device ? "ETDRK4 step (FFT) runs on the CPU (rd.scheme etdrk4: 34 has a prime factor clFFT "
-                "lacks (17))"
+       device ? "ETDRK4 step (FFT) runs on the CPU (rd.scheme etdrk4: 34 has a prime factor the "
+                "device FFT lacks (17))"
               : "OpenCL"},
       {"run pearson --size 24 --steps 2 --every 0 --backend opencl --set rd.scheme=implicit "
        "--set rd.diffusion_solver.kind=mg",
@@ -159,8 +159,8 @@ TEST_F(RunOpenClCliTest, WhatTheDeviceCannotRunFallsBackWithOneLine) {
   }
 }
 
-// The FFT steps (seed 003's semi-implicit solve, ETDRK4) run on the device by clFFT at a size
-// whose prime factors it has: no fallback line.
+// The FFT steps (seed 003's semi-implicit solve, ETDRK4) run on the device by its own FFT at a
+// size whose prime factors it has: no fallback line.
 TEST_F(RunOpenClCliTest, FftScenesRunOnTheDevice) {
   if (!have_opencl_device()) GTEST_SKIP() << "no OpenCL device (or built without OpenCL)";
   for (const char* args : {"run mcgraw-turing-d --size 64x48 --steps 2 --every 0 --backend opencl",

@@ -12,8 +12,8 @@
 //   - the anisotropic space cookies stay within 1e-5 for 2 frames, and within 4x the CPU's own
 //     drift under an ulp of perturbation (an ulp moved in 40% of the initial cells) for 60;
 //   - the FFT presets (mcgraw-*, pearson) run their FFT steps on the CPU at 127 x 93 (127 and 31
-//     are prime factors clFFT lacks) and on the device at 64 x 48, within 1e-5 after a frame
-//     (the Turing textures after 3 within 4x the CPU's own drift under an ulp).
+//     are prime factors the device FFT lacks) and on the device at 64 x 48, within 1e-5 after a
+//     frame (the Turing textures after 3 within 4x the CPU's own drift under an ulp).
 // Also: after the first frame a frame moves no field between host and device, and fluid scenes
 // with the real-time solvers, or with the presets' multigrid solvers, and the presets' ICCG
 // diffusion run every op on the device (no fallback line).
@@ -212,14 +212,15 @@ TEST(EngineOpenCl, FramesStayOnTheDeviceAndNoOpFallsBack) {
 }
 
 // The presets whose RD steps by FFT (seed 003's semi-implicit solve, Eqn 28: the mcgraw-*
-// textures; ETDRK4: pearson) at a size clFFT transforms (factors 2 and 3; the awkward size above
-// has 127 and 31, which it lacks, so there they run on the CPU): on the device by clFFT, frame
-// after frame without a transfer or a fallback line, within 1e-5 of serial (FFTW) after the
-// first frame (10 steps) and, but for the Turing textures, after kFrames. clFFT's float
-// transforms round differently from FFTW's (a few 1e-7 of max |x| a solve), and the Turing model
-// amplifies that as it does an ulp: on the CPU, an ulp moved in 40% of A's cells grows to
-// 1.1e-5 .. 5.3e-5 in 3 frames, clFFT's rounding to 1.7e-5 .. 2.9e-5; so there the device may
-// drift no more than 4x the CPU's own drift under that ulp.
+// textures; ETDRK4: pearson) at a size the device FFT transforms (factors 2 and 3; the awkward
+// size above has 127 and 31, which it lacks, so there they run on the CPU): on the device by its
+// own FFT kernels (kernels/cl/fft.cl), frame after frame without a transfer or a fallback line,
+// within 1e-5 of serial (FFTW) after the first frame (10 steps) and, but for the Turing
+// textures, after kFrames. The device's float transforms round differently from FFTW's (a few
+// 1e-7 of max |x| a solve), and the Turing model amplifies that as it does an ulp: on the CPU,
+// an ulp moved in 40% of A's cells grows to 1.1e-5 .. 5.3e-5 in 3 frames, the device FFT's
+// rounding to 1.1e-5 .. 4.1e-5; so there the device may drift no more than 4x the CPU's own drift
+// under that ulp.
 TEST(EngineOpenCl, FftPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
   if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
   int presets = 0;
@@ -231,7 +232,7 @@ TEST(EngineOpenCl, FftPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
                                      rd.diffuse && rd.scheme != RdScheme::kExplicit));
     if (!fft) continue;
     ++presets;
-    scene.size = {64, 48};  // cl_fft_parity_test's size (clFFT's kernels compiled once)
+    scene.size = {64, 48};  // cl_fft_parity_test's size
     testing::internal::CaptureStderr();
     Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
     Engine cl(scene, on_device());
