@@ -148,8 +148,10 @@ Status control_mesh(SurfaceArgs& a, PolyMesh& mesh) {
     const std::filesystem::path path = packaged_mesh_dir() / shape.file;
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
-      return Status::error("--shape " + a.shape + ": needs Debian's libcgal-demo (data/meshes/" +
-                           shape.file + " from /usr/share/doc/libcgal-dev/data.tar.gz)");
+      return Status::error("--shape " + a.shape + ": " + path.string() +
+                           " not found (install Debian's libcgal-demo and run cmake again, or "
+                           "set ARDCELL_MESH_DIR to a folder holding " +
+                           shape.file + ")");
     a.mesh_label = "--shape " + a.shape;
     return read_mesh(path, {}, mesh);
   }

@@ -26,11 +26,14 @@ namespace {
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
-// Splits a line into whitespace-separated tokens (views into the line).
-void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
+// Splits a line into whitespace-separated tokens (views into the line), at most max_tokens of
+// them: no valid line of either format has that many, so the counts' checks reject a longer one,
+// and a line of millions of values costs no memory.
+void tokenize(std::string_view line, std::vector<std::string_view>& tokens,
+              std::size_t max_tokens) {
   tokens.clear();
   std::size_t i = 0;
-  while (i < line.size()) {
+  while (i < line.size() && tokens.size() < max_tokens) {
     while (i < line.size() && is_space(line[i])) ++i;
     std::size_t j = i;
     while (j < line.size() && !is_space(line[j])) ++j;
@@ -60,7 +63,10 @@ bool parse_integer(std::string_view s, long long& out) {
 // their messages count lines alike.
 class LineCursor {
  public:
-  explicit LineCursor(std::string_view text) : text_(text) {}
+  // Lines hold at most max_face_size + 16 tokens (a face's indices, its keyword or count, an
+  // OFF face's colour; see tokenize).
+  LineCursor(std::string_view text, const MeshLimits& limits)
+      : text_(text), max_tokens_(std::size_t(std::max(limits.max_face_size, 0)) + 16) {}
 
   // The next line with a token into `tokens`; false at the end of the text.
   bool next(std::vector<std::string_view>& tokens) {
@@ -72,7 +78,7 @@ class LineCursor {
       ++line_;
       if (const auto hash = line.find('#'); hash != std::string_view::npos)
         line = line.substr(0, hash);
-      tokenize(line, tokens);
+      tokenize(line, tokens, max_tokens_);
       if (!tokens.empty()) return true;
     }
     return false;
@@ -81,6 +87,7 @@ class LineCursor {
 
  private:
   std::string_view text_;
+  std::size_t max_tokens_;
   std::size_t pos_ = 0, line_ = 0;
 };
 
@@ -100,7 +107,7 @@ Status parse_obj(std::string_view text, const MeshLimits& limits, PolyMesh& out)
   out = PolyMesh{};
   if (Status s = too_large(text, limits); !s) return s;
   std::vector<std::string_view> tokens;
-  LineCursor lines(text);
+  LineCursor lines(text, limits);
   while (lines.next(tokens)) {
     const std::size_t line_no = lines.line();
     const std::string_view key = tokens[0];
@@ -160,7 +167,7 @@ Status parse_off(std::string_view text, const MeshLimits& limits, PolyMesh& out)
   out.first_number = 0;
   if (Status s = too_large(text, limits); !s) return s;
   std::vector<std::string_view> tokens;
-  LineCursor lines(text);
+  LineCursor lines(text, limits);
   if (!lines.next(tokens))
     return Status::error("the file is empty (expected OFF, then the vertex and face counts)");
   // The header keyword is optional; the counts may follow it on the same line.
@@ -266,7 +273,7 @@ Status parse_off(std::string_view text, const MeshLimits& limits, PolyMesh& out)
 
 MeshFormat mesh_format(const std::filesystem::path& path, std::string_view text) {
   std::vector<std::string_view> tokens;
-  LineCursor lines(text);
+  LineCursor lines(text, MeshLimits{});
   if (lines.next(tokens) && ends_with_off(tokens[0])) return MeshFormat::kOff;
   std::string extension = path.extension().string();
   for (char& c : extension) c = char(std::tolower((unsigned char)c));

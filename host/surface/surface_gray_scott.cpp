@@ -53,12 +53,14 @@ void for_spot_cells(const PatchGrid& g, const std::array<PatchField, 3>& pos, in
   const double limit = std::cbrt(double(cells.size())) + 1;
   for (int a = 0; a < 3; ++a) {
     const double extent = hi[a] - lo[a];
-    bins[a] = radius > 0 && extent > 0 ? int(std::clamp(extent / radius, 1.0, limit)) : 1;
+    // (1 - 1e-9): a bin a little wider than radius, so that rounding in bin_of never puts a
+    // cell at exactly radius two bins away.
+    const double count = extent / radius * (1 - 1e-9);
+    bins[a] = std::isfinite(count) && count > 1 ? int(std::min(count, limit)) : 1;
   }
   const auto bin_of = [&](int a, double x) {
-    const double extent = hi[a] - lo[a];
-    if (extent <= 0) return 0;
-    return std::clamp(int((x - lo[a]) / extent * bins[a]), 0, bins[a] - 1);
+    const double at = (x - lo[a]) / (hi[a] - lo[a]) * bins[a];
+    return bins[a] == 1 || !std::isfinite(at) ? 0 : std::clamp(int(at), 0, bins[a] - 1);
   };
   const auto bin_index = [&](int bx, int by, int bz) {
     return (std::size_t(bz) * bins[1] + std::size_t(by)) * bins[0] + std::size_t(bx);

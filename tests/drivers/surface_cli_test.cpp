@@ -140,7 +140,7 @@ TEST_F(SurfaceCli, OffMeshIsReadAsObjIs) {
 
 // --shape eight: CGAL's figure eight from libcgal-demo (634 triangles, 1902 patches), skipped
 // only without the package; without its file (ARDCELL_MESH_DIR naming an empty folder) the
-// shape says what to install, one line, exit 2.
+// shape names the file it looked for and what to do, one line, exit 2.
 TEST_F(SurfaceCli, PackagedEightToPly) {
   const bool packaged = fs::exists(fs::path(ARDCELL_MESH_DIR) / "eight.off");
   if (!packaged) {
@@ -148,7 +148,10 @@ TEST_F(SurfaceCli, PackagedEightToPly) {
         "/eight.off is missing though libcgal-demo is installed: run cmake "
         "again";
   } else {
-    const BinaryRunResult r = run("surface --shape eight --patch-cells 2 --steps 5 --out e.ply");
+    // The compiled-in folder, whatever the environment says.
+    const BinaryRunResult r = run_command("env -u ARDCELL_MESH_DIR '" ARDCELL_BINARY
+                                          "' surface --shape eight --patch-cells 2 --steps 5 "
+                                          "--out e.ply");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.out.rfind("patches=1902 (refined once) cells=7608 ", 0), 0u) << r.out;
     expect_ply(work() / "e.ply", 1902 * 9, 1902 * 4);
@@ -159,9 +162,10 @@ TEST_F(SurfaceCli, PackagedEightToPly) {
         run_command("ARDCELL_MESH_DIR=empty exec '" ARDCELL_BINARY "' surface --shape " +
                     std::string(shape) + " --out x.ply");
     EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_EQ(r.err, "ardcell surface: --shape " + std::string(shape) +
-                         ": needs Debian's libcgal-demo (data/meshes/" + shape +
-                         ".off from /usr/share/doc/libcgal-dev/data.tar.gz)\n");
+    EXPECT_EQ(r.err, "ardcell surface: --shape " + std::string(shape) + ": empty/" + shape +
+                         ".off not found (install Debian's libcgal-demo and run cmake again, or "
+                         "set ARDCELL_MESH_DIR to a folder holding " +
+                         shape + ".off)\n");
     EXPECT_FALSE(fs::exists(work() / "x.ply"));
   }
   if (!packaged) GTEST_SKIP() << "needs Debian's libcgal-demo (" ARDCELL_CGAL_DATA_ARCHIVE ")";

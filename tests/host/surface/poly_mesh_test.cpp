@@ -404,5 +404,21 @@ TEST(PackagedMesh, EightIsAClosedGenus2Surface) {
     }
 }
 
+// CGAL's elephant (2775 vertices, 5558 triangles): closed, genus 3, 16674 patches once refined.
+TEST(PackagedMesh, ElephantIsAClosedGenus3Surface) {
+  std::filesystem::path path;
+  if (!packaged_mesh("elephant.off", path))
+    GTEST_SKIP() << "needs Debian's libcgal-demo (" ARDCELL_CGAL_DATA_ARCHIVE ")";
+  PolyMesh m;
+  const Status read = read_mesh(path, {}, m);
+  ASSERT_TRUE(read) << read.message();
+  EXPECT_EQ(m.points.size(), 2775u);
+  ASSERT_EQ(m.face_count(), 5558);
+  EXPECT_TRUE(check_manifold(m)) << check_manifold(m).message();
+  const EdgeCensus census = edge_census(m);
+  EXPECT_TRUE(census.every_edge_in_two_faces);
+  EXPECT_EQ(census.euler(), -4);
+}
+
 }  // namespace
 }  // namespace ardcell

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "host/surface/procedural_mesh.h"
 #include "runtime/row_executor.h"
@@ -114,6 +115,52 @@ TEST(SurfaceGrayScott, ImplicitReactionPatternHasNoSeams) {
 
 // The patches run side by side on the threads back end: 1, 2 and 3 workers give the same fields
 // bit for bit (per-cell work per patch, maxima, totals as per-patch partials in patch order).
+// The start's discs: every cell within the radius of each random centre, in the order of a scan
+// over all cells (each takes two draws from the generator), as that scan finds them. The discs
+// are found through bins of the radius; here the scan itself, on the genus-2 surface, with radii
+// that make the bins exactly the radius wide along an axis (the rounding a bin must not miss),
+// tiny (one cell) and larger than the surface (one bin).
+TEST(SurfaceGrayScott, StartDiscsAreTheCellsAFullScanFinds) {
+  LimitSurface s;
+  ASSERT_TRUE(LimitSurface::build(genus2_mesh(1.0), {}, s));
+  const SurfaceLaplacian op(s.topology(), sample_limit_metric(s, 4));
+  const PatchGrid& g = op.grid();
+  const std::array<PatchField, 3> pos = cell_positions(s, g);
+  double lo = INFINITY, hi = -INFINITY;
+  for (int p = 0; p < g.patches(); ++p)
+    for (int j = 0; j < g.n(); ++j)
+      for (int i = 0; i < g.n(); ++i)
+        lo = std::min(lo, pos[0][g.index(p, i, j)]), hi = std::max(hi, pos[0][g.index(p, i, j)]);
+  for (double radius : {(hi - lo) / 7, (hi - lo) / 10, 1e-3, 100 * (hi - lo)}) {
+    SurfaceGrayScott rd(op, gray_scott_for_length(0.1));
+    const int spots = 40;
+    rd.seed_spots(pos, 11, spots, radius);
+    // The scan, with SurfaceGrayScott::seed_spots's draws.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::uniform_int_distribution<int> patch(0, g.patches() - 1), cell(0, g.n() - 1);
+    PatchField a = g.make_field(1.0), b = g.make_field(0.0);
+    for (int k = 0; k < spots; ++k) {
+      const std::size_t centre = g.index(patch(rng), cell(rng), cell(rng));
+      for (int p = 0; p < g.patches(); ++p)
+        for (int j = 0; j < g.n(); ++j)
+          for (int i = 0; i < g.n(); ++i) {
+            const std::size_t c = g.index(p, i, j);
+            double d2 = 0;
+            for (const PatchField& x : pos) d2 += (x[c] - x[centre]) * (x[c] - x[centre]);
+            if (d2 > radius * radius) continue;
+            a[c] = 0.5 * (1 + 0.02 * (unit(rng) - 0.5));
+            b[c] = 0.25 * (1 + 0.02 * (unit(rng) - 0.5));
+          }
+    }
+    int covered = 0;
+    for (double v : b) covered += v != 0;
+    EXPECT_GT(covered, 0) << radius;
+    EXPECT_TRUE(rd.a() == a) << "radius " << radius;
+    EXPECT_TRUE(rd.b() == b) << "radius " << radius;
+  }
+}
+
 TEST(SurfaceGrayScott, AnyNumberOfWorkersGivesTheSameBits) {
   LimitSurface s;
   ASSERT_TRUE(LimitSurface::build(genus2_mesh(1.0), {}, s));
