@@ -20,8 +20,9 @@
 // in that order with transforms_fastest (columns: neighbouring work-items take neighbouring
 // columns, coalesced on a GPU), else j first (rows); both may be padded to whole work-groups.
 // Transform `within` of field f starts at element f field_distance + within distance of its
-// buffer and steps by `stride`. (No index is decoded by a division: on PoCL, decoding a 1D
-// range's index took about a third of a transform's time.)
+// buffer and steps by `stride`. (The range is 3D so that no work-item decodes (field,
+// transform, j) from one index by divisions: on PoCL, decoding a 1D range's index took about a
+// third of a transform's time.)
 //
 // What a pass reads (in_kind) and writes (out_kind), so that the first and last passes of a 2D
 // real transform also convert between real fields and complex rows. An even-length real row x

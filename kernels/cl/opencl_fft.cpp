@@ -6,6 +6,7 @@
 #include <complex>
 #include <cstdio>
 #include <iterator>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -58,6 +59,12 @@ constexpr std::size_t kGroupColumns = 16, kGroupRows = 4;
 }  // namespace
 
 std::string device_fft_size_problem(Int2 size) {
+  // The kernels index in int: ETDRK4's coefficient tables hold 12 (nx / 2 + 1) ny complex
+  // values (spectral.cl), the largest buffer a transform's user indexes.
+  if (size.x >= 1 && size.y >= 1 &&
+      12.0 * (size.x / 2 + 1) * double(size.y) > double(std::numeric_limits<int>::max()))
+    return std::to_string(size.x) + "x" + std::to_string(size.y) +
+           " is beyond the device FFT's int indices";
   for (int n : {size.x, size.y}) {
     if (n < 1) return std::to_string(n) + " is not a length";
     const int p = largest_prime_factor(n);
@@ -83,6 +90,18 @@ ClFft2d::ClFft2d(OpenClContext& ctx, Int2 size, int batch) : ctx_(ctx), size_(si
     pass_[radix] = kernels_->kernel(("fft_pass_radix" + std::to_string(radix)).c_str());
     complex_pass_[radix] =
         kernels_->kernel(("fft_complex_pass_radix" + std::to_string(radix)).c_str());
+    // The passes launch work-groups of kGroupColumns x kGroupRows: a device that cannot run
+    // them refuses here, where the engine falls back to the CPU with one line, not mid-frame.
+    for (cl_kernel k : {pass_[radix], complex_pass_[radix]}) {
+      std::size_t largest = 0;
+      opencl_check(clGetKernelWorkGroupInfo(k, ctx.device().device, CL_KERNEL_WORK_GROUP_SIZE,
+                                            sizeof largest, &largest, nullptr),
+                   "clGetKernelWorkGroupInfo");
+      if (largest < kGroupColumns * kGroupRows)
+        throw std::runtime_error("device FFT: work-groups of " +
+                                 std::to_string(kGroupColumns * kGroupRows) +
+                                 " work-items, the device runs at most " + std::to_string(largest));
+    }
   }
   const int nx = size.x, ny = size.y, w = width();
   // An even nx transforms each real row as a complex row of nx / 2 (fft.cl: the split, merge).
@@ -342,7 +361,7 @@ void OpenClEtdrk4::step(const PeriodicEtdrk4& etdrk4, DeviceField& a, DeviceFiel
     upload(etdrk4);
   pack(cl_, a, u_real_, 0);
   pack(cl_, b, u_real_, 1);
-  // N(u) before u's transform, which the interface lets use its input as scratch.
+  // N(u) from u in cells (forward keeps its input, so the order is free).
   reaction(reaction_params);
   fft_.forward(u_real_, v_);
   fft_.forward(n_real_, n_stage_);

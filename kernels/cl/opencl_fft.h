@@ -15,8 +15,9 @@
 // (host/engine/opencl_device_schemes.cpp).
 //
 // Resources: root tables and buffers are made in the constructors (the first use for a size in
-// the engine); a transform, a solve or a step allocates nothing, on the device or the host: it
-// sets kernel arguments and enqueues (tests/host/engine/frame_alloc_test.cpp counts).
+// the engine); a transform, a solve or a step makes no heap allocation of ours and no device
+// buffer: it sets kernel arguments and enqueues (tests/host/engine/frame_alloc_test.cpp counts
+// operator new; what the OpenCL driver allocates inside an enqueue is the driver's).
 #if defined(ARDCELL_WITH_OPENCL)
 #include <memory>
 #include <string>

@@ -116,7 +116,10 @@ TEST(ClFft, TransformsAgreeWithTheDftInDoubleAndInvert) {
   };
   for (const Case c : {Case{{64, 48}, 1}, Case{{60, 42}, 1}, Case{{49, 35}, 1}, Case{{27, 20}, 1},
                        Case{{6, 5}, 1}, Case{{4, 7}, 1}, Case{{60, 42}, 2}, Case{{49, 35}, 2},
-                       Case{{4, 7}, 2}, Case{{1, 3}, 2}, Case{{16, 40}, 2}, Case{{256, 128}, 1}}) {
+                       Case{{4, 7}, 2}, Case{{1, 3}, 2}, Case{{16, 40}, 2}, Case{{256, 128}, 1},
+                       // Radix 16 after 16, and 4 and 2 after 16, in rows and in columns
+                       // (pearson's 256^2 runs its columns as 16, 16).
+                       Case{{128, 64}, 1}, Case{{64, 256}, 1}, Case{{1024, 8}, 1}}) {
     const Int2 n = c.n;
     ClFft2d fft(ctx, n, c.batch);
     const std::size_t cells = std::size_t(c.batch * fft.cells());
@@ -157,6 +160,58 @@ TEST(ClFft, TransformsAgreeWithTheDftInDoubleAndInvert) {
       "device FFT: max relative error %.3g forward (vs the DFT in double), %.3g forward "
       "then backward (vs nx ny x)\n",
       worst_forward, worst_round_trip);
+}
+
+// The backward transform ignores the imaginary parts a real field's spectrum cannot have: after
+// the column passes, each row's X_0 and (nx even) X_(nx/2) must be real, and whatever imaginary
+// part they carry is dropped, as FFTW's complex-to-real transform does. Adding i DFT_y(r) (r real)
+// to the spectrum's column 0 and column nx / 2 adds i ny r(y) to exactly those values: the field
+// that comes back is the same to rounding (and not, were the imaginary parts used).
+TEST(ClFft, BackwardIgnoresTheImaginaryPartsOfEachRowsRealModes) {
+  TestOpenClDevice* device = test_opencl_device();
+  if (!device) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  OpenClContext& ctx = *device->ctx;
+  for (const Int2 n : {Int2{64, 48}, Int2{49, 35}, Int2{128, 64}, Int2{6, 5}}) {
+    ClFft2d fft(ctx, n, 1);
+    const int w = fft.width();
+    const FieldF field = random_field(n, 17u + unsigned(n.x));
+    std::vector<float> packed(std::size_t(fft.cells()));
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) packed[std::size_t(y) * n.x + x] = field(x, y);
+    OpenClBuffer real = fft.allocate_real(), spectrum = fft.allocate_spectrum();
+    ctx.write(real, packed.data(), packed.size() * sizeof(float));
+    fft.forward(real, spectrum);
+    std::vector<std::complex<float>> clean(std::size_t(fft.modes()));
+    ctx.read(spectrum, clean.data(), clean.size() * sizeof(clean[0]));
+    std::vector<std::complex<float>> perturbed = clean;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int mx : {0, n.x % 2 == 0 ? n.x / 2 : -1}) {
+      if (mx < 0) continue;
+      std::vector<double> r(std::size_t(n.y));
+      for (double& v : r) v = u(rng);
+      for (int my = 0; my < n.y; ++my) {
+        std::complex<double> dft = 0;
+        for (int y = 0; y < n.y; ++y)
+          dft += r[std::size_t(y)] * std::polar(1.0, -2 * std::numbers::pi * my * y / n.y);
+        perturbed[std::size_t(my) * w + mx] +=
+            std::complex<float>(std::complex<double>(0, 1) * dft);
+      }
+    }
+    const auto back = [&](const std::vector<std::complex<float>>& s) {
+      ctx.write(spectrum, s.data(), s.size() * sizeof(s[0]));
+      fft.backward(spectrum, real);
+      std::vector<float> out(packed.size());
+      ctx.read(real, out.data(), out.size() * sizeof(float));
+      return out;
+    };
+    const std::vector<float> a = back(clean), b = back(perturbed);
+    double diff = 0, scale = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      diff = std::max(diff, double(std::abs(a[i] - b[i]))),
+      scale = std::max(scale, double(std::abs(a[i])));
+    EXPECT_LE(diff / scale, kTolerance) << n.x << "x" << n.y;
+  }
 }
 
 // A size the device FFT lacks throws one line naming the factor (the engine falls back).

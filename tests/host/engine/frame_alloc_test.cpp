@@ -82,6 +82,7 @@ TEST(FrameAlloc, FftStepsOnTheOpenClDeviceStep0Allocations) {
     scene.size = {64, 48};
     testing::internal::CaptureStderr();  // a fallback line would say the FFT ran on the CPU
     Engine engine(scene, {EngineOptions::Backend::kOpenCl, 0, device->ctx.get()});
+    EXPECT_STREQ(engine.backend_name(), "opencl") << name;
     engine.step();
     engine.finish();
     const long before = g_allocations.load();
