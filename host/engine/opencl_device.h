@@ -165,20 +165,19 @@ class OpenClDevice final : public Device {
 
   // The FFT twins of a CPU solve or ETDRK4 step (made on its first use: tables and buffers), or
   // none (device null) and why, for a size the device FFT cannot transform.
-  struct PeriodicSolveTwin {
-    const PeriodicStencilSolve* cpu = nullptr;
+  template <class Cpu, class OnDevice>
+  struct FftTwin {
+    const Cpu* cpu = nullptr;
     Int2 size{};
-    std::unique_ptr<OpenClPeriodicSolve> device;
+    std::unique_ptr<OnDevice> device;
     std::string why_not;
   };
-  struct Etdrk4Twin {
-    const PeriodicEtdrk4* cpu = nullptr;
-    Int2 size{};
-    std::unique_ptr<OpenClEtdrk4> device;
-    std::string why_not;
-  };
-  PeriodicSolveTwin& periodic_twin(const PeriodicStencilSolve& solve);
-  Etdrk4Twin& etdrk4_twin(const PeriodicEtdrk4& etdrk4);
+  using PeriodicSolveTwin = FftTwin<PeriodicStencilSolve, OpenClPeriodicSolve>;
+  using Etdrk4Twin = FftTwin<PeriodicEtdrk4, OpenClEtdrk4>;
+  // The twin of `cpu` in `twins`, made on its first use with transforms of `batch` fields.
+  template <class Cpu, class OnDevice>
+  FftTwin<Cpu, OnDevice>& fft_twin(std::deque<FftTwin<Cpu, OnDevice>>& twins, const Cpu& cpu,
+                                   int batch);
   // The transforms of `batch` fields of `size`, shared by the twins of that size (made once).
   ClFft2d& fft(Int2 size, int batch);
 

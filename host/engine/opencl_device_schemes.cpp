@@ -56,43 +56,28 @@ ClFft2d& OpenClDevice::fft(Int2 size, int batch) {
   return *ffts_.back();
 }
 
-OpenClDevice::PeriodicSolveTwin& OpenClDevice::periodic_twin(const PeriodicStencilSolve& solve) {
-  for (PeriodicSolveTwin& t : periodic_twins_)
-    if (t.cpu == &solve && t.size == solve.size()) return t;
-  PeriodicSolveTwin t{&solve, solve.size(), nullptr, device_fft_size_problem(solve.size())};
+template <class Cpu, class OnDevice>
+OpenClDevice::FftTwin<Cpu, OnDevice>& OpenClDevice::fft_twin(
+    std::deque<FftTwin<Cpu, OnDevice>>& twins, const Cpu& cpu, int batch) {
+  for (FftTwin<Cpu, OnDevice>& t : twins)
+    if (t.cpu == &cpu && t.size == cpu.size()) return t;
+  FftTwin<Cpu, OnDevice> t{&cpu, cpu.size(), nullptr, device_fft_size_problem(cpu.size())};
   if (t.why_not.empty()) {
     try {
-      t.device = std::make_unique<OpenClPeriodicSolve>(*cl_, fft(t.size, 1));
-    } catch (const std::runtime_error& e) {  // no device FFT: the CPU's solve instead
+      t.device = std::make_unique<OnDevice>(*cl_, fft(t.size, batch));
+    } catch (const std::runtime_error& e) {  // no device FFT: the CPU's op instead
       t.why_not = e.what();
     }
   }
-  // A solve made anew at a freed one's address replaces its twin.
-  for (PeriodicSolveTwin& old : periodic_twins_)
-    if (old.cpu == &solve) return old = std::move(t);
-  periodic_twins_.push_back(std::move(t));
-  return periodic_twins_.back();
-}
-
-OpenClDevice::Etdrk4Twin& OpenClDevice::etdrk4_twin(const PeriodicEtdrk4& etdrk4) {
-  for (Etdrk4Twin& t : etdrk4_twins_)
-    if (t.cpu == &etdrk4 && t.size == etdrk4.size()) return t;
-  Etdrk4Twin t{&etdrk4, etdrk4.size(), nullptr, device_fft_size_problem(etdrk4.size())};
-  if (t.why_not.empty()) {
-    try {
-      t.device = std::make_unique<OpenClEtdrk4>(*cl_, fft(t.size, 2));
-    } catch (const std::runtime_error& e) {
-      t.why_not = e.what();
-    }
-  }
-  for (Etdrk4Twin& old : etdrk4_twins_)
-    if (old.cpu == &etdrk4) return old = std::move(t);
-  etdrk4_twins_.push_back(std::move(t));
-  return etdrk4_twins_.back();
+  // An op made anew at a freed one's address replaces its twin.
+  for (FftTwin<Cpu, OnDevice>& old : twins)
+    if (old.cpu == &cpu) return old = std::move(t);
+  twins.push_back(std::move(t));
+  return twins.back();
 }
 
 void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
-  PeriodicSolveTwin& twin = periodic_twin(solve);
+  PeriodicSolveTwin& twin = fft_twin(periodic_twins_, solve, 1);
   if (twin.device) {
     twin.device->solve(solve, out(x));
     return;
@@ -121,7 +106,7 @@ void OpenClDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev
 
 void OpenClDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
                                const ReactionParams* reaction) {
-  Etdrk4Twin& twin = etdrk4_twin(etdrk4);
+  Etdrk4Twin& twin = fft_twin(etdrk4_twins_, etdrk4, 2);
   if (twin.device) {
     DeviceField& da = out(a);
     twin.device->step(etdrk4, da, out(b), reaction);
