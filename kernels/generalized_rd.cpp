@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "kernels/tensor_field_operator.h"
+
 namespace ardcell {
 namespace {
 
@@ -286,34 +288,6 @@ void with_rates(const GeneralizedRdParams& p, const Run& run) {
   }
 }
 
-// L u at (x, y) of the face field (kernels/generalized_rd.h): xm, xp, ym, yp the wrapped
-// neighbours. Each face flux is written once (face_x, face_y) so both its cells get its bits.
-struct FaceFluxes {
-  const Rank2FaceField& d;
-  View<const float> u;
-  Int2 n;
-
-  // F between (x, y) and (xp, y); rows ym, yp around y.
-  float face_x(int x, int xp, int y, int ym, int yp) const {
-    const float gx = u(xp, y) - u(x, y);
-    const float gy = 0.25f * ((u(x, yp) + u(xp, yp)) - (u(x, ym) + u(xp, ym)));
-    return d.x_xx(x, y) * gx + d.x_xy(x, y) * gy;
-  }
-  // G between (x, y) and (x, yp); columns xm, xp around x.
-  float face_y(int x, int xm, int xp, int y, int yp) const {
-    const float gy = u(x, yp) - u(x, y);
-    const float gx = 0.25f * ((u(xp, y) + u(xp, yp)) - (u(xm, y) + u(xm, yp)));
-    return d.y_yy(x, y) * gy + d.y_xy(x, y) * gx;
-  }
-  // At (x, y) with its wrapped neighbours xm, xp and ym, yp (the caller's: a row's ym, yp once,
-  // a cell's xm, xp without a division).
-  float operator()(int x, int xm, int xp, int y, int ym, int yp) const {
-    const float fe = face_x(x, xp, y, ym, yp), fw = face_x(xm, x, y, ym, yp);
-    const float gn = face_y(x, xm, xp, y, yp), gs = face_y(x, xm, xp, ym, y);
-    return (fe - fw) + (gn - gs);
-  }
-};
-
 }  // namespace
 
 void generalized_rd_rows(const GeneralizedTaps& k, View<const float> a, View<const float> b,
@@ -381,7 +355,7 @@ void tensor_field_rd_rows(const Rank2FaceField& d, View<const float> a, View<con
   ARDCELL_DCHECK(size.x >= 2 && size.y >= 2, "tensor-field RD needs at least 2 x 2 cells");
   ARDCELL_CHECK(d.size() == size, "tensor-field RD: the face field is not the grid's size");
   if (y0 >= y1) return;
-  const FaceFluxes la{d, a, size}, lb{d, b, size};
+  const TensorFieldOperator<View<const float>> la{d, a}, lb{d, b};
   const float sa = p.scale_a, sb = p.scale_b, dt = p.dt;
   with_rates(p, [&](const auto& rates) {
     for (int y = y0; y < y1; ++y) {

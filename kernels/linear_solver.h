@@ -21,8 +21,10 @@ std::string_view solver_kind_name(SolverKind kind);
 
 struct SolverSettings {
   SolverKind kind = SolverKind::kJacobi;
-  int max_iterations = 20;  // sweeps (Jacobi, RBGS), CG iterations (ICCG), V-cycles (MG)
-  double tolerance = 0.0;   // relative residual |b - A x| / |b| to stop at; 0 = run them all
+  // Sweeps (Jacobi, RBGS), CG iterations (ICCG), V-cycles (MG); kernels/tensor_field_solve.h
+  // reads it as BiCGSTAB steps.
+  int max_iterations = 20;
+  double tolerance = 0.0;  // relative residual |b - A x| / |b| to stop at; 0 = run them all
 };
 
 // The multigrid V-cycle's schedule (kernels/multigrid_solver.cpp); OpenClDevice runs the same

@@ -45,8 +45,9 @@ struct GeneralizedRdConfig {
   int savitzky_golay_degree = 4;  // 4, or 5 (minimum-norm pseudo-inverse)
   SecondDerivatives second_derivatives = SecondDerivatives::kCentralDifference;
   // Table 1's last row at rank 2: a per-cell tensor D(x) = d_along e e^T + d_across (I - e e^T)
-  // in place of the sequence (kernels/generalized_rd.h rank2_tensor_field; rd.scheme explicit,
-  // the rank-3 and rank-4 components 0). kUniform: the homogeneous sequence above.
+  // in place of the sequence (kernels/generalized_rd.h rank2_tensor_field; the rank-3 and rank-4
+  // components 0; semi-implicit and implicit solve by BiCGSTAB, kernels/tensor_field_solve.h).
+  // kUniform: the homogeneous sequence above.
   TensorFieldKind field = TensorFieldKind::kUniform;
   double d_along = 1.0, d_across = 0.25;  // in the domain's units, like the sequence
 };

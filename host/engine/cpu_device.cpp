@@ -12,6 +12,7 @@
 #include "kernels/gray_scott9.h"
 #include "kernels/periodic_stencil_solve.h"
 #include "kernels/stencil_operator.h"
+#include "kernels/tensor_field_solve.h"
 #include "runtime/row_executor.h"
 
 namespace ardcell {
@@ -67,6 +68,8 @@ const char* device_op_name(DeviceOp op) {
       return "tensor-field reaction-diffusion";
     case DeviceOp::kPeriodicSolve:
       return "periodic solve (FFT)";
+    case DeviceOp::kTensorFieldSolve:
+      return "tensor-field solve (BiCGSTAB)";
     case DeviceOp::kReactionTrapezoidal:
       return "trapezoidal reaction";
     case DeviceOp::kSbdfRhs:
@@ -394,5 +397,9 @@ void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
 }
 
 void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) { solve.solve(x); }
+
+SolveReport CpuDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
+  return solve.solve(x, s);
+}
 
 }  // namespace ardcell

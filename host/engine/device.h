@@ -35,6 +35,7 @@ namespace ardcell {
 class PeriodicEtdrk4;
 class GrayScott9Blocked;
 class PeriodicStencilSolve;
+class TensorFieldSolve;
 class RowExecutor;
 
 // The ops a device may or may not run natively (Device::supports). An op a device does not run
@@ -65,6 +66,7 @@ enum class DeviceOp : uint8_t {
   kGeneralizedRd,
   kTensorFieldRd,
   kPeriodicSolve,
+  kTensorFieldSolve,
   kReactionTrapezoidal,
   kSbdfRhs,
   kEtdrk4,
@@ -211,6 +213,9 @@ class Device {
   // x <- (I - delta K)^-1 x on the periodic grid with the solve's delta, exactly (seed 003,
   // Eqn 28; kernels/periodic_stencil_solve.h).
   virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) = 0;
+  // x <- (I - s L)^-1 x with L the per-cell tensor's div(D(x) grad) (seed 003, Eqn 28 with
+  // Table 1's last row; kernels/tensor_field_solve.h: BiCGSTAB to the solve's limits).
+  virtual SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) = 0;
 
   // --- the second-order schemes (docs/numerics.md, "Reaction-diffusion in time")
   // The trapezoidal rule (Adams-Moulton 2) of the reaction over dt, per cell, in place
@@ -298,6 +303,7 @@ class CpuDevice final : public Device {
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
+  SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
                 const SbdfRhsParams& p) override;

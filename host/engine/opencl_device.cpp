@@ -41,6 +41,8 @@ void OpenClDevice::reserve(Int2 grid) {
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;
+  // The per-cell tensor's BiCGSTAB solve runs on the CPU (tensor_field_solve).
+  if (op == DeviceOp::kTensorFieldSolve) return false;
   return op != DeviceOp::kCount;
 }
 

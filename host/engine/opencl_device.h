@@ -101,11 +101,13 @@ class OpenClDevice final : public Device {
                          const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
-  // On the CPU (no device twin of the per-cell tensor field yet), with one line.
+  // The per-cell tensor field's explicit step, on the device.
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   // By the device FFT (OpenClPeriodicSolve); on the CPU, with one line, at a size it lacks.
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
+  // On the CPU, with one line: the device has no BiCGSTAB.
+  SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
                 const SbdfRhsParams& p) override;

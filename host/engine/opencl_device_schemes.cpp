@@ -3,7 +3,8 @@
 // twins, the trapezoidal reaction and SBDF's right-hand side, and the periodic FFT steps (the
 // semi-implicit solve of Eqn 28 and ETDRK4) by the device FFT (kernels/cl/opencl_fft.h), whose
 // root tables and buffers are made on a size's first step and shared by the twins of that size;
-// a size the device FFT cannot transform runs them on the CPU with one line.
+// a size the device FFT cannot transform runs them on the CPU with one line. The tensor field's
+// semi-implicit solve (BiCGSTAB) has no twin: on the CPU, with one line.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <memory>
 #include <stdexcept>
@@ -87,6 +88,16 @@ void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
   host_in(x);
   cpu_.periodic_solve(solve, x);
   host_wrote(x);
+}
+
+SolveReport OpenClDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
+  say_fallback(DeviceOp::kTensorFieldSolve,
+               "rd.generalized.field, rd.scheme implicit or semi-implicit",
+               "the device has no BiCGSTAB");
+  host_in(x);
+  const SolveReport r = cpu_.tensor_field_solve(solve, x, s);
+  host_wrote(x);
+  return r;
 }
 
 void OpenClDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {

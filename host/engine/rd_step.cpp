@@ -98,9 +98,6 @@ const char* generalized_problem(const SceneConfig& scene) {
   if (scene.size.x < 5 || scene.size.y < 5)
     return "rd.operator generalized needs a grid of at least 5x5 cells (a 5x5 stencil)";
   if (rd.generalized.field != TensorFieldKind::kUniform) {
-    if (rd.scheme != RdScheme::kExplicit)
-      return "rd.generalized.field: a per-cell tensor field runs with rd.scheme explicit (the FFT "
-             "solves need a homogeneous operator)";
     for (int nx = 0; nx <= 4; ++nx)
       for (int ny = 0; nx + ny <= 4; ++ny)
         if (nx + ny >= 3 && d.component(nx, ny) != 0)
@@ -213,7 +210,11 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
     generalized_ = std::make_unique<GeneralizedTaps>(k);
     if (rd_.generalized.field != TensorFieldKind::kUniform)
       tensor_field_ = std::make_unique<Rank2FaceField>(tensor_field(scene));
-    if (rd_.diffuse && rd_.scheme != RdScheme::kExplicit) {
+    if (rd_.diffuse && rd_.scheme != RdScheme::kExplicit && tensor_field_) {
+      tensor_solve_ = std::make_unique<TensorFieldSolve>(*tensor_field_, ex);
+      tensor_solve_->set_limits(rd_.diffusion_solver.max_iterations,
+                                rd_.diffusion_solver.tolerance);
+    } else if (rd_.diffuse && rd_.scheme != RdScheme::kExplicit) {
       // Throw std::invalid_argument with problem()'s line when (I - dt D K) is singular.
       periodic_a_ = std::make_unique<PeriodicStencilSolve>(scene.size, k, ex);
       periodic_b_ = std::make_unique<PeriodicStencilSolve>(scene.size, k, ex);
@@ -308,6 +309,8 @@ void RdStepper::update_parameters(const SceneConfig& scene) {
       (dt_ != old_dt || h_ != old_h || rd_.diffusion_a != old_rates[0] ||
        rd_.diffusion_b != old_rates[1] || rd_.anisotropy.isotropic_value != old_rates[2]))
     set_etdrk4_step();
+  if (tensor_solve_)
+    tensor_solve_->set_limits(rd_.diffusion_solver.max_iterations, rd_.diffusion_solver.tolerance);
   if (periodic_a_) periodic_a_->set_delta(diffusion_scale(scene_, false));
   if (periodic_b_) periodic_b_->set_delta(diffusion_scale(scene_, true));
 }
@@ -493,7 +496,7 @@ void RdStepper::generalized_step(SimState& s) {
     if (rd_.react) react(s);  // Eqn 6
   } else if (rd_.react || rd_.diffuse) {
     // Eqn 27 (explicit), or Eqn 28's u + dt f(u) (semi-implicit: diffusion by the solve below);
-    // with a tensor field (explicit only), Eqn 27 with Table 1's inhomogeneous rank-2 operator.
+    // with a tensor field, Table 1's inhomogeneous rank-2 operator in place of the stencil.
     const GeneralizedRdParams p = generalized_params(rd_.react, rd_.diffuse && !solve);
     if (tensor_field_)
       dev_->tensor_field_rd(s.A, s.B, scratch_a_, scratch_b_, *tensor_field_, p);
@@ -502,9 +505,20 @@ void RdStepper::generalized_step(SimState& s) {
     dev_->swap(s.A, scratch_a_);
     dev_->swap(s.B, scratch_b_);
   }
-  if (solve) {  // (I - dt D K)^-1, exactly (Eqn 28)
+  if (solve && tensor_solve_) {  // (I - dt D_A L)^-1 by BiCGSTAB (Eqn 28, Table 1's last row)
+    const SolveReport ra =
+        dev_->tensor_field_solve(*tensor_solve_, s.A, diffusion_scale(scene_, false));
+    const SolveReport rb =
+        dev_->tensor_field_solve(*tensor_solve_, s.B, diffusion_scale(scene_, true));
+    stats_.diffusion_iterations_a = ra.iterations;
+    stats_.diffusion_iterations_b = rb.iterations;
+    stats_.diffusion_residual_a = ra.relative_residual;
+    stats_.diffusion_residual_b = rb.relative_residual;
+  } else if (solve) {  // (I - dt D K)^-1, exactly (Eqn 28)
     dev_->periodic_solve(*periodic_a_, s.A);
     dev_->periodic_solve(*periodic_b_, s.B);
+  }
+  if (solve) {
     // The solve's result clamped like every other result (kernels/generalized_rd.h says why).
     dev_->generalized_rd(s.A, s.B, scratch_a_, scratch_b_, *generalized_,
                          generalized_params(false, false));

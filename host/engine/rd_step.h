@@ -11,8 +11,10 @@
 // one pass; `semi-implicit` is Eqn 28 (explicit reaction, then (I - dt D K)^-1 by FFT,
 // kernels/periodic_stencil_solve.h); `implicit` is Eqn 6's reaction, then the same solve.
 // rd.generalized.field vortex or radial replaces the sequence by a per-cell rank-2 tensor (seed
-// 003's Table 1, last row; explicit only): Eqn 27 with div(D(x) grad u) in flux form
-// (kernels/generalized_rd.h tensor_field_rd_rows, Device::tensor_field_rd).
+// 003's Table 1, last row): div(D(x) grad u) in flux form, explicit (Eqn 27:
+// kernels/generalized_rd.h tensor_field_rd_rows, Device::tensor_field_rd) or semi-implicit and
+// implicit (Eqn 28's solve by BiCGSTAB to rd.diffusion_solver's iterations and tolerance:
+// kernels/tensor_field_solve.h, Device::tensor_field_solve).
 // The second-order schemes (Laplacian operator; docs/numerics.md, "Reaction-diffusion in
 // time") replace the first two stages:
 //   crank-nicolson-am2  Strang splitting of sec. 3.2's suggestion: the trapezoidal reaction
@@ -47,6 +49,7 @@
 #include "kernels/periodic_etdrk4.h"
 #include "kernels/periodic_stencil_solve.h"
 #include "kernels/reaction_table.h"
+#include "kernels/tensor_field_solve.h"
 
 namespace ardcell {
 
@@ -135,6 +138,7 @@ class RdStepper {
   std::unique_ptr<GeneralizedTaps> generalized_;                   // rd.operator generalized
   std::unique_ptr<Rank2FaceField> tensor_field_;                   // rd.generalized.field
   std::unique_ptr<PeriodicStencilSolve> periodic_a_, periodic_b_;  // its implicit solves
+  std::unique_ptr<TensorFieldSolve> tensor_solve_;  // the tensor field's (A's and B's)
   ReactionTable table_;
   FieldF conductivity_, scratch_a_, scratch_b_;
   FieldF back_a_, back_b_;  // MacCormack's backward step (fluid.advection); else empty

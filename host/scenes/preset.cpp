@@ -124,7 +124,7 @@ double choice_index(std::span<const std::string_view> choices, const std::string
   ARD_ENUM(prefix ".kind", scene.rd.member.kind, kSolvers, true,                         \
            "jacobi | rbgs (fixed sweeps) | iccg | mg (multigrid)"),                      \
       ARD_INTEGER(prefix ".iterations", scene.rd.member.max_iterations, 1, 10000, false, \
-                  "sweeps, CG iterations or V-cycles"),                                  \
+                  "sweeps, CG iterations, V-cycles or BiCGSTAB steps"),                  \
       ARD_NUMBER(prefix ".tolerance", scene.rd.member.tolerance, 0, 1, false,            \
                  "relative residual to stop at; 0 runs every iteration")
 #define ARD_FLOATS(key_, expr, lo, hi, fill_, help_)                                     \
@@ -246,7 +246,7 @@ const ParamSpec kParams[] = {
     ARD_ENUM("rd.generalized.field", scene.rd.generalized.field, kTensorFields, true,
              "uniform (the sequence) | vortex | radial: a per-cell rank-2 tensor, principal "
              "direction tangential or pointing out from the centre (seed 003 Table 1, last row; "
-             "rd.scheme explicit)"),
+             "semi-implicit and implicit solve by BiCGSTAB)"),
     ARD_NUMBER("rd.generalized.d_along", scene.rd.generalized.d_along, 0, 1e3, true,
                "rd.generalized.field: the tensor's eigenvalue along its principal direction"),
     ARD_NUMBER("rd.generalized.d_across", scene.rd.generalized.d_across, 0, 1e3, true,

@@ -1,6 +1,8 @@
 // Seed 003 (McGraw): generalized reaction-diffusion textures, one preset per Table 2 tensor
 // sequence (a)-(f) with Turing's (Eqn 2) and Gray-Scott's (Eqns 3-4) reaction. Periodic, so every
-// texture tiles; semi-implicit (Eqn 28, solved exactly by FFT), so the steps are large.
+// texture tiles; semi-implicit (Eqn 28, solved exactly by FFT), so the steps are large. Two more
+// with a per-cell tensor field (Table 1's last row): vortex (explicit) and radial (semi-implicit,
+// by BiCGSTAB).
 // The cell size h is fixed (rd.cell_size), so a larger grid is a larger texture of the same look:
 // h sets the length at which the rank-4 terms overtake the rank-2 ones (host/engine/rd_step.cpp),
 // and the values below put the oriented, sharp-cornered labyrinths of the paper's Figs. 2-5 a few
@@ -122,8 +124,8 @@ SceneConfig gray_scott_map() {
 
 // Table 1's last row at rank 2: Turing (the presets' alpha 12, beta 15) with a per-cell tensor
 // whose principal direction is tangential around the centre (rd.generalized.field vortex), so the
-// stripes run in circles. Explicit (Eqn 27 with div(D(x) grad u), the FFT solve needs a
-// homogeneous operator): rd.dt 0.1, 100 steps a frame (rho(I + dt D_B K) <= 1; the run prints it).
+// stripes run in circles. Explicit (Eqn 27 with div(D(x) grad u)): rd.dt 0.1, 100 steps a frame
+// (rho(I + dt D_B K) <= 1; the run prints it).
 SceneConfig turing_vortex() {
   SceneConfig s = turing_texture(kSpecs[0]);
   s.name = "mcgraw-turing-vortex";
@@ -137,6 +139,24 @@ SceneConfig turing_vortex() {
   rd.scheme = RdScheme::kExplicit;
   rd.dt = 0.1;
   rd.steps_per_frame = 100;
+  return s;
+}
+
+// The same with the principal direction along the rays (stripes run outwards), semi-implicit
+// (Eqn 28: (I - dt D L) solved by BiCGSTAB, kernels/tensor_field_solve.h) at the Table 2
+// presets' step, rd.dt 1.6 and 10 steps a frame: 16 times the explicit step, which it could not
+// take (rho(I + dt D_B L) > 1).
+SceneConfig turing_radial() {
+  SceneConfig s = turing_vortex();
+  s.name = "mcgraw-turing-radial";
+  s.description =
+      "seed 003 Table 1, last row: Turing with a per-cell rank-2 tensor along the rays from the "
+      "centre (radial), semi-implicit by BiCGSTAB";
+  RdConfig& rd = s.rd;
+  rd.generalized.field = TensorFieldKind::kRadial;
+  rd.scheme = RdScheme::kSemiImplicit;
+  rd.dt = 1.6;
+  rd.steps_per_frame = 10;
   return s;
 }
 
@@ -155,6 +175,8 @@ void register_texture_scenes(SceneRegistry& registry) {
   registry.add({map.name, map.description, gray_scott_map});
   const SceneConfig vortex = turing_vortex();
   registry.add({vortex.name, vortex.description, turing_vortex});
+  const SceneConfig radial = turing_radial();
+  registry.add({radial.name, radial.description, turing_radial});
 }
 
 }  // namespace ardcell

@@ -36,7 +36,9 @@ SurfaceMultigrid::SurfaceMultigrid(const LimitSurface& surface, const SurfaceLap
     if (m == kCoarsestCells || m == 1) break;
   }
   b_ = fine.grid().make_field();
-  fine_krylov_.allocate(fine.grid());
+  for (PatchField* f : {&fine_krylov_.r, &fine_krylov_.shadow, &fine_krylov_.p, &fine_krylov_.v,
+                        &fine_krylov_.y, &fine_krylov_.z, &fine_krylov_.t})
+    *f = fine.grid().make_field();
   pieces_ = patch_pieces(surface.topology());
   piece_sums_.assign(std::size_t(*std::max_element(pieces_.begin(), pieces_.end()) + 1), 0.0);
   patch_sums_.assign(pieces_.size(), 0.0);
@@ -91,7 +93,7 @@ void prolong_add(const SurfaceLaplacian& coarse_op, PatchField& coarse,
 
 // sum over interior cells of a b, per-patch partials added in patch order (the same bits on any
 // number of workers).
-double dot(const SurfaceLaplacian& op, const PatchField& a, const PatchField& b) {
+double patch_dot(const SurfaceLaplacian& op, const PatchField& a, const PatchField& b) {
   const PatchGrid& g = op.grid();
   const int n = g.n();
   return op.executor().sum_rows(g.patches(), n * n, [&](int p0, int p1, double* partial) {
@@ -224,74 +226,35 @@ void SurfaceMultigrid::precondition(const PatchField& q, PatchField& y, double c
   std::swap(top.x, y);
 }
 
-void SurfaceMultigrid::Krylov::allocate(const PatchGrid& grid) {
-  for (PatchField* f : {&r, &shadow, &p, &v, &y, &z, &t}) *f = grid.make_field();
-}
+namespace {
+
+// The fine grid's cells as BiCGSTAB's space (kernels/bicgstab.h): the stopping norm is
+// max |r|, as SurfaceLaplacian::implicit_diffusion's.
+struct SurfaceSpace {
+  using Vector = PatchField;
+  const SurfaceLaplacian& op;
+  double dot(const PatchField& a, const PatchField& b) const { return patch_dot(op, a, b); }
+  double norm(const PatchField& a) const { return op.max_abs(a); }
+  template <class F>
+  void each(const F& f) const {
+    for_cells(op, f);
+  }
+};
+
+}  // namespace
 
 template <class Residual, class Apply, class Precondition>
 DiffusionReport SurfaceMultigrid::bicgstab(const SurfaceLaplacian& op, Krylov& k, PatchField& x,
                                            double bmax, const DiffusionSolve& solve,
                                            const Residual& residual, const Apply& apply,
                                            const Precondition& precondition) const {
+  const BicgstabReport r =
+      ardcell::bicgstab(SurfaceSpace{op}, k, x, bmax, {solve.tolerance, solve.max_sweeps}, residual,
+                        apply, precondition);
   DiffusionReport report;
-  const auto cycled = [&] {
-    ++report.cycles;
-    report.sweeps += kPreSweeps + kPostSweeps;
-  };
-  const auto done = [&](double max_residual) {
-    report.residual = max_residual / bmax;
-    return report.residual <= solve.tolerance || report.cycles >= solve.max_sweeps;
-  };
-  // Each pass starts from the true residual b - A x (a restart when the recurrence's residual
-  // has drifted from it, or after a breakdown), and ends when the recurrence's residual meets
-  // the tolerance, the cycles run out, or a denominator vanishes.
-  while (!done(residual(x, k.r))) {
-    const int cycles_before = report.cycles;
-    k.shadow = k.r;
-    double rho = 1, alpha = 1, omega = 1;
-    std::fill(k.p.begin(), k.p.end(), 0.0);
-    std::fill(k.v.begin(), k.v.end(), 0.0);
-    for (;;) {
-      const double rho_next = dot(op, k.shadow, k.r);
-      if (rho_next == 0 || omega == 0) break;
-      const double beta = (rho_next / rho) * (alpha / omega);
-      rho = rho_next;
-      for_cells(op, [&](std::size_t q) { k.p[q] = k.r[q] + beta * (k.p[q] - omega * k.v[q]); });
-      precondition(k.p, k.y);
-      apply(k.y, k.v);
-      cycled();
-      const double shadow_v = dot(op, k.shadow, k.v);
-      if (shadow_v == 0) break;
-      alpha = rho / shadow_v;
-      // r becomes s = r - alpha v; x takes the half step.
-      for_cells(op, [&](std::size_t q) {
-        k.r[q] -= alpha * k.v[q];
-        x[q] += alpha * k.y[q];
-      });
-      if (done(op.max_abs(k.r))) break;
-      precondition(k.r, k.z);
-      apply(k.z, k.t);
-      cycled();
-      const double tt = dot(op, k.t, k.t);
-      omega = tt == 0 ? 0 : dot(op, k.t, k.r) / tt;
-      for_cells(op, [&](std::size_t q) {
-        x[q] += omega * k.z[q];
-        k.r[q] -= omega * k.t[q];
-      });
-      if (done(op.max_abs(k.r))) break;
-    }
-    // A pass that broke down before its first cycle (r r underflowing to 0 while r is not 0)
-    // takes one plain preconditioned step instead, so every pass makes progress and counts.
-    if (report.cycles == cycles_before) {
-      precondition(k.r, k.y);
-      for_cells(op, [&](std::size_t q) { x[q] += k.y[q]; });
-      cycled();
-    }
-    if (report.cycles >= solve.max_sweeps) {
-      report.residual = residual(x, k.r) / bmax;
-      break;
-    }
-  }
+  report.cycles = r.applications;
+  report.sweeps = r.applications * (kPreSweeps + kPostSweeps);
+  report.residual = r.residual;
   return report;
 }
 

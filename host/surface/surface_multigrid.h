@@ -35,6 +35,7 @@
 
 #include "host/surface/limit_surface.h"
 #include "host/surface/surface_laplacian.h"
+#include "kernels/bicgstab.h"
 
 namespace ardcell {
 
@@ -78,16 +79,12 @@ class SurfaceMultigrid {
   bool solve_coarsest(double c) const;
   bool solve_coarsest_poisson() const;
 
-  // BiCGSTAB's vectors on one grid: residual, shadow residual, search direction, A y, the two
-  // preconditioned directions and A z.
-  struct Krylov {
-    PatchField r, shadow, p, v, y, z, t;
-    void allocate(const PatchGrid& grid);
-  };
-  // BiCGSTAB on op's grid, right-preconditioned: x from its first guess to max |residual| /
-  // bmax <= solve.tolerance or solve.max_sweeps preconditioner applications (the report's
-  // cycles). residual(x, r) sets r = b - A x and returns max |r|; apply(y, out) sets out = A y;
-  // precondition(q, y) sets y to M^-1 q.
+  // BiCGSTAB's vectors on the finest grid (kernels/bicgstab.h).
+  using Krylov = BicgstabVectors<PatchField>;
+  // kernels/bicgstab.h's BiCGSTAB on op's grid, right-preconditioned: x from its first guess to
+  // max |residual| / bmax <= solve.tolerance or solve.max_sweeps preconditioner applications
+  // (the report's cycles). residual(x, r) sets r = b - A x and returns max |r|; apply(y, out)
+  // sets out = A y; precondition(q, y) sets y to M^-1 q.
   template <class Residual, class Apply, class Precondition>
   DiffusionReport bicgstab(const SurfaceLaplacian& op, Krylov& k, PatchField& x, double bmax,
                            const DiffusionSolve& solve, const Residual& residual,

@@ -82,7 +82,7 @@ __kernel void generalized_rd(__global const float* a, __global const float* b,
 // Twin of kernels/generalized_rd.h tensor_field_rd_rows (seed 003, Table 1's last row at rank 2):
 // div(D(x) grad u) in flux form on the face field (x_xx, x_xy: the face between x and x + 1;
 // y_xy, y_yy: between y and y + 1; halo 0, their own stride fs), indices wrapped, the C++'s
-// arithmetic in its order (FaceFluxes). The reaction and the clamp as generalized_rd's.
+// arithmetic in its order (kernels/tensor_field_operator.h TensorFieldOperator). The reaction and the clamp as generalized_rd's.
 inline float u_at(__global const float* u, int stride, int origin, int x, int y) {
   return u[global_index(stride, origin, x, y)];
 }

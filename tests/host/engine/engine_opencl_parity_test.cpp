@@ -11,9 +11,11 @@
 //     RBGS, Crank-Nicolson) stays within 1e-5 for 100 frames;
 //   - the anisotropic space cookies stay within 1e-5 for 2 frames, and within 4x the CPU's own
 //     drift under an ulp of perturbation (an ulp moved in 40% of the initial cells) for 60;
-//   - the FFT presets (mcgraw-*, pearson) run their FFT steps on the CPU at 127 x 93 (127 and 31
-//     are prime factors the device FFT lacks) and on the device at 64 x 48, within 1e-5 after a
-//     frame (the Turing textures after 3 within 4x the CPU's own drift under an ulp).
+//   - the FFT presets (mcgraw-* but the two tensor fields, pearson) run their FFT steps on the
+//     CPU at 127 x 93 (127 and 31 are prime factors the device FFT lacks) and on the device at
+//     64 x 48, within 1e-5 after a frame (the Turing textures after 3 within 4x the CPU's own
+//     drift under an ulp);
+//   - mcgraw-turing-radial's BiCGSTAB solve runs on the CPU with its one line, within 1e-5.
 // Also: after the first frame a frame moves no field between host and device, and fluid scenes
 // with the real-time solvers, or with the presets' multigrid solvers, and the presets' ICCG
 // diffusion run every op on the device (no fallback line).
@@ -229,6 +231,7 @@ TEST(EngineOpenCl, FftPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
     const RdConfig& rd = scene.rd;
     const bool fft = rd.enabled && (rd.scheme == RdScheme::kEtdrk4 ||
                                     (rd.diffusion_operator == RdOperator::kGeneralized &&
+                                     rd.generalized.field == TensorFieldKind::kUniform &&
                                      rd.diffuse && rd.scheme != RdScheme::kExplicit));
     if (!fft) continue;
     ++presets;
@@ -270,6 +273,30 @@ TEST(EngineOpenCl, FftPresetsStayOnTheDeviceWithinOneInTenToTheFive) {
     EXPECT_LE(error, 4.0 * self) << name << ": field " << field;
   }
   EXPECT_EQ(presets, 14);  // the 13 mcgraw-* presets and pearson
+}
+
+// The tensor field's semi-implicit solve (BiCGSTAB, kernels/tensor_field_solve.h) has no device
+// twin: it runs on the CPU, says so in exactly one line however many steps take it, and the
+// frame (the reaction and the clamp on the device) stays within 1e-5 of serial.
+TEST(EngineOpenCl, TensorFieldSolveFallsBackWithOneLine) {
+  if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  const SceneConfig scene = awkward_preset_scene("mcgraw-turing-radial");
+  ASSERT_EQ(scene.rd.scheme, RdScheme::kSemiImplicit);
+  testing::internal::CaptureStderr();
+  Engine serial(scene, {EngineOptions::Backend::kSerial, 1});
+  Engine cl(scene, on_device());
+  for (int k = 0; k < kFrames; ++k) {
+    serial.step();
+    cl.step();
+  }
+  cl.finish();
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "ardcell: opencl: tensor-field solve (BiCGSTAB) runs on the CPU (rd.generalized.field, "
+            "rd.scheme implicit or semi-implicit: the device has no BiCGSTAB)\n");
+  const auto [error, field] = worst_error(serial.state(), std::as_const(cl).state());
+  std::printf("mcgraw-turing-radial (BiCGSTAB on the CPU): max relative error %.3g after %d\n",
+              error, kFrames);
+  EXPECT_LE(error, kTolerance) << "field " << field;
 }
 
 // The fluid presets' own settings: multigrid V-cycles to a tolerance for viscosity and pressure
