@@ -29,6 +29,10 @@
 #include "host/live/rank_wall.h"
 #endif
 #include "host/scenes/preset.h"
+#if ARDCELL_WITH_OPENSUBDIV
+#include "host/surface/surface_scene.h"
+#include "host/surface/surface_simulation.h"
+#endif
 #include "runtime/opencl/backend_choice.h"
 #ifdef ARDCELL_WITH_SDL2
 #include "drivers/display_sdl.h"
@@ -80,6 +84,11 @@ struct LiveArgs {
   int workers = 0;
   std::string wall;
   int bezel = 0;
+  std::string shape, mesh;
+  int patch_cells = 16;
+  CLI::Option* shape_opt = nullptr;
+  CLI::Option* mesh_opt = nullptr;
+  CLI::Option* patch_cells_opt = nullptr;
   CLI::Option* cl_device_opt = nullptr;
   CLI::Option* workers_opt = nullptr;
   CLI::Option* wall_opt = nullptr;
@@ -128,6 +137,32 @@ std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& openc
            " needs --backend opencl or auto (expected no --cl-device with --backend " + a.backend +
            ")";
   return "";
+}
+
+// --shape / --mesh: "" when the flags can show a surface, else the usage line.
+std::string check_surface_args(const LiveArgs& a, BackendKind backend) {
+  const bool on_surface = a.shape_opt->count() > 0 || a.mesh_opt->count() > 0;
+  if (!on_surface)
+    return a.patch_cells_opt->count() ? "--patch-cells applies to --shape or --mesh" : "";
+#if !ARDCELL_WITH_OPENSUBDIV
+  (void)backend;
+  return "--shape/--mesh: this ardcell was built without OpenSubdiv (expected a build with "
+         "-DARDCELL_WITH_OPENSUBDIV=ON and libosd-dev)";
+#else
+  if (a.wall_opt->count())
+    return "--wall shows a flat grid (expected no --shape or --mesh with --wall)";
+  if (backend == BackendKind::kOpenCl || backend == BackendKind::kSerial)
+    return "--backend " + a.backend +
+           ": a surface's patches run on the threads back end (expected auto or threads with "
+           "--shape or --mesh)";
+  if (a.cl_device_opt->count())
+    return "--cl-device: a surface's patches run on the threads back end (expected no "
+           "--cl-device with --shape or --mesh)";
+  if (a.realtime_solvers)
+    return "--realtime-solvers: a surface solves by its own multigrid (expected no "
+           "--realtime-solvers with --shape or --mesh)";
+  return patch_cells_problem(a.patch_cells);
+#endif
 }
 
 // FrameSink (drivers/) as the live loop's FrameWriter.
@@ -184,6 +219,20 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     return cli_usage_error(ctx, "live", why);
   if (std::string why = check_wall_args(a); !why.empty()) return cli_usage_error(ctx, "live", why);
   const bool walled = a.wall_opt->count() > 0;
+  // --shape / --mesh: the presets' reaction-diffusion on a surface, drawn in 3D.
+  const bool on_surface = a.shape_opt->count() > 0 || a.mesh_opt->count() > 0;
+  if (std::string why = check_surface_args(a, backend); !why.empty())
+    return cli_usage_error(ctx, "live", why);
+#if ARDCELL_WITH_OPENSUBDIV
+  PolyMesh surface_mesh;
+  if (on_surface) {
+    std::string label;
+    if (Status s = surface_control_mesh(a.shape_opt->count() ? a.shape : std::string(), a.mesh,
+                                        surface_mesh, label);
+        !s)
+      return cli_usage_error(ctx, "live", s.message());
+  }
+#endif
   [[maybe_unused]] int screen = 0;  // on a wall, this process's screen (its rank)
   [[maybe_unused]] std::FILE* const own_err = ctx.err;  // before a wall quiets screens but 0
   // Once MPI runs, every screen of a wall agrees once whether all of them could start (an
@@ -263,9 +312,18 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #else
   LiveOptions o;
   o.playlist = a.playlist.empty() ? preset_names() : a.playlist;
-  const std::string first = !a.preset.empty()    ? a.preset
-                            : o.playlist.empty() ? std::string("cavity")
-                                                 : o.playlist.front();
+#if ARDCELL_WITH_OPENSUBDIV
+  // On a surface the default playlist is the presets whose RD a surface can run.
+  if (on_surface && a.playlist.empty())
+    std::erase_if(o.playlist, [](const std::string& name) {
+      Preset p;
+      return !load_preset(name, p) || !runs_on_surfaces(p);
+    });
+#endif
+  const std::string first = !a.preset.empty()                  ? a.preset
+                            : on_surface && a.playlist.empty() ? std::string("turing-spots")
+                            : o.playlist.empty()               ? std::string("cavity")
+                                                               : o.playlist.front();
   Preset preset;
   if (Status s = load_live_preset(first, preset, a.realtime_solvers); !s)
     return fail(kExitUsage, s.message(), true);
@@ -273,6 +331,11 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     Preset p;
     if (Status s = load_live_preset(name, p); !s)
       return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
+#if ARDCELL_WITH_OPENSUBDIV
+    PresetRd unused;
+    if (Status s = preset_rd(p, unused); on_surface && !s)
+      return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
+#endif
   }
   // Every destination is checked before the window opens (on a wall, screen 0 writes them).
   if (!a.record.empty())
@@ -294,6 +357,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   EngineOptions engine_options;
   if (a.workers_opt->count()) engine_options.workers = a.workers;
   Int2 window_cells = preset.scene.size;
+#if ARDCELL_WITH_OPENSUBDIV
+  // A surface draws its 3D view at SurfaceLiveOptions' size, one window pixel a pixel.
+  if (on_surface) window_cells = SurfaceLiveOptions{}.view;
+#endif
 #if defined(ARDCELL_WITH_MPI)
   std::unique_ptr<RankWall> wall;
   if (walled) {
@@ -343,7 +410,8 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                                                    : 60.0;
   o.max_frames = a.frames;
   o.hud = a.hud;
-  o.adaptive = !a.no_adaptive;
+  // A surface's solves are its own multigrid, which the quality levels do not reach.
+  o.adaptive = !a.no_adaptive && !on_surface;
   o.pipeline = a.pipeline;
   o.realtime_solvers = a.realtime_solvers;
   o.crossfade_frames = a.crossfade;
@@ -369,8 +437,20 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (walled) o.adaptive = false;
 #endif
   // Its OpenCL context outlives the loop's simulations.
-  const BackendChoice choice = choose_engine_backend(backend, a.cl_device, engine_options, ctx);
-  SimulationFactory factory = engine_simulations(engine_options);
+  SimulationFactory factory;
+  [[maybe_unused]] BackendChoice choice;
+#if ARDCELL_WITH_OPENSUBDIV
+  if (on_surface) {
+    SurfaceLiveOptions surface;
+    surface.patch_cells = a.patch_cells;
+    if (a.workers_opt->count()) surface.workers = a.workers;
+    factory = surface_simulations(std::move(surface_mesh), surface);
+  }
+#endif
+  if (!factory) {
+    choice = choose_engine_backend(backend, a.cl_device, engine_options, ctx);
+    factory = engine_simulations(engine_options);
+  }
   // SIGINT/SIGTERM/SIGHUP quit as Esc does (recording finished, stats printed), also when an
   // ignored SIGINT was inherited; kept until the recording is renamed into place.
   StopSignals signals;
@@ -578,6 +658,16 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   live->add_option("--bezel", args->bezel,
                    "--wall: window pixels hidden between screens (needs --scale)")
       ->check(CLI::Range(0, 100000));
+  args->shape_opt = live->add_option(
+      "--shape", args->shape,
+      "show the preset's reaction-diffusion on a surface's 3D view: torus, cube-sphere, genus2, "
+      "eight or elephant (the left button paints, the right one turns the view)");
+  args->mesh_opt =
+      live->add_option("--mesh", args->mesh, "as --shape, on this control mesh (OBJ or OFF)")
+          ->excludes(args->shape_opt);
+  args->patch_cells_opt =
+      live->add_option("--patch-cells", args->patch_cells,
+                       "--shape/--mesh: N x N cells a patch, a power of two (16)");
   live->callback([args, &ctx] { ctx.exit_code = run_live(*args, ctx); });
 }
 

@@ -34,6 +34,7 @@
 #include "host/surface/surface_gray_scott.h"
 #include "host/surface/surface_multigrid.h"
 #include "host/surface/surface_render.h"
+#include "host/surface/surface_scene.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
 #endif
@@ -71,100 +72,18 @@ std::string mesh_prefix(const SurfaceArgs& a) {
   return a.mesh_label.empty() ? std::string() : a.mesh_label + ": ";
 }
 
-// A flat scene's reaction-diffusion on the surface (--preset): its model and parameters, rates,
-// step and start; `why` names the first setting a surface cannot take.
-struct PresetRd {
-  ReactionParams reaction;
-  double diffusion_a = 0, diffusion_b = 0, dt = 1;  // rates in cells^2 per unit time
-  SurfaceGrayScott::Start start;                    // radius in cells
-  Int2 grid{};                                      // the flat scene's cells (its spots' density)
-  std::string name;
-};
-
+// --preset NAME: its reaction-diffusion as the surface takes it (host/surface/surface_scene.h).
 Status preset_rd(const std::string& name, PresetRd& out) {
   Preset p;
   if (Status s = load_preset(name, p); !s) return Status::error("--preset " + s.message());
-  const RdConfig& rd = p.scene.rd;
-  const std::string refused = "--preset " + name + ": ";
-  if (!rd.enabled) return Status::error(refused + "rd.enabled is false (expected a scene with RD)");
-  if (rd.diffusion_operator != RdOperator::kLaplacian)
-    return Status::error(refused +
-                         "rd.operator: a surface diffuses with its Laplace-Beltrami operator "
-                         "(expected laplacian)");
-  if (rd.anisotropy.kind != AnisotropyKind::kIsotropic)
-    return Status::error(refused +
-                         "rd.anisotropy: the surface's diffusion is isotropic (expected "
-                         "isotropic)");
-  if (rd.use_table || rd.map)
-    return Status::error(refused +
-                         "rd.table / rd.map: one reaction per cell, computed (expected "
-                         "neither)");
-  if (rd.initial != RdInitialPattern::kUniform && rd.initial != RdInitialPattern::kRandomSpots)
-    return Status::error(refused +
-                         "rd.initial.pattern: squares, discs and stripes are laid out on a "
-                         "flat grid (expected uniform or random-spots)");
-  out.reaction = rd.reaction;
-  out.diffusion_a = rd.diffusion_a;
-  out.diffusion_b = rd.diffusion_b;
-  out.dt = rd.dt > 0 ? rd.dt : p.scene.dt;
-  out.start.background_a = rd.background_a;
-  out.start.background_b = rd.background_b;
-  out.start.seed_a = rd.seed_a;
-  out.start.seed_b = rd.seed_b;
-  out.start.spots = rd.initial == RdInitialPattern::kRandomSpots ? rd.spots : 0;
-  out.start.radius = rd.seed_radius;
-  out.start.noise = rd.noise;
-  out.start.seed = std::uint32_t(rd.seed);
-  out.grid = p.scene.size;
-  out.name = p.scene.name.empty() ? name : p.scene.name;
+  if (Status s = preset_rd(p, out); !s)
+    return Status::error("--preset " + name + ": " + s.message());
   return Status::ok();
-}
-
-// Sculpture-like meshes Debian ships in libcgal-demo's /usr/share/doc/libcgal-dev/data.tar.gz.
-// CMake extracts them at configure time into ARDCELL_MESH_DIR (no download); the environment
-// variable of that name, when set, names another folder.
-struct PackagedShape {
-  const char* name;
-  const char* file;
-};
-constexpr PackagedShape kPackagedShapes[] = {{"eight", "eight.off"}, {"elephant", "elephant.off"}};
-
-std::filesystem::path packaged_mesh_dir() {
-  if (const char* dir = std::getenv("ARDCELL_MESH_DIR"); dir && *dir) return dir;
-#ifdef ARDCELL_MESH_DIR
-  return ARDCELL_MESH_DIR;
-#else
-  return {};
-#endif
 }
 
 Status control_mesh(SurfaceArgs& a, PolyMesh& mesh) {
-  if (a.mesh_opt->count()) {
-    a.mesh_label = a.mesh;
-    return read_mesh(a.mesh, {}, mesh);
-  }
-  for (const PackagedShape& shape : kPackagedShapes) {
-    if (a.shape != shape.name) continue;
-    const std::filesystem::path path = packaged_mesh_dir() / shape.file;
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-      return Status::error("--shape " + a.shape + ": " + path.string() +
-                           " not found (install Debian's libcgal-demo and run cmake again, or "
-                           "set ARDCELL_MESH_DIR to a folder holding " +
-                           shape.file + ")");
-    a.mesh_label = "--shape " + a.shape;
-    return read_mesh(path, {}, mesh);
-  }
-  if (a.shape == "torus")
-    mesh = torus_mesh(8, 4, 2.0, 0.8);
-  else if (a.shape == "cube-sphere")
-    mesh = cube_mesh(2);
-  else if (a.shape == "genus2")
-    mesh = genus2_mesh(1.0);
-  else
-    return Status::error("--shape '" + a.shape +
-                         "': expected torus, cube-sphere, genus2, eight or elephant");
-  return Status::ok();
+  return surface_control_mesh(a.shape, a.mesh_opt->count() ? a.mesh : std::string(), mesh,
+                              a.mesh_label);
 }
 
 // --out, --atlas and --render of `field` (cells of `grid`), in that order; the first failure.
@@ -303,8 +222,7 @@ int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
 int do_surface(SurfaceArgs& a, CliContext& ctx) {
   auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "surface", m); };
   const int n = a.patch_cells;
-  if (n < 2 || n > 1024 || (n & (n - 1)) != 0)
-    return usage("--patch-cells " + std::to_string(n) + ": expected a power of two in 2..1024");
+  if (std::string why = patch_cells_problem(n); !why.empty()) return usage(why);
   if (a.steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
   if (a.workers < 0 || a.workers > 256)
     return usage("--workers " + std::to_string(a.workers) + ": expected 1..256 (0: one per core)");
@@ -412,9 +330,15 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   const double side = std::sqrt(op.area() / op.patches());
   const double length = a.scale_opt->count() ? a.scale : side / 20;
   // A flat cell is `length` on the surface: rates in cells^2 per unit time scale by length^2.
-  const SurfaceRdParams rates = gray_scott_for_length(length);
-  params.diffusion_a = from_preset ? flat.diffusion_a * length * length : rates.diffusion_a;
-  params.diffusion_b = from_preset ? flat.diffusion_b * length * length : rates.diffusion_b;
+  if (from_preset) {
+    const SurfaceRdParams scaled = surface_rd_params(flat, length);
+    params.diffusion_a = scaled.diffusion_a;
+    params.diffusion_b = scaled.diffusion_b;
+  } else {
+    const SurfaceRdParams rates = gray_scott_for_length(length);
+    params.diffusion_a = rates.diffusion_a;
+    params.diffusion_b = rates.diffusion_b;
+  }
   params.dt = a.dt;
   params.solve.tolerance = a.tolerance;
   std::fprintf(ctx.out,
@@ -431,11 +355,7 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (a.solver == "mg") multigrid = std::make_unique<SurfaceMultigrid>(surface, op);
   SurfaceGrayScott rd(op, params, multigrid.get());
   if (from_preset) {
-    // The preset's spots at the same density per flat cell, their radius in surface units.
-    SurfaceGrayScott::Start start = flat.start;
-    const double flat_cells = double(flat.grid.x) * flat.grid.y;
-    start.spots = int(std::lround(start.spots * (op.area() / (length * length)) / flat_cells));
-    start.radius *= length;
+    SurfaceGrayScott::Start start = surface_start(flat, length, op.area());
     if (a.seed_opt->count()) start.seed = a.seed;
     rd.seed_pattern(cell_positions(surface, op.grid()), start);
   } else {

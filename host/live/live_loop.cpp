@@ -225,6 +225,10 @@ Status LiveLoop::start(std::string_view name) {
 
 void LiveLoop::size_image() {
   // The cells drawn: the grid, or on a wall this screen's view.
+  if (const Int2 view = sim_->view_size(); view.x > 0 && view.y > 0) {
+    image_.resize(view.x, view.y);
+    return;
+  }
   const Box2 shown = options_.wall ? options_.wall->view() : box_of_size(sim_->state({}).size);
   image_.resize(shown.width(), shown.height());
 }

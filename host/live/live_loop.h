@@ -72,6 +72,12 @@ class LiveSimulation {
   // Runs the RD at `scale` (a rung >= lowest_rd_scale()) from the next step(), carrying the
   // chemicals across. Must not allocate.
   virtual void set_rd_scale(double /*scale*/) {}
+  // A simulation that draws itself (a surface's 3D view, host/surface/surface_simulation.h)
+  // returns its image's size here and draws into render(); {0, 0}: the loop draws state()'s
+  // shown field through the colormap, one pixel a cell. render() must not allocate once `out`
+  // has that size.
+  virtual Int2 view_size() const { return {0, 0}; }
+  virtual void render(ImageRgb8& /*out*/) {}
 };
 using SimulationFactory = std::function<std::unique_ptr<LiveSimulation>(const Preset&)>;
 

@@ -42,6 +42,10 @@ void crossfade_images(const ImageRgb8& from, double t, ImageRgb8& to) {
 // Only what the shown field is drawn from comes to the host (on OpenCL: one or two fields a
 // frame, not the whole state).
 void LiveLoop::render() {
+  if (const Int2 view = sim_->view_size(); view.x > 0 && view.y > 0) {
+    sim_->render(image_);
+    return;
+  }
   if (!options_.wall) {
     const FrameField shown = shown_frame_field(sim_->state({}), preset_.scene.output.show);
     render_state(sim_->state(frame_field_inputs(shown)), preset_.scene.output, image_);

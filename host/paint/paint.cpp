@@ -6,8 +6,6 @@
 namespace ardcell {
 
 namespace {
-// Soft edge for the blends: full inside half the radius, falling to 0 at the rim.
-double brush_falloff(double d, double r) { return std::min(1.0, 2.0 * (1.0 - d / r)); }
 
 constexpr std::string_view kModeNames[kPaintModeCount] = {"deposit", "orient", "push", "obstacle",
                                                           "erase"};

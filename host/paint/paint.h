@@ -17,6 +17,7 @@
 // theta0 = theta_scale * (stroke tangent angle in grid coordinates) + theta_offset; with the
 // defaults (-1, -pi) Eqn 16's single lobe (peak at theta + theta0 = 0) points opposite to the
 // stroke, as in Fig. 3 bottom.
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -27,6 +28,10 @@
 #include "kernels/fast_marching.h"
 
 namespace ardcell {
+
+// The brush's soft edge, the weight of a cell at distance d from its centre: full inside half the
+// radius r, falling to 0 at the rim (the blends of every mode, and painting on surfaces).
+inline double brush_falloff(double d, double r) { return std::min(1.0, 2.0 * (1.0 - d / r)); }
 
 enum class PaintMode : uint8_t { kDeposit, kOrient, kPush, kObstacle, kErase };
 inline constexpr int kPaintModeCount = 5;

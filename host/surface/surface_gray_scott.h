@@ -69,6 +69,8 @@ class SurfaceGrayScott {
   const PatchField& b() const { return b_; }
   const SurfaceLaplacian& op() const { return op_; }
   const SurfaceRdParams& params() const { return params_; }
+  // New parameters from the next step (a live change: rates, step, reaction).
+  void set_params(const SurfaceRdParams& params) { params_ = params; }
 
  private:
   DiffusionReport diffuse(PatchField& x, double c);

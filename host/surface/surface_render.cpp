@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <vector>
 
 namespace ardcell {
 namespace {
@@ -22,19 +21,45 @@ Vec3 normalized(Vec3 a) {
     for (double& c : a) c /= len;
   return a;
 }
-
-// A projected corner: screen position (pixels), depth (larger is nearer), colour and shade.
-struct Corner {
-  double x, y, depth;
-  float r, g, b;
-};
+Vec3 vec(const double v[3]) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
 
-ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, PatchField field,
-                         const SurfaceColours& colours, const SurfaceView& view) {
-  grid.exchange(field);
+SurfaceRenderer::SurfaceRenderer(const LimitSurface& surface, const PatchGrid& grid) : grid_(grid) {
   const int n = grid.n(), patches = grid.patches();
+  const std::size_t count = std::size_t(patches) * std::size_t(n + 1) * std::size_t(n + 1);
+  vertices_.resize(count);
+  corners_.resize(count);
+  field_ = grid.make_field();
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k)
+    lo[k] = std::numeric_limits<double>::max(), hi[k] = -std::numeric_limits<double>::max();
+  for (int p = 0; p < patches; ++p)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        Vertex& v = vertices_[(std::size_t(p) * (n + 1) + j) * (n + 1) + i];
+        limit_vertex(surface, p, double(i) / n, double(j) / n, v.x, v.n);
+        for (int k = 0; k < 3; ++k)
+          lo[k] = std::min(lo[k], v.x[k]), hi[k] = std::max(hi[k], v.x[k]);
+      }
+  if (count == 0) return;
+  for (int k = 0; k < 3; ++k) centre_[k] = 0.5 * (lo[k] + hi[k]);
+  // The farthest vertex, not the box's corner: a flat shape (a torus seen from above) then fills
+  // the view as it would with kOutline.
+  double r2 = 0;
+  for (const Vertex& v : vertices_)
+    r2 = std::max(r2, (v.x[0] - centre_[0]) * (v.x[0] - centre_[0]) +
+                          (v.x[1] - centre_[1]) * (v.x[1] - centre_[1]) +
+                          (v.x[2] - centre_[2]) * (v.x[2] - centre_[2]));
+  radius_ = std::sqrt(r2);
+}
+
+void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colours,
+                             const SurfaceView& view, ImageRgb8& out) {
+  // assign reuses field_'s storage: it was sized for the grid in the constructor.
+  field_.assign(field.begin(), field.end());
+  grid_.exchange(field_);
+  const int n = grid_.n(), patches = grid_.patches();
   const double az = view.azimuth_deg * std::numbers::pi / 180;
   const double el = view.elevation_deg * std::numbers::pi / 180;
   // Camera basis: `eye` from the surface towards the camera, `right` and `up` span the screen.
@@ -44,44 +69,56 @@ ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, Pat
   const Vec3 up = cross(right, Vec3{-eye[0], -eye[1], -eye[2]});
 
   // Every cell corner of every patch, projected (screen units before the fit) and coloured.
-  std::vector<Corner> corners(std::size_t(patches) * std::size_t(n + 1) * std::size_t(n + 1));
   double lo_x = std::numeric_limits<double>::max(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
-  double position[3], normal[3];
   for (int p = 0; p < patches; ++p)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) {
-        limit_vertex(surface, p, double(i) / n, double(j) / n, position, normal);
-        const Vec3 x{position[0], position[1], position[2]};
-        const double value = grid.corner_mean(field, p, i, j);
+        const std::size_t at = (std::size_t(p) * (n + 1) + j) * (n + 1) + i;
+        const Vertex& v = vertices_[at];
+        const Vec3 x = vec(v.x);
+        const double value = grid_.corner_mean(field_, p, i, j);
         const Rgb8 c = colours.colour(value);
-        const float shade =
-            float(0.25 + 0.75 * std::abs(dot(Vec3{normal[0], normal[1], normal[2]}, eye)));
-        Corner& k = corners[(std::size_t(p) * (n + 1) + j) * (n + 1) + i];
+        const float shade = float(0.25 + 0.75 * std::abs(dot(vec(v.n), eye)));
+        Corner& k = corners_[at];
         k = {dot(x, right), dot(x, up), dot(x, eye), c.r * shade, c.g * shade, c.b * shade};
         lo_x = std::min(lo_x, k.x), hi_x = std::max(hi_x, k.x);
         lo_y = std::min(lo_y, k.y), hi_y = std::max(hi_y, k.y);
       }
-  // Fit: the outline fills 90% of the smaller side, centred; screen y grows downwards.
+  // Fit, centred; screen y grows downwards. kOutline: the outline's box, exact for this view.
+  // kSphere: the box of the bounding sphere's outline, a disc of its radius around its centre
+  // from every direction, so turning the view keeps the scale (and the centre) fixed.
+  if (view.fit == SurfaceFit::kSphere) {
+    const Vec3 c = vec(centre_);
+    lo_x = dot(c, right) - radius_, hi_x = dot(c, right) + radius_;
+    lo_y = dot(c, up) - radius_, hi_y = dot(c, up) + radius_;
+  }
   const int w = std::max(1, view.width), h = std::max(1, view.height);
   const double extent = std::max({hi_x - lo_x, hi_y - lo_y, 1e-30});
   const double scale = 0.9 * std::min(w, h) / extent;
   const double cx = 0.5 * (lo_x + hi_x), cy = 0.5 * (lo_y + hi_y);
-  for (Corner& k : corners) {
+  for (Corner& k : corners_) {
     k.x = 0.5 * w + (k.x - cx) * scale;
     k.y = 0.5 * h - (k.y - cy) * scale;
   }
 
-  ImageRgb8 image;
-  image.resize(w, h);
+  if (out.width != w || out.height != h) out.resize(w, h);
   for (int y = 0; y < h; ++y) {
-    uint8_t* row = image.row(y);
+    uint8_t* row = out.row(y);
     for (int x = 0; x < w; ++x)
       row[3 * x] = view.background.r, row[3 * x + 1] = view.background.g,
               row[3 * x + 2] = view.background.b;
   }
-  std::vector<double> depth(std::size_t(w) * std::size_t(h), -std::numeric_limits<double>::max());
-  // Fills a triangle: pixel centres inside it (edge functions), nearer than what is there.
-  const auto fill = [&](const Corner& a, const Corner& b, const Corner& c) {
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  if (w != width_ || h != height_) {
+    depth_.resize(pixels);
+    pick_.resize(pixels);
+    width_ = w, height_ = h;
+  }
+  std::fill(depth_.begin(), depth_.end(), -std::numeric_limits<double>::max());
+  std::fill(pick_.begin(), pick_.end(), -1L);
+  // Fills a triangle: pixel centres inside it (edge functions), nearer than what is there; the
+  // pixel's colour interpolates the corners' and its pick records `cell`.
+  const auto fill = [&](const Corner& a, const Corner& b, const Corner& c, long cell) {
     const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (std::abs(area) < 1e-12) return;
     const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x}))));
@@ -96,10 +133,11 @@ ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, Pat
         const double wc = 1 - wa - wb;
         if (wa < 0 || wb < 0 || wc < 0) continue;
         const double z = wa * a.depth + wb * b.depth + wc * c.depth;
-        double& nearest = depth[std::size_t(y) * w + x];
+        double& nearest = depth_[std::size_t(y) * w + x];
         if (z <= nearest) continue;
         nearest = z;
-        uint8_t* px_rgb = image.row(y) + 3 * x;
+        pick_[std::size_t(y) * w + x] = cell;
+        uint8_t* px_rgb = out.row(y) + 3 * x;
         const auto mix = [&](float fa, float fb, float fc) {
           return uint8_t(std::clamp(std::lround(wa * fa + wb * fb + wc * fc), 0L, 255L));
         };
@@ -112,11 +150,24 @@ ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, Pat
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const auto at = [&](int di, int dj) -> const Corner& {
-          return corners[(std::size_t(p) * (n + 1) + j + dj) * (n + 1) + i + di];
+          return corners_[(std::size_t(p) * (n + 1) + j + dj) * (n + 1) + i + di];
         };
-        fill(at(0, 0), at(1, 0), at(1, 1));
-        fill(at(0, 0), at(1, 1), at(0, 1));
+        const long cell = long(grid_.index(p, i, j));
+        fill(at(0, 0), at(1, 0), at(1, 1), cell);
+        fill(at(0, 0), at(1, 1), at(0, 1), cell);
       }
+}
+
+long SurfaceRenderer::cell_at(int x, int y) const {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) return -1;
+  return pick_[std::size_t(y) * width_ + x];
+}
+
+ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid,
+                         const PatchField& field, const SurfaceColours& colours,
+                         const SurfaceView& view) {
+  ImageRgb8 image;
+  SurfaceRenderer(surface, grid).render(field, colours, view, image);
   return image;
 }
 

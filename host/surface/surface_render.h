@@ -1,12 +1,22 @@
 #pragma once
-// A field on a patched surface drawn into a PNG-ready image from a fixed camera, without a GPU or
-// a display (docs, tests, a quick look after `ardcell surface`): the limit surface's cell-corner
-// grid (limit_vertex) as two triangles a cell, each corner coloured as the PLY colours it (the
-// mean of its four cells, ghosts included) and shaded by its normal against a light at the eye
-// (0.25 ambient + 0.75 |n . l|, so both sides of an open mesh show), filled with a depth buffer.
-// Orthographic: the camera looks at the centre of the surface's bounding box from the direction
-// (azimuth, elevation) in degrees (azimuth from +x towards +y, elevation above the xy plane, +z
-// up), and the surface's outline fills 90% of the image's smaller side.
+// A field on a patched surface drawn into an RGB image on the CPU, without a GPU or a display:
+// the fixed-camera PNGs (docs, tests, a quick look after `ardcell surface`) and the frames of a
+// real-time loop (`ardcell live`: the mouse turns the view and paints on the cell under it).
+//
+// The method: the limit surface's cell-corner grid (limit_vertex) as two triangles a cell, each
+// corner coloured as the PLY colours it (the mean of its four cells, ghosts included) and shaded
+// by its normal against a light at the eye (0.25 ambient + 0.75 |n . l|, so both sides of an open
+// mesh show), filled with a depth buffer. Orthographic: the camera looks at the centre of the
+// surface's bounding box from the direction (azimuth, elevation) in degrees (azimuth from +x
+// towards +y, elevation above the xy plane, +z up). A pick buffer beside the depth buffer records
+// which cell each pixel shows.
+//
+// Evaluating the limit surface is the expensive part and does not depend on the view or the
+// field, so SurfaceRenderer does it once; a frame only projects, colours and fills, into buffers
+// sized on the first frame of a given size (no allocation after that).
+#include <cstdint>
+#include <vector>
+
 #include "host/io/surface_ply.h"
 #include "host/render/image.h"
 #include "host/surface/limit_surface.h"
@@ -14,13 +24,67 @@
 
 namespace ardcell {
 
+// Fit of the surface in the image:
+//   kOutline - its projected outline fills 90% of the image's smaller side (the fixed-camera
+//              PNGs: as large as the view allows, but the scale changes as the view turns);
+//   kSphere  - its bounding sphere (centre of the bounding box, radius to the farthest vertex)
+//              fills 90% of it, so the scale does not change as the view turns (live).
+enum class SurfaceFit : uint8_t { kOutline, kSphere };
+
 struct SurfaceView {
   int width = 800, height = 600;
   double azimuth_deg = 35, elevation_deg = 25;
   Rgb8 background{20, 20, 24};
+  SurfaceFit fit = SurfaceFit::kOutline;
 };
 
-ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid, PatchField field,
-                         const SurfaceColours& colours, const SurfaceView& view);
+class SurfaceRenderer {
+ public:
+  // Evaluates the limit surface at every cell corner of `grid` (positions and normals:
+  // limit_vertex) once. Keeps a reference to `grid` (each render refreshes the ghosts of its
+  // field copy through it and indexes cells with it), which must outlive the renderer; keeps
+  // nothing of `surface`.
+  SurfaceRenderer(const LimitSurface& surface, const PatchGrid& grid);
+  SurfaceRenderer(const LimitSurface&, PatchGrid&&) = delete;  // it would dangle
+
+  // Draws `field` (cells of the grid) into `out`, resized to the view's size. Its ghosts are
+  // refreshed in an internal copy: the caller's field is not written. Allocates nothing once
+  // `out` and the internal buffers have the view's size (a second call with the same size).
+  void render(const PatchField& field, const SurfaceColours& colours, const SurfaceView& view,
+              ImageRgb8& out);
+
+  // The cell drawn at pixel (x, y) of the last render: its index into a PatchField
+  // (PatchGrid::index(p, i, j)), or -1 for the background, outside the image or before the first
+  // render. The cell is the one whose (i, j) square holds the rasterised point: both triangles of
+  // a cell belong to it.
+  long cell_at(int x, int y) const;
+  // The kSphere fit's bounding sphere: the bounding box's centre to the farthest vertex.
+  double radius() const { return radius_; }
+
+ private:
+  struct Vertex {
+    double x[3], n[3];  // limit position and unit normal
+  };
+  // A projected corner: screen position (pixels), depth (larger is nearer), colour and shade.
+  struct Corner {
+    double x, y, depth;
+    float r, g, b;
+  };
+
+  const PatchGrid& grid_;
+  std::vector<Vertex> vertices_;  // patch by patch, (n + 1) x (n + 1) corners, row j major
+  double centre_[3] = {0, 0, 0};  // of the bounding box
+  double radius_ = 0;             // centre to the farthest vertex
+  PatchField field_;              // the field with its ghosts refreshed
+  std::vector<Corner> corners_;   // vertices_ projected for the current frame
+  std::vector<double> depth_;     // per pixel, of the nearest triangle so far
+  std::vector<long> pick_;        // per pixel, its cell or -1
+  int width_ = 0, height_ = 0;    // of depth_ and pick_
+};
+
+// The fixed-camera PNG: SurfaceRenderer(surface, grid).render(...) into a new image.
+ImageRgb8 render_surface(const LimitSurface& surface, const PatchGrid& grid,
+                         const PatchField& field, const SurfaceColours& colours,
+                         const SurfaceView& view);
 
 }  // namespace ardcell

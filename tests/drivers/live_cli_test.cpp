@@ -5,7 +5,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <string>
+
+#include "tests/drivers/png_read_back.h"
 
 namespace {
 
@@ -56,6 +59,55 @@ TEST(LiveCli, RunsOnTheBackEndAsked) {
     EXPECT_NE(r.output.find("frames 3, deadline misses "), std::string::npos) << r.output;
   }
 }
+
+#if ARDCELL_WITH_OPENSUBDIV
+// --shape: the preset's RD on a surface, drawn in 3D at 800 x 600 (the screenshot is the window's
+// pixels): a shaded torus on the dark background, many colours.
+TEST(LiveCli, ShowsAPresetOnASurface) {
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+    GTEST_SKIP() << "no X or Wayland display";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ardcell_live_surface_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const Result r =
+      run("live turing-spots --shape torus --patch-cells 8 --frames 5 --fps 0 "
+          "--scale 1 --screenshot " +
+          (dir / "shot.png").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ardcell live: backend threads x"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("32 patches of 8^2"), std::string::npos) << r.output;
+  const ardcell::PngInfo png = ardcell::read_png(dir / "shot.png");
+  ASSERT_TRUE(png.ok) << r.output;
+  EXPECT_EQ(png.width, 800);
+  EXPECT_EQ(png.height, 600);
+  std::set<int> colours;
+  for (const auto& row : png.rows)
+    for (std::size_t x = 0; x + 2 < row.size(); x += 3)
+      colours.insert(row[x] << 16 | row[x + 1] << 8 | row[x + 2]);
+  EXPECT_GT(colours.size(), 100u) << "a shaded surface, not a flat image";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(LiveCli, BadSurfaceArgumentsAreOneLineAndExitCodeTwo) {
+  for (const auto& [args, line] : {
+           std::pair{"--shape blob",
+                     "ardcell live: --shape 'blob': expected torus, cube-sphere, "
+                     "genus2, eight or elephant"},
+           std::pair{"--shape torus --backend opencl",
+                     "ardcell live: --backend opencl: a surface's patches run on the threads "
+                     "back end (expected auto or threads with --shape or --mesh)"},
+           std::pair{"--shape torus --patch-cells 12",
+                     "ardcell live: --patch-cells 12: expected a power of two in 2..1024"},
+           std::pair{"--patch-cells 8", "ardcell live: --patch-cells applies to --shape or --mesh"},
+           std::pair{"--mesh /no/such.obj", "ardcell live: /no/such.obj: "},
+       }) {
+    const Result r = run(std::string("live turing-spots --frames 1 ") + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_EQ(r.output.rfind(line, 0), 0u) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << args << ": " << r.output;
+  }
+}
+#endif
 
 TEST(LiveCli, BadPresetIsOneLineAndExitCodeTwo) {
   const Result r = run("live no-such-preset --frames 1");

@@ -2,12 +2,20 @@
 // field draws its colour, shaded, inside the outline and the background outside; the depth buffer
 // shows the near side (a field that is 1 on the half facing the camera draws bright, turned away,
 // dark); a quarter turn of the camera around a symmetric surface covers as many pixels.
+// SurfaceRenderer (the real-time loop's): a second frame of the same size allocates nothing;
+// cell_at names the cell drawn at a pixel; the kSphere fit keeps the scale as the view turns; the
+// caller's field, ghosts included, is left as it was.
 #include "host/surface/surface_render.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
+#include "tests/support/alloc_counter.h"
 
 namespace ardcell {
 namespace {
@@ -98,6 +106,155 @@ TEST(SurfaceRender, AQuarterTurnAroundASymmetricSurfaceCoversAsMuch) {
   };
   const int ca = covered(a), cb = covered(b);
   EXPECT_NEAR(ca, cb, 0.01 * ca);
+}
+
+Scene torus(int n) {
+  Scene s;
+  EXPECT_TRUE(LimitSurface::build(torus_mesh(8, 6, 2, 0.7), {}, s.surface));
+  s.grid = PatchGrid(s.surface.topology(), n, CornerGhosts::kDiagonalExtrapolate);
+  return s;
+}
+
+TEST(SurfaceRenderer, ASecondFrameOfTheSameSizeAllocatesNothing) {
+  const Scene s = torus(8);
+  SurfaceRenderer renderer(s.surface, s.grid);
+  PatchField field = s.grid.make_field();
+  for (std::size_t k = 0; k < field.size(); ++k) field[k] = std::sin(0.01 * double(k));
+  SurfaceView view;
+  view.width = 160, view.height = 120;
+  ImageRgb8 image;
+  const long first = g_allocations.load();
+  renderer.render(field, SurfaceColours{}, view, image);  // sizes the image and the buffers
+  const long before = g_allocations.load();
+  EXPECT_GT(before - first, 0);  // the counter sees the renderer's allocations
+  // Another view and fit of the same size, and a changed field: the live loop's frames.
+  view.azimuth_deg = 80, view.elevation_deg = -30, view.fit = SurfaceFit::kSphere;
+  field[s.grid.index(3, 2, 2)] = 5;
+  renderer.render(field, SurfaceColours{}, view, image);
+  renderer.render(field, gray(), view, image);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(image.width, 160);
+  EXPECT_EQ(image.height, 120);
+}
+
+TEST(SurfaceRenderer, CellAtNamesTheCellDrawnAtAPixel) {
+  const Scene s = cube_sphere(4);  // large cells: fewer of the near-white pixels are beside them
+  SurfaceRenderer renderer(s.surface, s.grid);
+  SurfaceView view;
+  view.width = view.height = 300;
+
+  // A constant field: every drawn pixel names a cell, the background none.
+  ImageRgb8 image;
+  renderer.render(s.grid.make_field(1.0), gray(), view, image);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      ASSERT_EQ(renderer.cell_at(x, y) == -1, is_background(image.row(y) + 3 * x, view))
+          << x << "," << y;
+  EXPECT_EQ(renderer.cell_at(0, 0), -1);  // a corner: background
+  EXPECT_EQ(renderer.cell_at(-1, 100), -1);
+  EXPECT_EQ(renderer.cell_at(100, 300), -1);
+
+  // One cell at 1, looked at along its normal (the cube-sphere is convex: nothing hides it).
+  // Its four corners are the only ones at 0.25, the top of the colours: pixels near white are
+  // inside it, or in the row of a neighbour's pixels along their shared edge (a neighbour
+  // blends the white of two corners with the black of the others).
+  const int p = 5, i = 1, j = 2, n = s.grid.n();
+  double position[3], normal[3];
+  limit_vertex(s.surface, p, (i + 0.5) / n, (j + 0.5) / n, position, normal);
+  view.azimuth_deg = std::atan2(normal[1], normal[0]) * 180 / std::numbers::pi;
+  view.elevation_deg = std::asin(normal[2]) * 180 / std::numbers::pi;
+  PatchField field = s.grid.make_field();
+  const long cell = long(s.grid.index(p, i, j));
+  field[std::size_t(cell)] = 1;
+  SurfaceColours colours = gray();
+  colours.hi = 0.25;
+  renderer.render(field, colours, view, image);
+  int white = 0, named = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      if (image.row(y)[3 * x] < 250) continue;
+      ++white;
+      named += renderer.cell_at(x, y) == cell;
+    }
+  EXPECT_GT(white, 400);  // the cell is some 40 pixels across
+  EXPECT_GE(named, 0.9 * white) << white;
+
+  EXPECT_EQ(renderer.cell_at(0, 0), -1);
+}
+
+// Rows and columns with a drawn pixel.
+struct Extent {
+  int width, height;
+};
+Extent drawn_extent(const ImageRgb8& image, const SurfaceView& view) {
+  int x0 = image.width, x1 = -1, y0 = image.height, y1 = -1;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      if (!is_background(image.row(y) + 3 * x, view))
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  return {x1 - x0 + 1, y1 - y0 + 1};
+}
+
+TEST(SurfaceRenderer, TheSphereFitKeepsTheScaleAsTheViewTurns) {
+  const Scene s = cube_sphere(8);
+  SurfaceRenderer renderer(s.surface, s.grid);
+  const PatchField one = s.grid.make_field(1.0);
+  ImageRgb8 image;
+  const auto extent = [&](double azimuth, double elevation, SurfaceFit fit) {
+    SurfaceView view;
+    view.width = view.height = 200;
+    view.azimuth_deg = azimuth, view.elevation_deg = elevation, view.fit = fit;
+    renderer.render(one, gray(), view, image);
+    return drawn_extent(image, view);
+  };
+  // Turned by 45 degrees the rounded cube is wider (its diagonal). The outline fit shrinks it to
+  // keep filling 90% (180 pixels); the sphere fit keeps the scale, so the height - the z range,
+  // the same from every azimuth at elevation 0 - stays, and the width grows.
+  const Extent o0 = extent(0, 0, SurfaceFit::kOutline), o45 = extent(45, 0, SurfaceFit::kOutline);
+  EXPECT_NEAR(std::max(o0.width, o0.height), 180, 2);
+  EXPECT_NEAR(std::max(o45.width, o45.height), 180, 2);
+  const Extent s0 = extent(0, 0, SurfaceFit::kSphere), s45 = extent(45, 0, SurfaceFit::kSphere);
+  EXPECT_NEAR(s0.height, s45.height, 2);
+  EXPECT_NEAR(s0.width, s0.height, 2);
+  EXPECT_LT(o45.height, o0.height - 4);  // the outline fit did change the scale
+  EXPECT_GT(s45.width, s0.width + 4);
+  // The sphere reaches the farthest vertex, a rounded corner of the cube nearer the centre than
+  // the box's corner: from the front the surface is wider than inside the box's corner sphere
+  // (180 / sqrt(3) pixels across) and no wider than the sphere's disc.
+  EXPECT_GT(s0.width, 180 / std::sqrt(3.0) + 4);
+  EXPECT_LE(s0.width, 182);
+  // Any direction, elevation included: the surface stays inside the sphere's 180-pixel disc.
+  for (double az : {10.0, 60.0, 200.0})
+    for (double el : {-70.0, 20.0, 45.0}) {
+      const Extent e = extent(az, el, SurfaceFit::kSphere);
+      EXPECT_LE(std::max(e.width, e.height), 182) << az << "," << el;
+      EXPECT_NEAR(e.height, s0.height, 0.3 * s0.height) << az << "," << el;
+    }
+}
+
+TEST(SurfaceRenderer, TheCallersFieldIsNotWritten) {
+  const Scene s = torus(6);
+  PatchField field = s.grid.make_field(-7.0);  // ghosts at -7: an exchange would overwrite them
+  for (int p = 0; p < s.grid.patches(); ++p)
+    for (int j = 0; j < s.grid.n(); ++j)
+      for (int i = 0; i < s.grid.n(); ++i) field[s.grid.index(p, i, j)] = 0.1 * (p + i - j);
+  const PatchField before = field;
+  SurfaceRenderer renderer(s.surface, s.grid);
+  SurfaceView view;
+  view.width = 120, view.height = 90;
+  ImageRgb8 image;
+  renderer.render(field, SurfaceColours{}, view, image);
+  EXPECT_EQ(field, before);
+  const ImageRgb8 free_function = render_surface(s.surface, s.grid, field, SurfaceColours{}, view);
+  EXPECT_EQ(field, before);
+  // The renderer drew the exchanged field, not the -7 ghosts: the free function (its own copy
+  // of the field) and a field exchanged by the caller draw the same pixels.
+  PatchField exchanged = field;
+  s.grid.exchange(exchanged);
+  ImageRgb8 again;
+  renderer.render(exchanged, SurfaceColours{}, view, again);
+  EXPECT_EQ(image.rgb, again.rgb);
+  EXPECT_EQ(image.rgb, free_function.rgb);
 }
 
 }  // namespace

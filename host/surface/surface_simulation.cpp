@@ -1,0 +1,191 @@
+#include "host/surface/surface_simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "host/paint/paint.h"
+#include "host/surface/patch_metric.h"
+#include "kernels/reaction.h"
+
+namespace ardcell {
+namespace {
+
+// A live surface keeps to what a frame can step: about a million cells.
+constexpr long long kMaxLiveCells = 1LL << 20;
+
+// Squared distance from cell c's point to `point`.
+double distance2(const std::array<PatchField, 3>& positions, std::size_t c, const double* point) {
+  const double dx = positions[0][c] - point[0], dy = positions[1][c] - point[1],
+               dz = positions[2][c] - point[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+}  // namespace
+
+SurfaceSimulation::SurfaceSimulation(const Preset& preset, const PolyMesh& mesh,
+                                     const SurfaceLiveOptions& options) {
+  if (Status s = preset_rd(preset, flat_); !s) throw std::invalid_argument(s.message());
+  const int n = options.patch_cells;
+  if (std::string why = patch_cells_problem(n); !why.empty()) throw std::invalid_argument(why);
+  if (Status s = LimitSurface::build(mesh, {}, surface_); !s)
+    throw std::invalid_argument(s.message());
+  const long long cells = (long long)surface_.patches() * n * n;
+  if (cells > kMaxLiveCells)
+    throw std::invalid_argument(std::to_string(surface_.patches()) + " patches of " +
+                                std::to_string(n) + "^2 cells are " + std::to_string(cells) +
+                                " cells (expected at most " + std::to_string(kMaxLiveCells) +
+                                " live: a smaller --patch-cells)");
+  {
+    const PatchMetric metric = sample_limit_metric(surface_, n);
+    if (Status s = metric.check_nondegenerate(); !s) throw std::invalid_argument(s.message());
+    op_ = std::make_unique<SurfaceLaplacian>(surface_.topology(), metric);
+  }
+  ThreadBackendOptions threads;
+  threads.workers = options.workers;
+  threads.pin = false;  // beside the display's thread
+  backend_ = std::make_unique<ThreadBackend>(threads);
+  executor_ = std::make_unique<RowExecutor>(*backend_);
+  op_->set_executor(*executor_);
+  multigrid_ = std::make_unique<SurfaceMultigrid>(surface_, *op_);
+  // The pattern's scale: a flat cell is 1/20 of a mean patch's side (as `ardcell surface`).
+  length_ = std::sqrt(op_->area() / op_->patches()) / 20;
+  rd_ =
+      std::make_unique<SurfaceGrayScott>(*op_, surface_rd_params(flat_, length_), multigrid_.get());
+  positions_ = cell_positions(surface_, op_->grid());
+  renderer_ = std::make_unique<SurfaceRenderer>(surface_, op_->grid());
+  // The brush's scale: the bounding sphere the view fits (its diameter).
+  diameter_ = 2 * renderer_->radius();
+  // Each patch's bounding sphere, so that a dab tests the cells of the patches it reaches only.
+  const PatchGrid& g = op_->grid();
+  patch_spheres_.assign(std::size_t(g.patches()), {});
+  for (int p = 0; p < g.patches(); ++p) {
+    std::array<double, 4>& sphere = patch_spheres_[std::size_t(p)];
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) sphere[std::size_t(k)] += positions_[k][g.index(p, i, j)];
+    for (int k = 0; k < 3; ++k) sphere[std::size_t(k)] /= double(n) * n;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        sphere[3] = std::max(sphere[3], distance2(positions_, g.index(p, i, j), sphere.data()));
+    sphere[3] = std::sqrt(sphere[3]) + length_;  // a cell's half-width beyond its centre, at most
+  }
+  view_.width = options.view.x;
+  view_.height = options.view.y;
+  view_.azimuth_deg = options.azimuth_deg;
+  view_.elevation_deg = options.elevation_deg;
+  view_.fit = SurfaceFit::kSphere;
+  set_colours(preset.scene.output);
+  state_.size = options.view;
+  char name[64];
+  std::snprintf(name, sizeof name, "threads x%d, %d patches of %d^2", backend_->workers(),
+                surface_.patches(), n);
+  backend_name_ = name;
+  reset();
+}
+
+SurfaceSimulation::~SurfaceSimulation() = default;
+
+void SurfaceSimulation::reset() {
+  rd_->seed_pattern(positions_, surface_start(flat_, length_, op_->area()));
+  turning_.fill(false);
+}
+
+void SurfaceSimulation::step() {
+  for (int k = 0; k < flat_.steps_per_frame; ++k) rd_->step();
+}
+
+void SurfaceSimulation::set_colours(const OutputConfig& output) {
+  show_a_ = output.show != "B";
+  Colormap map;
+  if (parse_colormap(output.colormap, map)) colours_.colormap = map;
+  const ConcentrationBox range = typical_range(flat_.reaction);
+  colours_.lo = show_a_ ? range.a_lo : range.b_lo;
+  colours_.hi = show_a_ ? range.a_hi : range.b_hi;
+}
+
+void SurfaceSimulation::apply(const SceneConfig& config) {
+  // A value out of range was refused with its line by the loop; keep the running ones then.
+  if (!update_preset_rd(config, flat_)) return;
+  SurfaceRdParams params = surface_rd_params(flat_, length_);
+  params.solve = rd_->params().solve;
+  rd_->set_params(params);
+  set_colours(config.output);
+}
+
+long SurfaceSimulation::cell_at(float x, float y) const {
+  if (!(x >= 0 && x < 1 && y >= 0 && y < 1)) return -1;
+  return renderer_->cell_at(int(x * float(view_.width)), int(y * float(view_.height)));
+}
+
+void SurfaceSimulation::deposit(long cell, float k_base, double radius) {
+  const PatchGrid& g = op_->grid();
+  const int n = g.n();
+  const double centre[3] = {positions_[0][std::size_t(cell)], positions_[1][std::size_t(cell)],
+                            positions_[2][std::size_t(cell)]};
+  PatchField& a = rd_->a();
+  PatchField& b = rd_->b();
+  const double da = flat_.start.seed_a, db = flat_.start.seed_b;
+  const double r2 = radius * radius;
+  for (int p = 0; p < g.patches(); ++p) {
+    const std::array<double, 4>& sphere = patch_spheres_[std::size_t(p)];
+    const double dx = sphere[0] - centre[0], dy = sphere[1] - centre[1], dz = sphere[2] - centre[2];
+    const double reach = radius + sphere[3];
+    if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::size_t c = g.index(p, i, j);
+        const double d2 = distance2(positions_, c, centre);
+        if (d2 > r2) continue;
+        const double k = k_base * brush_falloff(std::sqrt(d2), radius);
+        a[c] += k * (da - a[c]);
+        b[c] += k * (db - b[c]);
+      }
+  }
+}
+
+void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const InputMapping& input,
+                              int source) {
+  if (source < 0 || source >= kMaxInputSources) return;
+  const double radius = std::max(1e-12, input.brush_radius * diameter_);
+  for (const StrokeSample& s : samples) {
+    const bool turn = s.touching() && (s.eraser || (s.buttons & kButtonBarrel) != 0) &&
+                      std::isfinite(s.x) && std::isfinite(s.y);
+    if (turn) {
+      if (turning_[std::size_t(source)]) {
+        const auto& from = turn_from_[std::size_t(source)];
+        view_.azimuth_deg = std::fmod(view_.azimuth_deg - 360.0 * (s.x - from[0]), 360.0);
+        view_.elevation_deg =
+            std::clamp(view_.elevation_deg + 180.0 * (s.y - from[1]), -89.0, 89.0);
+      }
+      turn_from_[std::size_t(source)] = {s.x, s.y};
+      turning_[std::size_t(source)] = true;
+      continue;
+    }
+    turning_[std::size_t(source)] = false;
+    if (!s.touching() || !std::isfinite(s.pressure)) continue;
+    const long cell = cell_at(s.x, s.y);
+    if (cell < 0) continue;
+    const double pressure = std::pow(std::clamp(double(s.pressure), 0.0, 1.0),
+                                     input.pressure_gamma > 0 ? input.pressure_gamma : 1.0);
+    deposit(cell, float(std::clamp(input.strength * pressure, 0.0, 1.0)), radius);
+  }
+}
+
+void SurfaceSimulation::render(ImageRgb8& out) { renderer_->render(shown(), colours_, view_, out); }
+
+SimulationFactory surface_simulations(PolyMesh mesh, const SurfaceLiveOptions& options) {
+  auto shared = std::make_shared<const PolyMesh>(std::move(mesh));
+  return [shared, options](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
+    return std::make_unique<SurfaceSimulation>(preset, *shared, options);
+  };
+}
+
+bool runs_on_surfaces(const Preset& preset) {
+  PresetRd unused;
+  return bool(preset_rd(preset, unused));
+}
+
+}  // namespace ardcell

@@ -1,0 +1,109 @@
+#pragma once
+// A flat preset's reaction-diffusion on a Catmull-Clark limit surface as a LiveSimulation:
+// what `ardcell live PRESET --shape torus` (or --mesh FILE) runs (seed 004; the surface RD of
+// host/surface/surface_gray_scott.h, the preset carried over by host/surface/surface_scene.h).
+// It draws itself: a 3D view of the surface (host/surface/surface_render.h, the field's colours
+// shaded, its scale fixed by the bounding sphere so the view turns without zooming).
+// Input, from any stroke source (mouse, pen, touch, OSC, the attract mode's recordings):
+//   - the tip (left button, a touch) paints: the stroke's point is picked on the 3D view (the
+//     cell drawn under it in the last frame) and every cell within the brush of that point
+//     (straight-line distance on the surface) is blended towards the preset's seed values, as
+//     the flat painter's deposit mode does (brush_falloff; radius input.brush_radius times the
+//     bounding sphere's diameter, strength input.strength times the pressure);
+//   - the eraser (right button) or a barrel switch turns the view: a drag across the whole
+//     canvas turns it 360 degrees around the vertical axis, a drag from top to bottom 180
+//     degrees in elevation (clamped to +-89).
+// A step runs the preset's rd.steps_per_frame surface steps on the threads back end (the
+// patches side by side; the same bits for any number of workers). Live changes (apply) take the
+// reaction's parameters, the rates, the step, the steps a frame, the start's values (for reset
+// and the brush) and the output's field and colormap; the solver is the surface's own (multigrid
+// to the tolerance: the loop's adaptive quality does not apply), and a painting mode other than
+// deposit paints as deposit. Nothing allocates in step(), paint(), apply() or render() once the
+// first frame is drawn.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/io/surface_ply.h"
+#include "host/live/live_loop.h"
+#include "host/surface/limit_surface.h"
+#include "host/surface/poly_mesh.h"
+#include "host/surface/surface_gray_scott.h"
+#include "host/surface/surface_laplacian.h"
+#include "host/surface/surface_multigrid.h"
+#include "host/surface/surface_render.h"
+#include "host/surface/surface_scene.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
+
+namespace ardcell {
+
+struct SurfaceLiveOptions {
+  int patch_cells = 16;  // N x N cells a patch, a power of two
+  int workers = 0;       // threads the patches run on (0: one per core)
+  Int2 view{800, 600};   // the image drawn, in pixels
+  double azimuth_deg = 35, elevation_deg = 25;
+};
+
+class SurfaceSimulation final : public LiveSimulation {
+ public:
+  // `mesh`: the control mesh (surface_control_mesh), copied. Throws std::invalid_argument with
+  // one line when the preset's RD cannot run on a surface (preset_rd) or the mesh cannot be
+  // evaluated.
+  SurfaceSimulation(const Preset& preset, const PolyMesh& mesh, const SurfaceLiveOptions& options);
+  ~SurfaceSimulation() override;
+
+  void step() override;
+  void reset() override;
+  // No flat fields: the size is the view's (walls, which read fields, refuse surfaces).
+  const SimState& state() const override { return state_; }
+  SimState& state_to_write() override { return state_; }
+  void apply(const SceneConfig& config) override;
+  void paint(std::span<const StrokeSample> samples, const InputMapping& input, int source) override;
+  std::string_view backend() const override { return backend_name_; }
+  Int2 view_size() const override { return {view_.width, view_.height}; }
+  void render(ImageRgb8& out) override;
+
+  const SurfaceGrayScott& rd() const { return *rd_; }
+  const SurfaceView& view() const { return view_; }
+  const PatchGrid& grid() const { return op_->grid(); }
+  // The cell drawn at canvas point (x, y) in [0, 1]^2 in the last render, or -1.
+  long cell_at(float x, float y) const;
+
+ private:
+  const PatchField& shown() const { return show_a_ ? rd_->a() : rd_->b(); }
+  void deposit(long cell, float k_base, double radius);
+  // The shown chemical and its colours from the preset's output (show B, else A; its colormap
+  // over the model's typical range).
+  void set_colours(const OutputConfig& output);
+
+  PresetRd flat_;
+  double length_ = 1;  // the surface length of a flat cell
+  LimitSurface surface_;
+  std::unique_ptr<ThreadBackend> backend_;
+  std::unique_ptr<RowExecutor> executor_;
+  std::unique_ptr<SurfaceLaplacian> op_;
+  std::unique_ptr<SurfaceMultigrid> multigrid_;
+  std::unique_ptr<SurfaceGrayScott> rd_;
+  std::unique_ptr<SurfaceRenderer> renderer_;
+  std::array<PatchField, 3> positions_;  // every cell's point on the limit surface
+  double diameter_ = 1;                  // of the bounding sphere the view fits
+  // Each patch's cells' centroid and the distance to its farthest cell (plus a flat cell).
+  std::vector<std::array<double, 4>> patch_spheres_;
+  SurfaceView view_;
+  SurfaceColours colours_;
+  bool show_a_ = true;
+  SimState state_;
+  std::string backend_name_;
+  // The previous sample of a turning drag, per source, while turning_.
+  std::array<std::array<float, 2>, kMaxInputSources> turn_from_{};
+  std::array<bool, kMaxInputSources> turning_{};
+};
+
+// The live loop's factory of surface simulations: every preset on the same control mesh.
+SimulationFactory surface_simulations(PolyMesh mesh, const SurfaceLiveOptions& options);
+// Whether `preset`'s reaction-diffusion can run on a surface (preset_rd): the default playlist.
+bool runs_on_surfaces(const Preset& preset);
+
+}  // namespace ardcell

@@ -1,0 +1,189 @@
+// A flat preset's reaction-diffusion live on a surface (host/surface/surface_simulation.h): the
+// 3D view it draws, painting by picking the cell under the pointer, turning the view with the
+// right button, live parameter changes, the presets it refuses, and no allocation per frame.
+#include "host/surface/surface_simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "host/surface/procedural_mesh.h"
+#include "tests/support/alloc_counter.h"
+
+namespace ardcell {
+namespace {
+
+Preset preset(const char* name) {
+  Preset p;
+  EXPECT_TRUE(load_preset(name, p)) << name;
+  return p;
+}
+
+SurfaceLiveOptions small_options() {
+  SurfaceLiveOptions o;
+  o.patch_cells = 8;
+  o.workers = 2;
+  o.view = {320, 240};
+  return o;
+}
+
+int distinct_colours(const ImageRgb8& image) {
+  std::set<int> colours;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const uint8_t* p = image.row(y) + 3 * x;
+      colours.insert(p[0] << 16 | p[1] << 8 | p[2]);
+    }
+  return int(colours.size());
+}
+
+StrokeSample sample(float x, float y, bool tip, bool eraser = false) {
+  StrokeSample s;
+  s.x = x, s.y = y;
+  s.pressure = tip ? 1.0f : 0.0f;
+  s.buttons = tip ? uint32_t(kButtonTip) : 0u;
+  s.in_range = true;
+  s.eraser = eraser;
+  return s;
+}
+
+TEST(SurfaceSimulation, DrawsTheSurfaceAndItsPattern) {
+  SurfaceSimulation sim(preset("turing-spots"), torus_mesh(8, 4, 2.0, 0.8), small_options());
+  EXPECT_EQ(sim.view_size(), (Int2{320, 240}));
+  for (int i = 0; i < 20; ++i) sim.step();
+  ImageRgb8 image;
+  sim.render(image);
+  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.height, 240);
+  EXPECT_GT(distinct_colours(image), 50) << "a shaded surface with a pattern on it";
+  EXPECT_EQ(sim.cell_at(0.01f, 0.01f), -1) << "the corner shows the background";
+  EXPECT_GE(sim.cell_at(0.5f, 0.35f), 0) << "the torus's far side, above its hole";
+}
+
+// A stroke at the view's centre blends the picked cell and its neighbourhood towards the
+// preset's seed values and leaves the far side of the surface alone.
+TEST(SurfaceSimulation, PaintsTheCellUnderThePointer) {
+  const Preset p = preset("turing-spots");
+  SurfaceSimulation sim(p, torus_mesh(8, 4, 2.0, 0.8), small_options());
+  ImageRgb8 image;
+  sim.render(image);
+  const float x = 0.5f, y = 0.35f;
+  const long cell = sim.cell_at(x, y);
+  ASSERT_GE(cell, 0);
+  const PatchField before = sim.rd().b();
+  const StrokeSample down = sample(x, y, true);
+  InputMapping input = p.input;
+  input.strength = 1.0;
+  sim.paint(std::span(&down, 1), input, 0);
+  const PatchField& after = sim.rd().b();
+  const double seed_b = p.scene.rd.seed_b;
+  EXPECT_NEAR(after[std::size_t(cell)], seed_b, 1e-12) << "full strength at the brush's centre";
+  long changed = 0, total = 0;
+  const PatchGrid& g = sim.grid();
+  for (int q = 0; q < g.patches(); ++q)
+    for (int j = 0; j < g.n(); ++j)
+      for (int i = 0; i < g.n(); ++i) {
+        const std::size_t c = g.index(q, i, j);
+        ++total;
+        if (after[c] != before[c]) ++changed;
+      }
+  EXPECT_GT(changed, 1);
+  EXPECT_LT(changed, total / 10) << "a brush, not the whole surface";
+  // The pointer moving without a button paints nothing.
+  const PatchField painted = sim.rd().b();
+  const StrokeSample hover = sample(0.6f, 0.4f, false);
+  sim.paint(std::span(&hover, 1), input, 0);
+  EXPECT_EQ(sim.rd().b(), painted);
+}
+
+// A right-button drag across a quarter of the canvas turns the view by 90 degrees about the
+// vertical axis; the image changes, the fields do not.
+TEST(SurfaceSimulation, TheRightButtonTurnsTheView) {
+  SurfaceSimulation sim(preset("turing-spots"), cube_mesh(2), small_options());
+  ImageRgb8 before, after;
+  sim.render(before);
+  const double azimuth = sim.view().azimuth_deg, elevation = sim.view().elevation_deg;
+  const PatchField a = sim.rd().a();
+  const StrokeSample drag[] = {sample(0.2f, 0.5f, true, true), sample(0.45f, 0.6f, true, true),
+                               sample(0.45f, 0.6f, false)};
+  sim.paint(drag, {}, 0);
+  EXPECT_NEAR(sim.view().azimuth_deg, azimuth - 90.0, 1e-4);
+  EXPECT_NEAR(sim.view().elevation_deg, elevation + 18.0, 1e-4);
+  EXPECT_EQ(sim.rd().a(), a) << "turning paints nothing";
+  sim.render(after);
+  EXPECT_NE(before.rgb, after.rgb);
+  // Elevation stops short of the poles.
+  const StrokeSample up[] = {sample(0.5f, 0.0f, true, true), sample(0.5f, 1.0f, true, true)};
+  sim.paint(up, {}, 0);
+  EXPECT_DOUBLE_EQ(sim.view().elevation_deg, 89.0);
+}
+
+TEST(SurfaceSimulation, LiveChangesReachTheReaction) {
+  const Preset p = preset("turing-spots");
+  SurfaceSimulation sim(p, torus_mesh(8, 4, 2.0, 0.8), small_options());
+  SceneConfig next = p.scene;
+  next.rd.dt = p.scene.rd.dt * 0.5;
+  next.rd.diffusion_b = p.scene.rd.diffusion_b * 2;
+  ImageRgb8 shows_a, shows_b;
+  sim.render(shows_a);
+  next.output.show = std::string(1, 'B');  // a literal warns falsely under GCC 12 (-Wrestrict)
+  sim.apply(next);
+  EXPECT_DOUBLE_EQ(sim.rd().params().dt, next.rd.dt);
+  EXPECT_NEAR(sim.rd().params().diffusion_b / sim.rd().params().diffusion_a,
+              next.rd.diffusion_b / next.rd.diffusion_a, 1e-12);
+  sim.render(shows_b);
+  EXPECT_NE(shows_a.rgb, shows_b.rgb) << "the output's field follows the preset";
+  // A reaction out of range keeps the running values.
+  SceneConfig bad = next;
+  bad.rd.dt = 0.25;
+  bad.rd.reaction.turing_s = -1;
+  ASSERT_NE(reaction_params_problem(bad.rd.reaction), nullptr);
+  sim.apply(bad);
+  EXPECT_DOUBLE_EQ(sim.rd().params().dt, next.rd.dt);
+}
+
+TEST(SurfaceSimulation, RefusesWhatASurfaceCannotRun) {
+  for (const auto& [name, expected] :
+       {std::pair{"cavity", "rd.enabled is false (expected a scene with RD)"},
+        std::pair{"fig3-orient",
+                  "rd.anisotropy: the surface's diffusion is isotropic (expected isotropic)"}}) {
+    try {
+      SurfaceSimulation sim(preset(name), torus_mesh(8, 4, 2.0, 0.8), small_options());
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
+  }
+  EXPECT_FALSE(runs_on_surfaces(preset("cavity")));
+  EXPECT_TRUE(runs_on_surfaces(preset("turing-spots")));
+}
+
+TEST(SurfaceSimulation, SteadyFramesDoNotAllocate) {
+  // A name past std::string's small buffer: apply() must not copy it.
+  const Preset p = preset("obstacle-rd-gray-scott");
+  SurfaceSimulation sim(p, torus_mesh(8, 4, 2.0, 0.8), small_options());
+  SceneConfig changed = p.scene;
+  changed.rd.reaction.F *= 1.01f;
+  ImageRgb8 image;
+  const StrokeSample stroke[] = {sample(0.5f, 0.35f, true), sample(0.52f, 0.36f, true),
+                                 sample(0.3f, 0.5f, true, true), sample(0.35f, 0.5f, true, true)};
+  InputMapping input;
+  for (int i = 0; i < 2; ++i) {  // the first frames size the solver's and renderer's buffers
+    sim.paint(stroke, input, 0);
+    sim.step();
+    sim.render(image);
+  }
+  const long before = g_allocations.load();
+  for (int i = 0; i < 3; ++i) {
+    sim.paint(stroke, input, 0);
+    sim.apply(changed);
+    sim.step();
+    sim.render(image);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+}  // namespace
+}  // namespace ardcell
