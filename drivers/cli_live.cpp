@@ -220,17 +220,22 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (std::string why = check_wall_args(a); !why.empty()) return cli_usage_error(ctx, "live", why);
   const bool walled = a.wall_opt->count() > 0;
   // --shape / --mesh: the presets' reaction-diffusion on a surface, drawn in 3D.
-  const bool on_surface = a.shape_opt->count() > 0 || a.mesh_opt->count() > 0;
+  [[maybe_unused]] const bool on_surface = a.shape_opt->count() > 0 || a.mesh_opt->count() > 0;
   if (std::string why = check_surface_args(a, backend); !why.empty())
     return cli_usage_error(ctx, "live", why);
 #if ARDCELL_WITH_OPENSUBDIV
-  PolyMesh surface_mesh;
+  // The limit surface once for every preset of the session, its problems named by the mesh.
+  std::shared_ptr<LimitSurface> surface;
   if (on_surface) {
+    PolyMesh mesh;
     std::string label;
     if (Status s = surface_control_mesh(a.shape_opt->count() ? a.shape : std::string(), a.mesh,
-                                        surface_mesh, label);
+                                        mesh, label);
         !s)
       return cli_usage_error(ctx, "live", s.message());
+    surface = std::make_shared<LimitSurface>();
+    if (Status s = build_live_surface(std::move(mesh), a.patch_cells, *surface); !s)
+      return cli_usage_error(ctx, "live", (label.empty() ? "" : label + ": ") + s.message());
   }
 #endif
   [[maybe_unused]] int screen = 0;  // on a wall, this process's screen (its rank)
@@ -327,6 +332,11 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   Preset preset;
   if (Status s = load_live_preset(first, preset, a.realtime_solvers); !s)
     return fail(kExitUsage, s.message(), true);
+#if ARDCELL_WITH_OPENSUBDIV
+  if (PresetRd unused; on_surface)
+    if (Status s = preset_rd(preset, unused); !s)
+      return fail(kExitUsage, first + ": " + s.message(), true);
+#endif
   for (const std::string& name : a.playlist) {
     Preset p;
     if (Status s = load_live_preset(name, p); !s)
@@ -441,10 +451,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   [[maybe_unused]] BackendChoice choice;
 #if ARDCELL_WITH_OPENSUBDIV
   if (on_surface) {
-    SurfaceLiveOptions surface;
-    surface.patch_cells = a.patch_cells;
-    if (a.workers_opt->count()) surface.workers = a.workers;
-    factory = surface_simulations(std::move(surface_mesh), surface);
+    SurfaceLiveOptions options;
+    options.patch_cells = a.patch_cells;
+    if (a.workers_opt->count()) options.workers = a.workers;
+    factory = surface_simulations(std::move(surface), options);
   }
 #endif
   if (!factory) {

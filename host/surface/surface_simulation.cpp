@@ -25,37 +25,41 @@ double distance2(const std::array<PatchField, 3>& positions, std::size_t c, cons
 
 }  // namespace
 
-SurfaceSimulation::SurfaceSimulation(const Preset& preset, const PolyMesh& mesh,
-                                     const SurfaceLiveOptions& options) {
+Status build_live_surface(PolyMesh mesh, int patch_cells, LimitSurface& out) {
+  const int n = patch_cells;
+  if (std::string why = patch_cells_problem(n); !why.empty()) return Status::error(why);
+  if (Status s = LimitSurface::build(std::move(mesh), {}, out); !s) return s;
+  const long long cells = (long long)out.patches() * n * n;
+  if (cells > kMaxLiveCells)
+    return Status::error(std::to_string(out.patches()) + " patches of " + std::to_string(n) +
+                         "^2 cells are " + std::to_string(cells) + " cells (expected at most " +
+                         std::to_string(kMaxLiveCells) + " live: a smaller --patch-cells)");
+  return sample_limit_metric(out, n).check_nondegenerate();
+}
+
+SurfaceSimulation::SurfaceSimulation(const Preset& preset,
+                                     std::shared_ptr<const LimitSurface> surface,
+                                     const SurfaceLiveOptions& options)
+    : surface_(std::move(surface)) {
   if (Status s = preset_rd(preset, flat_); !s) throw std::invalid_argument(s.message());
   const int n = options.patch_cells;
   if (std::string why = patch_cells_problem(n); !why.empty()) throw std::invalid_argument(why);
-  if (Status s = LimitSurface::build(mesh, {}, surface_); !s)
-    throw std::invalid_argument(s.message());
-  const long long cells = (long long)surface_.patches() * n * n;
-  if (cells > kMaxLiveCells)
-    throw std::invalid_argument(std::to_string(surface_.patches()) + " patches of " +
-                                std::to_string(n) + "^2 cells are " + std::to_string(cells) +
-                                " cells (expected at most " + std::to_string(kMaxLiveCells) +
-                                " live: a smaller --patch-cells)");
-  {
-    const PatchMetric metric = sample_limit_metric(surface_, n);
-    if (Status s = metric.check_nondegenerate(); !s) throw std::invalid_argument(s.message());
-    op_ = std::make_unique<SurfaceLaplacian>(surface_.topology(), metric);
-  }
+  const LimitSurface& surface_ref = *surface_;
+  op_ = std::make_unique<SurfaceLaplacian>(surface_ref.topology(),
+                                           sample_limit_metric(surface_ref, n));
   ThreadBackendOptions threads;
   threads.workers = options.workers;
   threads.pin = false;  // beside the display's thread
   backend_ = std::make_unique<ThreadBackend>(threads);
   executor_ = std::make_unique<RowExecutor>(*backend_);
   op_->set_executor(*executor_);
-  multigrid_ = std::make_unique<SurfaceMultigrid>(surface_, *op_);
+  multigrid_ = std::make_unique<SurfaceMultigrid>(surface_ref, *op_);
   // The pattern's scale: a flat cell is 1/20 of a mean patch's side (as `ardcell surface`).
   length_ = std::sqrt(op_->area() / op_->patches()) / 20;
   rd_ =
       std::make_unique<SurfaceGrayScott>(*op_, surface_rd_params(flat_, length_), multigrid_.get());
-  positions_ = cell_positions(surface_, op_->grid());
-  renderer_ = std::make_unique<SurfaceRenderer>(surface_, op_->grid());
+  positions_ = cell_positions(surface_ref, op_->grid());
+  renderer_ = std::make_unique<SurfaceRenderer>(surface_ref, op_->grid());
   // The brush's scale: the bounding sphere the view fits (its diameter).
   diameter_ = 2 * renderer_->radius();
   // Each patch's bounding sphere, so that a dab tests the cells of the patches it reaches only.
@@ -70,7 +74,7 @@ SurfaceSimulation::SurfaceSimulation(const Preset& preset, const PolyMesh& mesh,
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
         sphere[3] = std::max(sphere[3], distance2(positions_, g.index(p, i, j), sphere.data()));
-    sphere[3] = std::sqrt(sphere[3]) + length_;  // a cell's half-width beyond its centre, at most
+    sphere[3] = std::sqrt(sphere[3]);  // the brush compares cell centres only
   }
   view_.width = options.view.x;
   view_.height = options.view.y;
@@ -81,7 +85,7 @@ SurfaceSimulation::SurfaceSimulation(const Preset& preset, const PolyMesh& mesh,
   state_.size = options.view;
   char name[64];
   std::snprintf(name, sizeof name, "threads x%d, %d patches of %d^2", backend_->workers(),
-                surface_.patches(), n);
+                surface_ref.patches(), n);
   backend_name_ = name;
   reset();
 }
@@ -165,7 +169,7 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
       continue;
     }
     turning_[std::size_t(source)] = false;
-    if (!s.touching() || !std::isfinite(s.pressure)) continue;
+    if (!s.touching() || !s.in_range || !std::isfinite(s.pressure)) continue;
     const long cell = cell_at(s.x, s.y);
     if (cell < 0) continue;
     const double pressure = std::pow(std::clamp(double(s.pressure), 0.0, 1.0),
@@ -176,10 +180,10 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
 
 void SurfaceSimulation::render(ImageRgb8& out) { renderer_->render(shown(), colours_, view_, out); }
 
-SimulationFactory surface_simulations(PolyMesh mesh, const SurfaceLiveOptions& options) {
-  auto shared = std::make_shared<const PolyMesh>(std::move(mesh));
-  return [shared, options](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
-    return std::make_unique<SurfaceSimulation>(preset, *shared, options);
+SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surface,
+                                      const SurfaceLiveOptions& options) {
+  return [surface, options](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
+    return std::make_unique<SurfaceSimulation>(preset, surface, options);
   };
 }
 

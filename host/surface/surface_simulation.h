@@ -48,10 +48,11 @@ struct SurfaceLiveOptions {
 
 class SurfaceSimulation final : public LiveSimulation {
  public:
-  // `mesh`: the control mesh (surface_control_mesh), copied. Throws std::invalid_argument with
-  // one line when the preset's RD cannot run on a surface (preset_rd) or the mesh cannot be
-  // evaluated.
-  SurfaceSimulation(const Preset& preset, const PolyMesh& mesh, const SurfaceLiveOptions& options);
+  // `surface`: from build_live_surface, shared by the session's simulations (only read while
+  // one is built; a running one no longer evaluates it). Throws std::invalid_argument with one
+  // line when the preset's RD cannot run on a surface (preset_rd).
+  SurfaceSimulation(const Preset& preset, std::shared_ptr<const LimitSurface> surface,
+                    const SurfaceLiveOptions& options);
   ~SurfaceSimulation() override;
 
   void step() override;
@@ -80,7 +81,7 @@ class SurfaceSimulation final : public LiveSimulation {
 
   PresetRd flat_;
   double length_ = 1;  // the surface length of a flat cell
-  LimitSurface surface_;
+  std::shared_ptr<const LimitSurface> surface_;
   std::unique_ptr<ThreadBackend> backend_;
   std::unique_ptr<RowExecutor> executor_;
   std::unique_ptr<SurfaceLaplacian> op_;
@@ -89,7 +90,7 @@ class SurfaceSimulation final : public LiveSimulation {
   std::unique_ptr<SurfaceRenderer> renderer_;
   std::array<PatchField, 3> positions_;  // every cell's point on the limit surface
   double diameter_ = 1;                  // of the bounding sphere the view fits
-  // Each patch's cells' centroid and the distance to its farthest cell (plus a flat cell).
+  // Each patch's cells' centroid and the distance to its farthest cell.
   std::vector<std::array<double, 4>> patch_spheres_;
   SurfaceView view_;
   SurfaceColours colours_;
@@ -101,8 +102,13 @@ class SurfaceSimulation final : public LiveSimulation {
   std::array<bool, kMaxInputSources> turning_{};
 };
 
-// The live loop's factory of surface simulations: every preset on the same control mesh.
-SimulationFactory surface_simulations(PolyMesh mesh, const SurfaceLiveOptions& options);
+// The limit surface of `mesh`, checked once for a live session: one line when it cannot be
+// built (check_manifold), N is not a power of two, N x N cells a patch exceed about a million,
+// or the limit surface is degenerate.
+Status build_live_surface(PolyMesh mesh, int patch_cells, LimitSurface& out);
+// The live loop's factory of surface simulations: every preset on the same surface.
+SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surface,
+                                      const SurfaceLiveOptions& options);
 // Whether `preset`'s reaction-diffusion can run on a surface (preset_rd): the default playlist.
 bool runs_on_surfaces(const Preset& preset);
 

@@ -100,12 +100,19 @@ TEST(LiveCli, BadSurfaceArgumentsAreOneLineAndExitCodeTwo) {
                      "ardcell live: --patch-cells 12: expected a power of two in 2..1024"},
            std::pair{"--patch-cells 8", "ardcell live: --patch-cells applies to --shape or --mesh"},
            std::pair{"--mesh /no/such.obj", "ardcell live: /no/such.obj: "},
+           std::pair{"--shape torus --patch-cells 256",
+                     "ardcell live: 32 patches of 256^2 cells are 2097152 cells (expected at most "
+                     "1048576 live: a smaller --patch-cells)"},
        }) {
     const Result r = run(std::string("live turing-spots --frames 1 ") + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
     EXPECT_EQ(r.output.rfind(line, 0), 0u) << args << ": " << r.output;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << args << ": " << r.output;
   }
+  // A preset the surface cannot run is refused before a window opens (no display needed).
+  const Result r = run("live cavity --shape torus --frames 1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_EQ(r.output, "ardcell live: cavity: rd.enabled is false (expected a scene with RD)\n");
 }
 #endif
 

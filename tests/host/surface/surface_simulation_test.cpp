@@ -21,6 +21,13 @@ Preset preset(const char* name) {
   return p;
 }
 
+std::shared_ptr<const LimitSurface> live_surface(PolyMesh mesh) {
+  auto surface = std::make_shared<LimitSurface>();
+  const Status s = build_live_surface(std::move(mesh), 8, *surface);
+  EXPECT_TRUE(s) << s.message();
+  return surface;
+}
+
 SurfaceLiveOptions small_options() {
   SurfaceLiveOptions o;
   o.patch_cells = 8;
@@ -50,7 +57,8 @@ StrokeSample sample(float x, float y, bool tip, bool eraser = false) {
 }
 
 TEST(SurfaceSimulation, DrawsTheSurfaceAndItsPattern) {
-  SurfaceSimulation sim(preset("turing-spots"), torus_mesh(8, 4, 2.0, 0.8), small_options());
+  SurfaceSimulation sim(preset("turing-spots"), live_surface(torus_mesh(8, 4, 2.0, 0.8)),
+                        small_options());
   EXPECT_EQ(sim.view_size(), (Int2{320, 240}));
   for (int i = 0; i < 20; ++i) sim.step();
   ImageRgb8 image;
@@ -66,7 +74,7 @@ TEST(SurfaceSimulation, DrawsTheSurfaceAndItsPattern) {
 // preset's seed values and leaves the far side of the surface alone.
 TEST(SurfaceSimulation, PaintsTheCellUnderThePointer) {
   const Preset p = preset("turing-spots");
-  SurfaceSimulation sim(p, torus_mesh(8, 4, 2.0, 0.8), small_options());
+  SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
   ImageRgb8 image;
   sim.render(image);
   const float x = 0.5f, y = 0.35f;
@@ -101,7 +109,7 @@ TEST(SurfaceSimulation, PaintsTheCellUnderThePointer) {
 // A right-button drag across a quarter of the canvas turns the view by 90 degrees about the
 // vertical axis; the image changes, the fields do not.
 TEST(SurfaceSimulation, TheRightButtonTurnsTheView) {
-  SurfaceSimulation sim(preset("turing-spots"), cube_mesh(2), small_options());
+  SurfaceSimulation sim(preset("turing-spots"), live_surface(cube_mesh(2)), small_options());
   ImageRgb8 before, after;
   sim.render(before);
   const double azimuth = sim.view().azimuth_deg, elevation = sim.view().elevation_deg;
@@ -122,7 +130,7 @@ TEST(SurfaceSimulation, TheRightButtonTurnsTheView) {
 
 TEST(SurfaceSimulation, LiveChangesReachTheReaction) {
   const Preset p = preset("turing-spots");
-  SurfaceSimulation sim(p, torus_mesh(8, 4, 2.0, 0.8), small_options());
+  SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
   SceneConfig next = p.scene;
   next.rd.dt = p.scene.rd.dt * 0.5;
   next.rd.diffusion_b = p.scene.rd.diffusion_b * 2;
@@ -150,20 +158,27 @@ TEST(SurfaceSimulation, RefusesWhatASurfaceCannotRun) {
         std::pair{"fig3-orient",
                   "rd.anisotropy: the surface's diffusion is isotropic (expected isotropic)"}}) {
     try {
-      SurfaceSimulation sim(preset(name), torus_mesh(8, 4, 2.0, 0.8), small_options());
+      SurfaceSimulation sim(preset(name), live_surface(torus_mesh(8, 4, 2.0, 0.8)),
+                            small_options());
       ADD_FAILURE() << name << " was accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_EQ(std::string(e.what()), expected);
     }
   }
   EXPECT_FALSE(runs_on_surfaces(preset("cavity")));
+  LimitSurface unused;
+  EXPECT_EQ(build_live_surface(torus_mesh(8, 4, 2.0, 0.8), 12, unused).message(),
+            "--patch-cells 12: expected a power of two in 2..1024");
+  EXPECT_EQ(build_live_surface(torus_mesh(8, 4, 2.0, 0.8), 256, unused).message(),
+            "32 patches of 256^2 cells are 2097152 cells (expected at most 1048576 live: a "
+            "smaller --patch-cells)");
   EXPECT_TRUE(runs_on_surfaces(preset("turing-spots")));
 }
 
 TEST(SurfaceSimulation, SteadyFramesDoNotAllocate) {
   // A name past std::string's small buffer: apply() must not copy it.
   const Preset p = preset("obstacle-rd-gray-scott");
-  SurfaceSimulation sim(p, torus_mesh(8, 4, 2.0, 0.8), small_options());
+  SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
   SceneConfig changed = p.scene;
   changed.rd.reaction.F *= 1.01f;
   ImageRgb8 image;
