@@ -94,7 +94,7 @@ SurfaceSimulation::~SurfaceSimulation() = default;
 
 void SurfaceSimulation::reset() {
   rd_->seed_pattern(positions_, surface_start(flat_, length_, op_->area()));
-  turning_.fill(false);
+  strokes_.fill({});
 }
 
 void SurfaceSimulation::step() {
@@ -154,27 +154,43 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
                               int source) {
   if (source < 0 || source >= kMaxInputSources) return;
   const double radius = std::max(1e-12, input.brush_radius * diameter_);
+  // Dabs along a stroke half a brush apart on the screen (the sphere fit draws the diameter over
+  // 90% of the smaller side), so a fast stroke paints a line, not dots; at most kMaxDabs a segment.
+  constexpr int kMaxDabs = 64;
+  const double brush_px = 0.9 * std::min(view_.width, view_.height) * input.brush_radius;
+  const double spacing_px = std::max(1.0, 0.5 * brush_px);
+  Stroke& stroke = strokes_[std::size_t(source)];
   for (const StrokeSample& s : samples) {
-    const bool turn = s.touching() && (s.eraser || (s.buttons & kButtonBarrel) != 0) &&
-                      std::isfinite(s.x) && std::isfinite(s.y);
-    if (turn) {
-      if (turning_[std::size_t(source)]) {
-        const auto& from = turn_from_[std::size_t(source)];
-        view_.azimuth_deg = std::fmod(view_.azimuth_deg - 360.0 * (s.x - from[0]), 360.0);
-        view_.elevation_deg =
-            std::clamp(view_.elevation_deg + 180.0 * (s.y - from[1]), -89.0, 89.0);
-      }
-      turn_from_[std::size_t(source)] = {s.x, s.y};
-      turning_[std::size_t(source)] = true;
+    if (!s.touching() || !s.in_range || !std::isfinite(s.x) || !std::isfinite(s.y) ||
+        !std::isfinite(s.pressure)) {
+      stroke.mode = Stroke::kNone;
       continue;
     }
-    turning_[std::size_t(source)] = false;
-    if (!s.touching() || !s.in_range || !std::isfinite(s.pressure)) continue;
-    const long cell = cell_at(s.x, s.y);
-    if (cell < 0) continue;
+    if (s.eraser || (s.buttons & kButtonBarrel) != 0) {
+      if (stroke.mode == Stroke::kTurning) {
+        view_.azimuth_deg = std::fmod(view_.azimuth_deg - 360.0 * (s.x - stroke.x), 360.0);
+        view_.elevation_deg =
+            std::clamp(view_.elevation_deg + 180.0 * (s.y - stroke.y), -89.0, 89.0);
+      }
+      stroke = {Stroke::kTurning, s.x, s.y};
+      continue;
+    }
     const double pressure = std::pow(std::clamp(double(s.pressure), 0.0, 1.0),
                                      input.pressure_gamma > 0 ? input.pressure_gamma : 1.0);
-    deposit(cell, float(std::clamp(input.strength * pressure, 0.0, 1.0)), radius);
+    const float k = float(std::clamp(input.strength * pressure, 0.0, 1.0));
+    // From the previous sample of the stroke (painted already) to this one.
+    int dabs = 1;
+    if (stroke.mode == Stroke::kPainting) {
+      const double px = (s.x - stroke.x) * view_.width, py = (s.y - stroke.y) * view_.height;
+      dabs = std::clamp(int(std::ceil(std::hypot(px, py) / spacing_px)), 1, kMaxDabs);
+    }
+    for (int d = 1; d <= dabs; ++d) {
+      const float t = float(d) / float(dabs);
+      const float x = stroke.mode == Stroke::kPainting ? stroke.x + t * (s.x - stroke.x) : s.x;
+      const float y = stroke.mode == Stroke::kPainting ? stroke.y + t * (s.y - stroke.y) : s.y;
+      if (const long cell = cell_at(x, y); cell >= 0) deposit(cell, k, radius);
+    }
+    stroke = {Stroke::kPainting, s.x, s.y};
   }
 }
 

@@ -9,7 +9,8 @@
 //     cell drawn under it in the last frame) and every cell within the brush of that point
 //     (straight-line distance on the surface) is blended towards the preset's seed values, as
 //     the flat painter's deposit mode does (brush_falloff; radius input.brush_radius times the
-//     bounding sphere's diameter, strength input.strength times the pressure);
+//     bounding sphere's diameter, strength input.strength times the pressure); between two
+//     samples of a stroke, dabs half a brush apart on the screen fill the segment;
 //   - the eraser (right button) or a barrel switch turns the view: a drag across the whole
 //     canvas turns it 360 degrees around the vertical axis, a drag from top to bottom 180
 //     degrees in elevation (clamped to +-89).
@@ -97,9 +98,12 @@ class SurfaceSimulation final : public LiveSimulation {
   bool show_a_ = true;
   SimState state_;
   std::string backend_name_;
-  // The previous sample of a turning drag, per source, while turning_.
-  std::array<std::array<float, 2>, kMaxInputSources> turn_from_{};
-  std::array<bool, kMaxInputSources> turning_{};
+  // Per source: what its pointer is doing and where it was at the previous sample.
+  struct Stroke {
+    enum Mode : uint8_t { kNone, kTurning, kPainting } mode = kNone;
+    float x = 0, y = 0;
+  };
+  std::array<Stroke, kMaxInputSources> strokes_{};
 };
 
 // The limit surface of `mesh`, checked once for a live session: one line when it cannot be

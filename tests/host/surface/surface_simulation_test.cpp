@@ -106,6 +106,32 @@ TEST(SurfaceSimulation, PaintsTheCellUnderThePointer) {
   EXPECT_EQ(sim.rd().b(), painted);
 }
 
+// Two samples of a fast stroke far apart (30 brush radii on the screen): the dabs between them
+// paint the cell under the midpoint too, a line and not two dots.
+TEST(SurfaceSimulation, AFastStrokePaintsALine) {
+  const Preset p = preset("turing-spots");
+  SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
+  ImageRgb8 image;
+  sim.render(image);
+  const long middle = sim.cell_at(0.5f, 0.35f);
+  ASSERT_GE(middle, 0);
+  ASSERT_NE(sim.cell_at(0.45f, 0.35f), middle);
+  InputMapping input = p.input;
+  input.brush_radius = 0.01;
+  input.strength = 1.0;
+  const double before = sim.rd().b()[std::size_t(middle)];
+  const double seed_b = p.scene.rd.seed_b;
+  ASSERT_GT(std::abs(before - seed_b), 1e-3);
+  // Each end alone does not reach the middle.
+  const StrokeSample ends[] = {sample(0.45f, 0.35f, true), sample(0.45f, 0.35f, false),
+                               sample(0.55f, 0.35f, true), sample(0.55f, 0.35f, false)};
+  sim.paint(ends, input, 0);
+  EXPECT_EQ(sim.rd().b()[std::size_t(middle)], before);
+  const StrokeSample stroke[] = {sample(0.45f, 0.35f, true), sample(0.55f, 0.35f, true)};
+  sim.paint(stroke, input, 0);
+  EXPECT_NEAR(sim.rd().b()[std::size_t(middle)], seed_b, 1e-12);
+}
+
 // A right-button drag across a quarter of the canvas turns the view by 90 degrees about the
 // vertical axis; the image changes, the fields do not.
 TEST(SurfaceSimulation, TheRightButtonTurnsTheView) {
