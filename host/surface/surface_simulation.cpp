@@ -154,8 +154,11 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
                               int source) {
   if (source < 0 || source >= kMaxInputSources) return;
   const double radius = std::max(1e-12, input.brush_radius * diameter_);
-  // Dabs along a stroke half a brush apart on the screen (the sphere fit draws the diameter over
-  // 90% of the smaller side), so a fast stroke paints a line, not dots; at most kMaxDabs a segment.
+  // Dabs along a stroke half the brush's radius apart on the screen (the sphere fit draws the
+  // diameter over 90% of the smaller side, so the brush's radius is 0.9 min(w, h) brush_radius
+  // pixels), so a fast stroke paints a line, not dots; at most kMaxDabs a segment. A dab whose
+  // picked cell is the last one painted is skipped (but a sample's own dab), so a slow stroke
+  // blends each cell about once, as the flat painter does.
   constexpr int kMaxDabs = 64;
   const double brush_px = 0.9 * std::min(view_.width, view_.height) * input.brush_radius;
   const double spacing_px = std::max(1.0, 0.5 * brush_px);
@@ -180,17 +183,25 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
     const float k = float(std::clamp(input.strength * pressure, 0.0, 1.0));
     // From the previous sample of the stroke (painted already) to this one.
     int dabs = 1;
+    long last = -1;
     if (stroke.mode == Stroke::kPainting) {
-      const double px = (s.x - stroke.x) * view_.width, py = (s.y - stroke.y) * view_.height;
-      dabs = std::clamp(int(std::ceil(std::hypot(px, py) / spacing_px)), 1, kMaxDabs);
+      const double px = (double(s.x) - stroke.x) * view_.width,
+                   py = (double(s.y) - stroke.y) * view_.height;
+      const double n = std::ceil(std::hypot(px, py) / spacing_px);  // may be huge (OSC)
+      dabs = n >= kMaxDabs ? kMaxDabs : std::max(1, int(n));
+      last = stroke.cell;
     }
     for (int d = 1; d <= dabs; ++d) {
       const float t = float(d) / float(dabs);
-      const float x = stroke.mode == Stroke::kPainting ? stroke.x + t * (s.x - stroke.x) : s.x;
-      const float y = stroke.mode == Stroke::kPainting ? stroke.y + t * (s.y - stroke.y) : s.y;
-      if (const long cell = cell_at(x, y); cell >= 0) deposit(cell, k, radius);
+      const bool end = d == dabs;
+      const float x = end ? s.x : stroke.x + t * (s.x - stroke.x);
+      const float y = end ? s.y : stroke.y + t * (s.y - stroke.y);
+      const long cell = cell_at(x, y);
+      if (cell < 0 || (cell == last && !end)) continue;
+      deposit(cell, k, radius);
+      last = cell;
     }
-    stroke = {Stroke::kPainting, s.x, s.y};
+    stroke = {Stroke::kPainting, s.x, s.y, last};
   }
 }
 

@@ -10,7 +10,7 @@
 //     (straight-line distance on the surface) is blended towards the preset's seed values, as
 //     the flat painter's deposit mode does (brush_falloff; radius input.brush_radius times the
 //     bounding sphere's diameter, strength input.strength times the pressure); between two
-//     samples of a stroke, dabs half a brush apart on the screen fill the segment;
+//     samples of a stroke, dabs half the brush's radius apart on the screen fill the segment;
 //   - the eraser (right button) or a barrel switch turns the view: a drag across the whole
 //     canvas turns it 360 degrees around the vertical axis, a drag from top to bottom 180
 //     degrees in elevation (clamped to +-89).
@@ -102,6 +102,7 @@ class SurfaceSimulation final : public LiveSimulation {
   struct Stroke {
     enum Mode : uint8_t { kNone, kTurning, kPainting } mode = kNone;
     float x = 0, y = 0;
+    long cell = -1;  // painting: the cell of the last dab
   };
   std::array<Stroke, kMaxInputSources> strokes_{};
 };
