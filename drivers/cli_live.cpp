@@ -333,8 +333,8 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (Status s = load_live_preset(first, preset, a.realtime_solvers); !s)
     return fail(kExitUsage, s.message(), true);
 #if ARDCELL_WITH_OPENSUBDIV
-  if (PresetRd unused; on_surface)
-    if (Status s = preset_rd(preset, unused); !s)
+  if (on_surface)
+    if (Status s = runs_on_surfaces(preset); !s)
       return fail(kExitUsage, first + ": " + s.message(), true);
 #endif
   for (const std::string& name : a.playlist) {
@@ -342,9 +342,9 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     if (Status s = load_live_preset(name, p); !s)
       return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
 #if ARDCELL_WITH_OPENSUBDIV
-    PresetRd unused;
-    if (Status s = preset_rd(p, unused); on_surface && !s)
-      return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
+    if (on_surface)
+      if (Status s = runs_on_surfaces(p); !s)
+        return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
 #endif
   }
   // Every destination is checked before the window opens (on a wall, screen 0 writes them).

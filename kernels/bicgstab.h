@@ -18,6 +18,7 @@
 // drifted from it, or after a breakdown), and ends when the recurrence's residual meets the
 // tolerance, the applications run out, or a denominator vanishes. Allocates nothing.
 #include <algorithm>
+#include <initializer_list>
 
 namespace ardcell {
 
@@ -37,6 +38,11 @@ struct BicgstabReport {
 template <class Vector>
 struct BicgstabVectors {
   Vector r, shadow, p, v, y, z, t;
+  // f(vector) on each of them (sizing them once, before the solves).
+  template <class F>
+  void each(const F& f) {
+    for (Vector* vector : {&r, &shadow, &p, &v, &y, &z, &t}) f(*vector);
+  }
 };
 
 template <class Space, class Residual, class Apply, class Precondition>

@@ -36,9 +36,8 @@ TensorFieldSolve::TensorFieldSolve(const Rank2FaceField& d, RowExecutor& ex)
   ARDCELL_CHECK(n_.x >= 2 && n_.y >= 2, "TensorFieldSolve needs at least 2 x 2 cells");
   ex.reserve_rows(n_.y);  // dot products allocate nothing later
   const std::size_t cells = std::size_t(n_.x) * n_.y;
-  for (std::vector<double>* v :
-       {&b_, &x_, &diagonal_, &k_.r, &k_.shadow, &k_.p, &k_.v, &k_.y, &k_.z, &k_.t})
-    v->assign(cells, 0.0);
+  for (std::vector<double>* v : {&b_, &x_, &diagonal_}) v->assign(cells, 0.0);
+  k_.each([&](std::vector<double>& v) { v.assign(cells, 0.0); });
   const TensorFieldOperator<FlatGrid> op{d, {x_.data(), n_.x}};
   for (int y = 0; y < n_.y; ++y)
     for (int x = 0; x < n_.x; ++x)

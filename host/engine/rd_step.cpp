@@ -431,10 +431,14 @@ void RdStepper::diffuse(SimState& s, const FieldF* k, double fraction, bool cran
   const SolveReport rb =
       dev_->implicit_diffusion(*diff_b_, s.B, rd_.anisotropy_on_b ? k : nullptr,
                                {rd_.diffusion_b * base, rd_.boundary_b, crank_nicolson});
-  stats_.diffusion_iterations_a = ra.iterations;
-  stats_.diffusion_iterations_b = rb.iterations;
-  stats_.diffusion_residual_a = ra.relative_residual;
-  stats_.diffusion_residual_b = rb.relative_residual;
+  record_solves(ra, rb);
+}
+
+void RdStepper::record_solves(const SolveReport& a, const SolveReport& b) {
+  stats_.diffusion_iterations_a = a.iterations;
+  stats_.diffusion_iterations_b = b.iterations;
+  stats_.diffusion_residual_a = a.relative_residual;
+  stats_.diffusion_residual_b = b.relative_residual;
 }
 
 void RdStepper::crank_nicolson_am2_step(SimState& s) {
@@ -510,10 +514,7 @@ void RdStepper::generalized_step(SimState& s) {
         dev_->tensor_field_solve(*tensor_solve_, s.A, diffusion_scale(scene_, false));
     const SolveReport rb =
         dev_->tensor_field_solve(*tensor_solve_, s.B, diffusion_scale(scene_, true));
-    stats_.diffusion_iterations_a = ra.iterations;
-    stats_.diffusion_iterations_b = rb.iterations;
-    stats_.diffusion_residual_a = ra.relative_residual;
-    stats_.diffusion_residual_b = rb.relative_residual;
+    record_solves(ra, rb);
   } else if (solve) {  // (I - dt D K)^-1, exactly (Eqn 28)
     dev_->periodic_solve(*periodic_a_, s.A);
     dev_->periodic_solve(*periodic_b_, s.B);

@@ -115,6 +115,8 @@ class RdStepper {
   // `crank_nicolson`), with conductivity k (null: isotropic).
   void diffuse(SimState& s, const FieldF* k, double fraction, bool crank_nicolson);
   void explicit_step(SimState& s);
+  // The stats of a step's A and B solves.
+  void record_solves(const SolveReport& a, const SolveReport& b);
   void crank_nicolson_am2_step(SimState& s);
   void sbdf2_step(SimState& s);
   // The ETDRK4 coefficients for the current dt, rates and cell size.

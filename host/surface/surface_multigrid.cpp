@@ -36,9 +36,7 @@ SurfaceMultigrid::SurfaceMultigrid(const LimitSurface& surface, const SurfaceLap
     if (m == kCoarsestCells || m == 1) break;
   }
   b_ = fine.grid().make_field();
-  for (PatchField* f : {&fine_krylov_.r, &fine_krylov_.shadow, &fine_krylov_.p, &fine_krylov_.v,
-                        &fine_krylov_.y, &fine_krylov_.z, &fine_krylov_.t})
-    *f = fine.grid().make_field();
+  fine_krylov_.each([&](PatchField& f) { f = fine.grid().make_field(); });
   pieces_ = patch_pieces(surface.topology());
   piece_sums_.assign(std::size_t(*std::max_element(pieces_.begin(), pieces_.end()) + 1), 0.0);
   patch_sums_.assign(pieces_.size(), 0.0);

@@ -214,9 +214,9 @@ SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surfac
   };
 }
 
-bool runs_on_surfaces(const Preset& preset) {
+Status runs_on_surfaces(const Preset& preset) {
   PresetRd unused;
-  return bool(preset_rd(preset, unused));
+  return preset_rd(preset, unused);
 }
 
 }  // namespace ardcell

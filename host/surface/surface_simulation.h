@@ -114,7 +114,8 @@ Status build_live_surface(PolyMesh mesh, int patch_cells, LimitSurface& out);
 // The live loop's factory of surface simulations: every preset on the same surface.
 SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surface,
                                       const SurfaceLiveOptions& options);
-// Whether `preset`'s reaction-diffusion can run on a surface (preset_rd): the default playlist.
-bool runs_on_surfaces(const Preset& preset);
+// Whether `preset`'s reaction-diffusion can run on a surface: preset_rd's line when it cannot
+// (the CLI's checks of the first preset and the playlist, and the default playlist's filter).
+Status runs_on_surfaces(const Preset& preset);
 
 }  // namespace ardcell

@@ -106,62 +106,73 @@ TEST(SurfaceSimulation, PaintsTheCellUnderThePointer) {
   EXPECT_EQ(sim.rd().b(), painted);
 }
 
+// Strokes on the torus's far side, above its hole, at a given brush: the preset, the
+// simulation drawn once (so points pick cells), and b at a cell.
+class SurfaceStroke : public testing::Test {
+ protected:
+  SurfaceStroke()
+      : p_(preset("turing-spots")),
+        sim_(p_, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options()) {
+    ImageRgb8 image;
+    sim_.render(image);
+  }
+  InputMapping brush(double radius, double strength) const {
+    InputMapping input = p_.input;
+    input.brush_radius = radius;
+    input.strength = strength;
+    return input;
+  }
+  double b_at(long cell) const { return sim_.rd().b()[std::size_t(cell)]; }
+
+  const Preset p_;
+  SurfaceSimulation sim_;
+};
+
 // Two samples of a fast stroke far apart (32 pixels, about 15 brush radii on the screen): the 30
 // dabs between them paint the cell under the midpoint too, a line and not two dots; a hover,
 // the eraser or a reset between two tips ends the stroke.
-TEST(SurfaceSimulation, AFastStrokePaintsALine) {
-  const Preset p = preset("turing-spots");
-  SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
-  ImageRgb8 image;
-  sim.render(image);
-  const long middle = sim.cell_at(0.5f, 0.35f);
+TEST_F(SurfaceStroke, AFastStrokePaintsALine) {
+  const long middle = sim_.cell_at(0.5f, 0.35f);
   ASSERT_GE(middle, 0);
-  ASSERT_NE(sim.cell_at(0.45f, 0.35f), middle);
-  InputMapping input = p.input;
-  input.brush_radius = 0.01;
-  input.strength = 1.0;
-  const double before = sim.rd().b()[std::size_t(middle)];
-  const double seed_b = p.scene.rd.seed_b;
+  ASSERT_NE(sim_.cell_at(0.45f, 0.35f), middle);
+  const InputMapping input = brush(0.01, 1.0);
+  const double before = b_at(middle);
+  const double seed_b = p_.scene.rd.seed_b;
   ASSERT_GT(std::abs(before - seed_b), 1e-3);
   // Each end alone does not reach the middle.
   const StrokeSample ends[] = {sample(0.45f, 0.35f, true), sample(0.45f, 0.35f, false),
                                sample(0.55f, 0.35f, true), sample(0.55f, 0.35f, false)};
-  sim.paint(ends, input, 0);
-  EXPECT_EQ(sim.rd().b()[std::size_t(middle)], before);
+  sim_.paint(ends, input, 0);
+  EXPECT_EQ(b_at(middle), before);
   const StrokeSample turned[] = {sample(0.45f, 0.35f, true), sample(0.5f, 0.35f, true, true),
                                  sample(0.5f, 0.35f, false), sample(0.55f, 0.35f, true)};
-  sim.paint(std::span(turned).first(2), input, 0);
-  sim.paint(std::span(turned).last(1), input, 0);  // tip, eraser, tip: not joined
-  EXPECT_EQ(sim.rd().b()[std::size_t(middle)], before);
-  sim.paint(std::span(turned).first(1), input, 0);
-  sim.reset();
-  const double after_reset = sim.rd().b()[std::size_t(middle)];
-  sim.paint(std::span(turned).last(1), input, 0);  // tip, reset, tip: not joined
-  EXPECT_EQ(sim.rd().b()[std::size_t(middle)], after_reset);
+  sim_.paint(std::span(turned).first(2), input, 0);
+  sim_.paint(std::span(turned).last(1), input, 0);  // tip, eraser, tip: not joined
+  EXPECT_EQ(b_at(middle), before);
+  sim_.paint(std::span(turned).first(1), input, 0);
+  sim_.reset();
+  const double after_reset = b_at(middle);
+  sim_.paint(std::span(turned).last(1), input, 0);  // tip, reset, tip: not joined
+  EXPECT_EQ(b_at(middle), after_reset);
   const StrokeSample stroke[] = {sample(0.45f, 0.35f, true), sample(0.55f, 0.35f, true)};
-  sim.paint(stroke, input, 0);
-  EXPECT_NEAR(sim.rd().b()[std::size_t(middle)], seed_b, 1e-12);
+  sim_.paint(stroke, input, 0);
+  EXPECT_NEAR(b_at(middle), seed_b, 1e-12);
 }
 
 // At half strength a slow stroke blends the cells it passes over about once each: the cell under
 // its start, dabbed at the first sample, is not blended again by the segment's first dabs that
 // still fall on it.
-TEST(SurfaceSimulation, ASlowStrokeBlendsEachCellOncePerSample) {
-  const Preset p = preset("turing-spots");
-  SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
-  ImageRgb8 image;
-  sim.render(image);
-  const long start = sim.cell_at(0.45f, 0.35f);
+TEST_F(SurfaceStroke, ASlowStrokeBlendsEachCellOncePerSample) {
+  const long start = sim_.cell_at(0.45f, 0.35f);
   ASSERT_GE(start, 0);
-  ASSERT_NE(sim.cell_at(0.47f, 0.35f), start);
-  InputMapping input = p.input;
-  input.brush_radius = 0.001;  // within the cell: only the dab's own cell changes
-  input.strength = 0.5;
-  const double b0 = sim.rd().b()[std::size_t(start)], seed_b = p.scene.rd.seed_b;
+  ASSERT_NE(sim_.cell_at(0.47f, 0.35f), start);
+  // A brush within the cell: only the dab's own cell changes.
+  const InputMapping input = brush(0.001, 0.5);
+  const double b0 = b_at(start), seed_b = p_.scene.rd.seed_b;
   const StrokeSample stroke[] = {sample(0.45f, 0.35f, true), sample(0.47f, 0.35f, true)};
-  sim.paint(stroke, input, 0);
+  sim_.paint(stroke, input, 0);
   const double once = b0 + 0.5 * (seed_b - b0);
-  EXPECT_NEAR(sim.rd().b()[std::size_t(start)], once, 1e-12) << "blended once, not per dab";
+  EXPECT_NEAR(b_at(start), once, 1e-12) << "blended once, not per dab";
 }
 
 // A right-button drag across a quarter of the canvas turns the view by 90 degrees about the
