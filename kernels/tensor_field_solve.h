@@ -27,6 +27,8 @@
 // partials added in row order (RowExecutor::sum_rows).
 // Conservation: the fluxes telescope, so sum L x = 0 and sum x = sum b to the residual.
 // Allocation: none in solve() (every vector is sized in the constructor).
+// OpenCL twin: kernels/cl/opencl_tensor_field_solve.h (the same steps in double on the device;
+// on PoCL the same bits and report).
 #include <vector>
 
 #include "kernels/bicgstab.h"
@@ -47,6 +49,10 @@ class TensorFieldSolve {
     max_iterations_ = max_iterations;
     tolerance_ = tolerance;
   }
+  int max_iterations() const { return max_iterations_; }
+  double tolerance() const { return tolerance_; }
+  // The face field (for the device twin, kernels/cl/opencl_tensor_field_solve.h).
+  const Rank2FaceField& faces() const { return *d_; }
   // x <- (I - s L)^{-1} x over the interior, s >= 0; the report's iterations are BiCGSTAB steps
   // (started ones: an application of the operator counts half).
   SolveReport solve(FieldF& x, double s);

@@ -35,14 +35,15 @@ void OpenClDevice::reserve(Int2 grid) {
 }
 
 // Every op has a twin; solves run here with every solver (ICCG where the device has doubles),
-// implicit diffusion with ICCG or fixed Jacobi or RBGS sweeps, and the FFT steps at the sizes
-// the device FFT transforms; the other settings fall back (implicit_diffusion, solve,
-// periodic_solve, etdrk4_step).
+// implicit diffusion with ICCG or fixed Jacobi or RBGS sweeps, the FFT steps at the sizes the
+// device FFT transforms, and the per-cell tensor's BiCGSTAB where the device has doubles; the
+// other settings fall back (implicit_diffusion, solve, periodic_solve, etdrk4_step,
+// tensor_field_solve).
 bool OpenClDevice::supports(DeviceOp op) const {
   // Seed 001's temporal blocking is the CPU's: the engine steps the 9-point twin here.
   if (op == DeviceOp::kGrayScott9Steps) return false;
-  // The per-cell tensor's BiCGSTAB solve runs on the CPU (tensor_field_solve).
-  if (op == DeviceOp::kTensorFieldSolve) return false;
+  // The per-cell tensor's BiCGSTAB needs double vectors (OpenClTensorFieldSolve).
+  if (op == DeviceOp::kTensorFieldSolve) return cl_->has_fp64();
   return op != DeviceOp::kCount;
 }
 

@@ -10,12 +10,13 @@
 // host and device unless someone looks.
 //
 // Every op has a twin; the periodic FFT steps (seed 003's semi-implicit solve, ETDRK4) run by
-// the device FFT (kernels/cl/opencl_fft.h), set up on the first step of a size. A setting a
-// twin lacks (ICCG on a device without doubles; implicit diffusion with multigrid, or with
-// Jacobi or RBGS sweeps to a tolerance; an FFT size with a prime factor above 7, which the
-// device FFT cannot transform) runs that op on the CPU device instead: its inputs come to the host,
-// its outputs go back when a device op next reads them, and the first time each op falls back, one
-// line says so on stderr.
+// the device FFT (kernels/cl/opencl_fft.h), set up on the first step of a size, and the tensor
+// field's semi-implicit solve by the device BiCGSTAB (kernels/cl/opencl_tensor_field_solve.h),
+// set up on its first solve. A setting a twin lacks (ICCG or the tensor field's BiCGSTAB on a
+// device without doubles; implicit diffusion with multigrid, or with Jacobi or RBGS sweeps to a
+// tolerance; an FFT size with a prime factor above 7, which the device FFT cannot transform)
+// runs that op on the CPU device instead: its inputs come to the host, its outputs go back when a
+// device op next reads them, and the first time each op falls back, one line says so on stderr.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <array>
 #include <deque>
@@ -29,6 +30,7 @@
 #include "kernels/cl/opencl_fft.h"
 #include "kernels/cl/opencl_iccg.h"
 #include "kernels/cl/opencl_kernels.h"
+#include "kernels/cl/opencl_tensor_field_solve.h"
 #include "kernels/stencil_sweeps.h"
 
 namespace ardcell {
@@ -106,7 +108,8 @@ class OpenClDevice final : public Device {
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   // By the device FFT (OpenClPeriodicSolve); on the CPU, with one line, at a size it lacks.
   void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
-  // On the CPU, with one line: the device has no BiCGSTAB.
+  // By the device BiCGSTAB (OpenClTensorFieldSolve, made on the solve's first use) on the
+  // resident faces; on the CPU, with one line, on a device without doubles.
   SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
@@ -164,6 +167,12 @@ class OpenClDevice final : public Device {
     OpenClBuffer weights;
   };
   const OpenClBuffer& stencil_weights(const GeneralizedTaps& k);
+
+  // The device twin of a TensorFieldSolve (its vectors: made on its first solve).
+  struct TensorSolveTwin {
+    const TensorFieldSolve* cpu = nullptr;
+    std::unique_ptr<OpenClTensorFieldSolve> device;
+  };
 
   // The FFT twins of a CPU solve or ETDRK4 step (made on its first use: tables and buffers), or
   // none (device null) and why, for a size the device FFT cannot transform.
@@ -227,6 +236,7 @@ class OpenClDevice final : public Device {
   std::deque<std::unique_ptr<ClFft2d>> ffts_;
   std::deque<PeriodicSolveTwin> periodic_twins_;
   std::deque<Etdrk4Twin> etdrk4_twins_;
+  std::deque<TensorSolveTwin> tensor_solves_;
   ClRowPartials partial_sum_, partial_lo_, partial_hi_;
   std::vector<double> host_lo_, host_hi_;
   ClReactionTable table_;

@@ -4,7 +4,8 @@
 // semi-implicit solve of Eqn 28 and ETDRK4) by the device FFT (kernels/cl/opencl_fft.h), whose
 // root tables and buffers are made on a size's first step and shared by the twins of that size;
 // a size the device FFT cannot transform runs them on the CPU with one line. The tensor field's
-// semi-implicit solve (BiCGSTAB) has no twin: on the CPU, with one line.
+// semi-implicit solve by the device BiCGSTAB (kernels/cl/opencl_tensor_field_solve.h) on the
+// faces' resident copies; on a device without doubles on the CPU, with one line.
 #if defined(ARDCELL_WITH_OPENCL)
 #include <memory>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include <utility>
 
 #include "host/engine/opencl_device.h"
+#include "kernels/tensor_field_solve.h"
 
 namespace ardcell {
 
@@ -91,9 +93,21 @@ void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
 }
 
 SolveReport OpenClDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
+  if (cl_->has_fp64()) {
+    TensorSolveTwin* twin = nullptr;
+    for (TensorSolveTwin& t : tensor_solves_)
+      if (t.cpu == &solve) twin = &t;
+    if (!twin) twin = &tensor_solves_.emplace_back(TensorSolveTwin{&solve, nullptr});
+    // An op made anew at a freed one's address (or of another size) replaces its twin.
+    if (!twin->device || twin->device->size() != solve.size())
+      twin->device = std::make_unique<OpenClTensorFieldSolve>(*cl_, solve.size());
+    const Rank2FaceField& d = solve.faces();
+    const ClRank2Faces faces{&in(d.x_xx), &in(d.x_xy), &in(d.y_xy), &in(d.y_yy)};
+    return twin->device->solve(faces, out(x), s, solve.max_iterations(), solve.tolerance());
+  }
   say_fallback(DeviceOp::kTensorFieldSolve,
                "rd.generalized.field, rd.scheme implicit or semi-implicit",
-               "the device has no BiCGSTAB");
+               "the device has no doubles (cl_khr_fp64)");
   host_in(x);
   const SolveReport r = cpu_.tensor_field_solve(solve, x, s);
   host_wrote(x);

@@ -236,14 +236,13 @@ void enqueue_1d(OpenClKernels& cl, cl_kernel k, int items) {
 }
 
 // Field `at` of the packed batch `packed` <- f's interior, and back.
-void pack(OpenClKernels& cl, const DeviceField& f, const OpenClBuffer& packed, int at) {
-  cl_kernel k = cl.kernel("spectral_pack");
+void pack(OpenClKernels& cl, cl_kernel k, const DeviceField& f, const OpenClBuffer& packed,
+          int at) {
   set_kernel_args(k, f.buffer, f.stride, f.origin, f.size.x, f.size.y, packed, at);
   cl.enqueue_cells(k, f.interior());
 }
 
-void unpack(OpenClKernels& cl, const OpenClBuffer& packed, int at, DeviceField& f) {
-  cl_kernel k = cl.kernel("spectral_unpack");
+void unpack(OpenClKernels& cl, cl_kernel k, const OpenClBuffer& packed, int at, DeviceField& f) {
   set_kernel_args(k, packed, at, f.size.x, f.size.y, f.buffer, f.stride, f.origin);
   cl.enqueue_cells(k, f.interior());
 }
@@ -258,7 +257,10 @@ OpenClPeriodicSolve::OpenClPeriodicSolve(OpenClKernels& cl, ClFft2d& fft)
       real_(fft.allocate_real()),
       spectrum_(fft.allocate_spectrum()),
       multipliers_(fft.allocate_spectrum()),
-      staging_(std::size_t(fft.modes()) * 2) {
+      staging_(std::size_t(fft.modes()) * 2),
+      pack_(cl.kernel("spectral_pack")),
+      unpack_(cl.kernel("spectral_unpack")),
+      multiply_(cl.kernel("spectral_multiply")) {
   ARDCELL_CHECK(fft.batch() == 1, "OpenClPeriodicSolve: the transforms must have batch 1");
 }
 
@@ -283,13 +285,12 @@ void OpenClPeriodicSolve::solve(const PeriodicStencilSolve& solve, DeviceField& 
   if (!uploaded_ || solve.delta() != delta_ ||
       !std::equal(std::begin(stencil_.w), std::end(stencil_.w), std::begin(solve.stencil().w)))
     upload(solve);
-  pack(cl_, x, real_, 0);
+  pack(cl_, pack_, x, real_, 0);
   fft_.forward(real_, spectrum_);
-  cl_kernel k = cl_.kernel("spectral_multiply");
-  set_kernel_args(k, spectrum_, multipliers_, fft_.modes());
-  enqueue_1d(cl_, k, fft_.modes());
+  set_kernel_args(multiply_, spectrum_, multipliers_, fft_.modes());
+  enqueue_1d(cl_, multiply_, fft_.modes());
   fft_.backward(spectrum_, real_);
-  unpack(cl_, real_, 0, x);
+  unpack(cl_, unpack_, real_, 0, x);
 }
 
 // --- OpenClEtdrk4 ----------------------------------------------------------------------------
@@ -310,7 +311,11 @@ OpenClEtdrk4::OpenClEtdrk4(OpenClKernels& cl, ClFft2d& fft)
       next_(fft.allocate_spectrum()),
       coefficients_(cl.context().allocate(std::size_t(2 * kEtdTables) * std::size_t(fft.modes()) *
                                           sizeof(float))),
-      staging_(std::size_t(2 * kEtdTables) * std::size_t(fft.modes())) {
+      staging_(std::size_t(2 * kEtdTables) * std::size_t(fft.modes())),
+      pack_(cl.kernel("spectral_pack")),
+      unpack_(cl.kernel("spectral_unpack")),
+      reaction_(cl.kernel("spectral_reaction")),
+      combine_(cl.kernel("etdrk4_combine")) {
   ARDCELL_CHECK(fft.batch() == 2, "OpenClEtdrk4: the transforms must have batch 2 (A and B)");
 }
 
@@ -336,17 +341,16 @@ void OpenClEtdrk4::upload(const PeriodicEtdrk4& etdrk4) {
 void OpenClEtdrk4::reaction(const ReactionParams* params) {
   float q[5] = {0, 0, 0, 0, 0};
   if (params) cl_reaction_args(*params, q);
-  cl_kernel k = cl_.kernel("spectral_reaction");
-  set_kernel_args(k, u_real_, n_real_, fft_.cells(), params ? int(params->model) : 0, q[0], q[1],
-                  q[2], q[3], q[4], int(params != nullptr));
-  enqueue_1d(cl_, k, fft_.cells());
+  set_kernel_args(reaction_, u_real_, n_real_, fft_.cells(), params ? int(params->model) : 0, q[0],
+                  q[1], q[2], q[3], q[4], int(params != nullptr));
+  enqueue_1d(cl_, reaction_, fft_.cells());
 }
 
 void OpenClEtdrk4::combine(int stage) {
   const float scale = float(1.0 / (double(fft_.size().x) * double(fft_.size().y)));
-  cl_kernel k = cl_.kernel("etdrk4_combine");
-  set_kernel_args(k, v_, n_u_, n_ab_, n_stage_, next_, coefficients_, fft_.modes(), stage, scale);
-  enqueue_1d(cl_, k, 2 * fft_.modes());
+  set_kernel_args(combine_, v_, n_u_, n_ab_, n_stage_, next_, coefficients_, fft_.modes(), stage,
+                  scale);
+  enqueue_1d(cl_, combine_, 2 * fft_.modes());
   fft_.backward(next_, u_real_);
 }
 
@@ -359,8 +363,8 @@ void OpenClEtdrk4::step(const PeriodicEtdrk4& etdrk4, DeviceField& a, DeviceFiel
   if (!uploaded_ || etdrk4.dt() != dt_ || etdrk4.rate(0) != rates_[0] ||
       etdrk4.rate(1) != rates_[1])
     upload(etdrk4);
-  pack(cl_, a, u_real_, 0);
-  pack(cl_, b, u_real_, 1);
+  pack(cl_, pack_, a, u_real_, 0);
+  pack(cl_, pack_, b, u_real_, 1);
   // N(u) from u in cells (forward keeps its input, so the order is free).
   reaction(reaction_params);
   fft_.forward(u_real_, v_);
@@ -371,8 +375,8 @@ void OpenClEtdrk4::step(const PeriodicEtdrk4& etdrk4, DeviceField& a, DeviceFiel
     fft_.forward(n_real_, n_stage_);
     combine(stage);
   }
-  unpack(cl_, u_real_, 0, a);
-  unpack(cl_, u_real_, 1, b);
+  unpack(cl_, unpack_, u_real_, 0, a);
+  unpack(cl_, unpack_, u_real_, 1, b);
 }
 
 }  // namespace ardcell

@@ -123,6 +123,8 @@ class OpenClPeriodicSolve {
   ClFft2d& fft_;
   OpenClBuffer real_, spectrum_, multipliers_;
   std::vector<float> staging_;  // the transposed table, sized once
+  // spectral.cl's kernels, looked up once.
+  cl_kernel pack_, unpack_, multiply_;
   bool uploaded_ = false;
   double delta_ = 0;
   Stencil5x5 stencil_{};
@@ -152,6 +154,8 @@ class OpenClEtdrk4 {
   OpenClBuffer v_, n_u_, n_ab_, n_stage_, next_;  // spectra (see spectral.cl)
   OpenClBuffer coefficients_;                     // [chemical][table][my][mx]
   std::vector<float> staging_;                    // sized once
+  // spectral.cl's kernels, looked up once.
+  cl_kernel pack_, unpack_, reaction_, combine_;
   bool uploaded_ = false;
   double dt_ = 0, rates_[2] = {0, 0};
 };

@@ -7,8 +7,10 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <string>
 #include <vector>
 
+#include "host/engine/device.h"
 #include "host/engine/engine.h"
 #include "host/engine/table1_plan.h"
 #include "host/scenes/preset.h"
@@ -90,6 +92,36 @@ TEST(FrameAlloc, FftStepsOnTheOpenClDeviceStep0Allocations) {
     engine.finish();
     EXPECT_EQ(g_allocations.load() - before, 0) << name;
     EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << name;
+  }
+#else
+  GTEST_SKIP() << "built without OpenCL";
+#endif
+}
+
+// The tensor field's BiCGSTAB on the OpenCL device (mcgraw-turing-radial; the test above runs it
+// there too, this one also asserts that no line says it fell back to the CPU): its vectors are
+// made on the first solve, a frame's solves only enqueue kernels and read row partials.
+TEST(FrameAlloc, TensorFieldSolveOnTheOpenClDeviceSteps0Allocations) {
+#if defined(ARDCELL_WITH_OPENCL)
+  TestOpenClDevice* device = test_opencl_device();
+  if (!device) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  Preset preset;
+  ASSERT_TRUE(load_preset("mcgraw-turing-radial", preset));
+  SceneConfig scene = preset.scene;
+  scene.size = {127, 93};
+  testing::internal::CaptureStderr();
+  Engine engine(scene, {EngineOptions::Backend::kOpenCl, 0, device->ctx.get()});
+  EXPECT_STREQ(engine.backend_name(), "opencl");
+  engine.step();
+  engine.finish();
+  const long before = g_allocations.load();
+  for (int i = 0; i < 3; ++i) engine.step();
+  engine.finish();
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  const std::string lines = testing::internal::GetCapturedStderr();
+  // A device without doubles keeps the CPU solve, with its line.
+  if (engine.device().supports(DeviceOp::kTensorFieldSolve)) {
+    EXPECT_EQ(lines, "");
   }
 #else
   GTEST_SKIP() << "built without OpenCL";
