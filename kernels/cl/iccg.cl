@@ -55,18 +55,18 @@ __kernel void iccg_factor(__global const float* diag, int s, int o, __global con
     }
 }
 
-// Twin of IccgSolver::solve's first copy: xd = x (float field to double vector). One work-item
-// per cell.
-__kernel void iccg_load(__global const float* x, int s, int o, __global double* xd, int nx,
-                        int ny) {
+// The double-vector solvers' first copy (IccgSolver::solve's, TensorFieldSolve::solve's): xd = x
+// (float field to double vector). One work-item per cell.
+__kernel void load_doubles(__global const float* x, int s, int o, __global double* xd, int nx,
+                           int ny) {
   const int i = get_global_id(0), j = get_global_id(1);
   if (i >= nx || j >= ny) return;
   xd[j * nx + i] = (double)x[o + j * s + i];
 }
 
-// Twin of IccgSolver::solve's last copy: x = float(xd). One work-item per cell.
-__kernel void iccg_store(__global const double* xd, __global float* x, int s, int o, int nx,
-                         int ny) {
+// Their last copy: x = float(xd). One work-item per cell.
+__kernel void store_doubles(__global const double* xd, __global float* x, int s, int o, int nx,
+                            int ny) {
   const int i = get_global_id(0), j = get_global_id(1);
   if (i >= nx || j >= ny) return;
   x[o + j * s + i] = (float)xd[j * nx + i];

@@ -229,12 +229,6 @@ void ClFft2d::backward(const OpenClBuffer& spectrum, const OpenClBuffer& real) {
 
 namespace {
 
-void enqueue_1d(OpenClKernels& cl, cl_kernel k, int items) {
-  // A fixed work-group size (PoCL compiles each kernel once per work-group size).
-  constexpr std::size_t kGroup = 64;
-  cl.context().enqueue(k, (std::size_t(items) + kGroup - 1) / kGroup * kGroup, kGroup);
-}
-
 // Field `at` of the packed batch `packed` <- f's interior, and back.
 void pack(OpenClKernels& cl, cl_kernel k, const DeviceField& f, const OpenClBuffer& packed,
           int at) {
@@ -288,7 +282,7 @@ void OpenClPeriodicSolve::solve(const PeriodicStencilSolve& solve, DeviceField& 
   pack(cl_, pack_, x, real_, 0);
   fft_.forward(real_, spectrum_);
   set_kernel_args(multiply_, spectrum_, multipliers_, fft_.modes());
-  enqueue_1d(cl_, multiply_, fft_.modes());
+  cl_.enqueue_items(multiply_, fft_.modes());
   fft_.backward(spectrum_, real_);
   unpack(cl_, unpack_, real_, 0, x);
 }
@@ -343,14 +337,14 @@ void OpenClEtdrk4::reaction(const ReactionParams* params) {
   if (params) cl_reaction_args(*params, q);
   set_kernel_args(reaction_, u_real_, n_real_, fft_.cells(), params ? int(params->model) : 0, q[0],
                   q[1], q[2], q[3], q[4], int(params != nullptr));
-  enqueue_1d(cl_, reaction_, fft_.cells());
+  cl_.enqueue_items(reaction_, fft_.cells());
 }
 
 void OpenClEtdrk4::combine(int stage) {
   const float scale = float(1.0 / (double(fft_.size().x) * double(fft_.size().y)));
   set_kernel_args(combine_, v_, n_u_, n_ab_, n_stage_, next_, coefficients_, fft_.modes(), stage,
                   scale);
-  enqueue_1d(cl_, combine_, 2 * fft_.modes());
+  cl_.enqueue_items(combine_, 2 * fft_.modes());
   fft_.backward(next_, u_real_);
 }
 

@@ -9,7 +9,6 @@
 namespace ardcell {
 
 namespace {
-constexpr std::size_t kVectorGroup = 64;
 
 int periodic_x(const ClStencilOperator& op) {
   return int(op.boundary_x == BoundaryKind::kPeriodic);
@@ -28,11 +27,6 @@ OpenClIccg::OpenClIccg(OpenClKernels& cl, Int2 size) : cl_(cl), size_(size), n_(
   for (OpenClBuffer* b : {&pivot_, &inv_pivot_, &x_, &r_, &z_, &p_, &q_}) *b = ctx.allocate(bytes);
   partials_ = cl.row_partials(2 * size.y);
   if (ctx.device().type == "gpu") walk_ = BlockWalk::kWavefront;
-}
-
-void OpenClIccg::enqueue_vector(cl_kernel k) {
-  const std::size_t global = (std::size_t(n_) + kVectorGroup - 1) / kVectorGroup * kVectorGroup;
-  cl_.context().enqueue(k, global, kVectorGroup);
 }
 
 static_assert(iccg::kBlockRows <= 64,
@@ -94,7 +88,7 @@ int OpenClIccg::iterate(const ClStencilOperator& op, const DeviceField& b, Devic
   OpenClContext& ctx = cl_.context();
   const int nx = size_.x, ny = size_.y;
   const Box2 cells = box_of_size(size_);
-  cl_kernel load = cl_.kernel("iccg_load");
+  cl_kernel load = cl_.kernel("load_doubles");
   set_kernel_args(load, x, x_, nx, ny);
   cl_.enqueue_cells(load, cells);
   cl_kernel multiply = cl_.kernel("iccg_multiply");
@@ -128,16 +122,16 @@ int OpenClIccg::iterate(const ClStencilOperator& op, const DeviceField& b, Devic
     if (!(pq > 0.0)) break;
     const double alpha = rz / pq;
     set_kernel_args(update, x_, r_, p_, q_, alpha, n_);
-    enqueue_vector(update);
+    cl_.enqueue_items(update, n_);
     ++iterations;
     double rz_next = 0.0;
     precondition(op, null, rz_next, rr);
     const double beta = rz_next / rz;
     rz = rz_next;
     set_kernel_args(direction, p_, z_, beta, n_);
-    enqueue_vector(direction);
+    cl_.enqueue_items(direction, n_);
   }
-  cl_kernel store = cl_.kernel("iccg_store");
+  cl_kernel store = cl_.kernel("store_doubles");
   set_kernel_args(store, x_, x, nx, ny);
   cl_.enqueue_cells(store, cells);
   return iterations;

@@ -61,7 +61,6 @@ class OpenClIccg {
   // Removes v's mean over the null space (IccgSolver::project).
   void project(OpenClBuffer& v, const ClNullSpace& null);
   // A kernel over the n cells (1D), the cells of the grid (2D), the rows or the blocks.
-  void enqueue_vector(cl_kernel k);
   void enqueue_blocks(cl_kernel k);
 
   OpenClKernels& cl_;

@@ -760,6 +760,11 @@ void OpenClKernels::enqueue_rows(cl_kernel k, int y0, int y1) {
   ctx_.enqueue(k, global, local);
 }
 
+void OpenClKernels::enqueue_items(cl_kernel k, int n) {
+  constexpr std::size_t kGroup = 64;
+  ctx_.enqueue(k, (std::size_t(n) + kGroup - 1) / kGroup * kGroup, kGroup);
+}
+
 void OpenClKernels::check_partials(const ClRowPartials& partials, int y1) const {
   ARDCELL_CHECK(partials.data && partials.rows >= y1 && partials.real_bytes == real_bytes_,
                 "row partials: too few rows, or from another device");

@@ -140,6 +140,9 @@ class OpenClKernels {
   void enqueue_cells(cl_kernel k, Box2 region);
   // One work-item per row of [y0, y1) (1D), for the row reductions.
   void enqueue_rows(cl_kernel k, int y0, int y1);
+  // One work-item per element of a vector of n (1D, work-groups of 64: PoCL compiles a kernel
+  // once per work-group size).
+  void enqueue_items(cl_kernel k, int n);
 
   // Twin of reaction_implicit_tile (Eqn 6; gray_scott_implicit_tile when p.model is
   // Gray-Scott). Outputs may alias inputs.

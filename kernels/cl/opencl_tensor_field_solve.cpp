@@ -6,10 +6,6 @@
 
 namespace ardcell {
 
-namespace {
-constexpr std::size_t kVectorGroup = 64;
-}  // namespace
-
 OpenClTensorFieldSolve::OpenClTensorFieldSolve(OpenClKernels& cl, Int2 size)
     : cl_(cl), size_(size), n_(size.x * size.y) {
   ARDCELL_CHECK(size.x >= 2 && size.y >= 2, "OpenCL tensor-field solve needs at least 2 x 2 cells");
@@ -23,17 +19,12 @@ OpenClTensorFieldSolve::OpenClTensorFieldSolve(OpenClKernels& cl, Int2 size)
   apply_ = cl.kernel("tfs_apply");
   precondition_ = cl.kernel("tfs_precondition");
   dots_ = cl.kernel("tfs_dots");
-  load_ = cl.kernel("tfs_load");
-  store_ = cl.kernel("tfs_store");
+  load_ = cl.kernel("load_doubles");
+  store_ = cl.kernel("store_doubles");
   zero_ = cl.kernel("tfs_zero");
   direction_ = cl.kernel("tfs_direction");
   step_ = cl.kernel("tfs_step");
   add_ = cl.kernel("tfs_add");
-}
-
-void OpenClTensorFieldSolve::enqueue_vector(cl_kernel k) {
-  const std::size_t global = (std::size_t(n_) + kVectorGroup - 1) / kVectorGroup * kVectorGroup;
-  cl_.context().enqueue(k, global, kVectorGroup);
 }
 
 void OpenClTensorFieldSolve::apply(const OpenClBuffer& in, const OpenClBuffer& out, bool with_b) {
@@ -92,8 +83,10 @@ SolveReport OpenClTensorFieldSolve::solve(const ClRank2Faces& d, DeviceField& x,
   d_ = d;
   s_ = s;
   const int nx = size_.x, ny = size_.y;
-  set_kernel_args(load_, x, x_, b_, nx, ny);
-  cl_.enqueue_cells(load_, box_of_size(size_));
+  for (const OpenClBuffer* v : {&x_, &b_}) {
+    set_kernel_args(load_, x, *v, nx, ny);
+    cl_.enqueue_cells(load_, box_of_size(size_));
+  }
   double bnorm = std::sqrt(dot(b_, b_));
   if (bnorm == 0) bnorm = 1;
 
@@ -118,7 +111,7 @@ SolveReport OpenClTensorFieldSolve::solve(const ClRank2Faces& d, DeviceField& x,
                  "clEnqueueCopyBuffer(shadow = r)");
     double rho = 1, alpha = 1, omega = 1;
     set_kernel_args(zero_, p_, v_, n_);
-    enqueue_vector(zero_);
+    cl_.enqueue_items(zero_, n_);
     // dot(shadow, r), which the loop's first step takes: shadow = r, so |r|^2 (the same products
     // in the same order); then the one each second half step reads with |r|^2.
     double shadow_r = rr;
@@ -149,7 +142,7 @@ SolveReport OpenClTensorFieldSolve::solve(const ClRank2Faces& d, DeviceField& x,
     if (applications == applications_before) {
       precondition(r_, y_);
       set_kernel_args(add_, x_, y_, n_);
-      enqueue_vector(add_);
+      cl_.enqueue_items(add_, n_);
       ++applications;
     }
     if (applications >= max_applications) {
@@ -159,6 +152,7 @@ SolveReport OpenClTensorFieldSolve::solve(const ClRank2Faces& d, DeviceField& x,
   }
   set_kernel_args(store_, x_, x, nx, ny);
   cl_.enqueue_cells(store_, box_of_size(size_));
+  d_ = {};  // the faces are the caller's: none kept past the solve
   return {(applications + 1) / 2, report_residual};
 }
 

@@ -5,7 +5,7 @@
 // fields on the device, halo 0). solve() runs bicgstab()'s loop (kernels/bicgstab.h) step for
 // step: right-preconditioned BiCGSTAB with the Jacobi diagonal from x as the first guess, the
 // Krylov vectors and the operator in double (kernels/cl/tensor_field_solve.cl), x in float in and
-// out, each dot product's per-row partials read back (three reads a BiCGSTAB step) and added in
+// out, each dot product's per-row partials read back (four reads a BiCGSTAB step) and added in
 // row order, the same stopping rule and report (iterations: BiCGSTAB steps, started ones; the
 // residual: the double iterate's |b - (I - s L) x|_2 / |b|_2). Neither side fuses a multiply-add
 // (the C++ is compiled with -ffp-contract=off), so on PoCL the iterates have the C++ bits and it
@@ -54,8 +54,6 @@ class OpenClTensorFieldSolve {
   // *shadow_r = shadow . r (one read for both).
   double step(const OpenClBuffer& y, const OpenClBuffer& av, double w, const OpenClBuffer* z,
               double* shadow_r);
-  // A kernel over the n elements (1D).
-  void enqueue_vector(cl_kernel k);
 
   OpenClKernels& cl_;
   Int2 size_;

@@ -105,22 +105,8 @@ __kernel void tfs_dots(__global const double* a, __global const double* b,
   if (two) partials[ny + j] = tfs_row_dot(c, d, j * nx, nx);
 }
 
-// Twin of the solve's first copy: xd = bd = x (float field to double vectors). One work-item per
-// cell.
-__kernel void tfs_load(__global const float* x, int s, int o, __global double* xd,
-                       __global double* bd, int nx, int ny) {
-  const int i = get_global_id(0), j = get_global_id(1);
-  if (i >= nx || j >= ny) return;
-  xd[j * nx + i] = bd[j * nx + i] = (double)x[o + j * s + i];
-}
-
-// Twin of the solve's last copy: x = float(xd). One work-item per cell.
-__kernel void tfs_store(__global const double* xd, __global float* x, int s, int o, int nx,
-                        int ny) {
-  const int i = get_global_id(0), j = get_global_id(1);
-  if (i >= nx || j >= ny) return;
-  x[o + j * s + i] = (float)xd[j * nx + i];
-}
+// The first and last copies between x and the double vectors are iccg.cl's load_doubles and
+// store_doubles.
 
 // A pass's start: p = v = 0. One work-item per element.
 __kernel void tfs_zero(__global double* p, __global double* v, int n) {

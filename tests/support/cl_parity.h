@@ -28,6 +28,12 @@ struct Fixture {
   std::unique_ptr<OpenClKernels> cl;
 };
 
+// Whether the device is PoCL's (a CPU with correctly rounded doubles and glibc-like maths), where
+// the twins that repeat a C++ solver operation for operation must give its bits exactly.
+inline bool is_pocl(const OpenClContext& ctx) {
+  return ctx.device().platform_name.find("Portable Computing Language") != std::string::npos;
+}
+
 // The test program's device (opened once); a device that cannot build the program fails.
 inline Fixture& device() {
   static Fixture f = [] {

@@ -71,6 +71,13 @@ EngineOptions on_device() {
   return o;
 }
 
+// PoCL rounds doubles and the basic operations as the CPU does: the twins that repeat a C++
+// solver operation for operation give its bits there.
+bool is_pocl_device(OpenClDevice& device) {
+  return device.kernels().context().device().platform_name.find("Portable Computing Language") !=
+         std::string::npos;
+}
+
 class EngineOpenClParity : public testing::TestWithParam<std::string> {};
 
 TEST_P(EngineOpenClParity, WithinOneInTenToTheFiveOfSerial) {
@@ -293,7 +300,6 @@ TEST(EngineOpenCl, TensorFieldSolveRunsOnTheDeviceWithoutALine) {
     testing::internal::GetCapturedStderr();
     GTEST_SKIP() << "the device has no doubles: the solve stays on the CPU";
   }
-  EXPECT_TRUE(device.supports(DeviceOp::kTensorFieldSolve));
   serial.step();
   cl.step();
   cl.finish();
@@ -314,6 +320,9 @@ TEST(EngineOpenCl, TensorFieldSolveRunsOnTheDeviceWithoutALine) {
       scene.size.x, scene.size.y, first, error, kFrames);
   EXPECT_LE(first, kTolerance) << "field " << field << ", frame 1";
   EXPECT_LE(error, kTolerance) << "field " << field;
+  if (is_pocl_device(device)) {
+    EXPECT_EQ(error, 0.0) << "on PoCL every op of the frame gives the CPU's bits";
+  }
 }
 
 // The fluid presets' own settings: multigrid V-cycles to a tolerance for viscosity and pressure
