@@ -40,6 +40,17 @@ SurfaceMultigrid::SurfaceMultigrid(const LimitSurface& surface, const SurfaceLap
   pieces_ = patch_pieces(surface.topology());
   piece_sums_.assign(std::size_t(*std::max_element(pieces_.begin(), pieces_.end()) + 1), 0.0);
   patch_sums_.assign(pieces_.size(), 0.0);
+  sparse_.push_back(probe_patch_level(*levels_.back()->op, surface.topology(), pieces_));
+  while (sparse_.back().cells > kMaxDirectCells) {
+    SparseLevel next = aggregate_level(sparse_.back());
+    // Stalled (a level that shrinks by less than a third and is still too large for the dense
+    // solve): sweeps at the bottom instead.
+    if (next.cells > kMaxDirectCells && 3 * next.cells > 2 * sparse_.back().cells) {
+      sparse_.back().coarse.clear();
+      break;
+    }
+    sparse_.push_back(std::move(next));
+  }
 }
 
 SurfaceMultigrid::~SurfaceMultigrid() = default;
@@ -159,7 +170,7 @@ void lu_solve(const std::vector<double>& lu, const std::vector<int>& pivot, int 
 void SurfaceMultigrid::cycle(int level, double c) const {
   const Level& l = *levels_[std::size_t(level)];
   if (level + 1 == levels()) {
-    if (!solve_coarsest(c)) l.op->smoothing_sweeps(l.x, l.b, c, kCoarseSweeps);
+    coarse_correction(c, false);
     return;
   }
   l.op->smoothing_sweeps(l.x, l.b, c, kPreSweeps);
@@ -172,43 +183,78 @@ void SurfaceMultigrid::cycle(int level, double c) const {
   l.op->smoothing_sweeps(l.x, l.b, c, kPostSweeps);
 }
 
+void SurfaceMultigrid::coarse_correction(double c, bool poisson) const {
+  const Level& l = *levels_.back();
+  const PatchGrid& g = l.op->grid();
+  const SparseLevel& top = sparse_.front();
+  for (int p = 0; p < top.cells; ++p) {
+    top.b[std::size_t(p)] = l.b[g.index(p, 0, 0)];
+    top.x[std::size_t(p)] = l.x[g.index(p, 0, 0)];
+  }
+  sparse_cycle(0, c, poisson);
+  for (int p = 0; p < top.cells; ++p) l.x[g.index(p, 0, 0)] = top.x[std::size_t(p)];
+}
+
+void SurfaceMultigrid::sparse_cycle(int level, double c, bool poisson) const {
+  // a I + s lap: I - c lap, or lap for the Poisson problem.
+  const double a = poisson ? 0 : 1, s = poisson ? 1 : -c;
+  const SparseLevel& l = sparse_[std::size_t(level)];
+  if (level + 1 == int(sparse_.size())) {
+    if (!(poisson ? solve_coarsest_poisson() : solve_coarsest(c)))
+      sparse_sweeps(l, a, s, kCoarseSweeps);
+    return;
+  }
+  sparse_sweeps(l, a, s, kPreSweeps);
+  sparse_residual(l, a, s);
+  const SparseLevel& next = sparse_[std::size_t(level) + 1];
+  // The residual's area-weighted mean on each aggregate, the correction from 0.
+  std::fill(next.b.begin(), next.b.end(), 0.0);
+  for (int i = 0; i < l.cells; ++i)
+    next.b[std::size_t(l.coarse[std::size_t(i)])] += l.area[std::size_t(i)] * l.r[std::size_t(i)];
+  for (int I = 0; I < next.cells; ++I) next.b[std::size_t(I)] /= next.area[std::size_t(I)];
+  std::fill(next.x.begin(), next.x.end(), 0.0);
+  sparse_cycle(level + 1, c, poisson);
+  for (int i = 0; i < l.cells; ++i)
+    l.x[std::size_t(i)] += kProlongationScale * next.x[std::size_t(l.coarse[std::size_t(i)])];
+  sparse_sweeps(l, a, s, kPostSweeps);
+}
+
+namespace {
+
+// The sparse level's a I + s lap as a dense row-major matrix of k x k.
+void dense_matrix(const SparseLevel& l, double a, double s, std::vector<double>& out) {
+  const int k = l.cells;
+  out.assign(std::size_t(k) * k, 0.0);
+  for (int r = 0; r < k; ++r) {
+    out[std::size_t(r) * k + r] = a;
+    for (int e = l.start[std::size_t(r)]; e < l.start[std::size_t(r) + 1]; ++e)
+      out[std::size_t(r) * k + l.col[std::size_t(e)]] =
+          (l.col[std::size_t(e)] == r ? a : 0.0) + s * l.lap[std::size_t(e)];
+  }
+}
+
+}  // namespace
+
 const SurfaceMultigrid::Factor& SurfaceMultigrid::factor_for(double c) const {
   for (const Factor& f : factors_)
     if (f.c == c) return f;
-  const Level& l = *levels_.back();
-  const PatchGrid& g = l.op->grid();
-  const int m = g.n(), k = g.patches() * m * m;
-  const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
+  const SparseLevel& l = sparse_.back();
   Factor& f = factors_[next_factor_];
   next_factor_ = (next_factor_ + 1) % kFactors;
-  // Column q of I - c lap: the operator applied to the q-th unit field.
-  f.lu.assign(std::size_t(k) * k, 0.0);
-  unit_.assign(g.make_field().size(), 0.0);
-  lap_.assign(unit_.size(), 0.0);
-  for (int q = 0; q < k; ++q) {
-    unit_[cell(q)] = 1;
-    l.op->apply(unit_, lap_);
-    unit_[cell(q)] = 0;
-    for (int r = 0; r < k; ++r)
-      f.lu[std::size_t(r) * k + q] = (r == q ? 1.0 : 0.0) - c * lap_[cell(r)];
-  }
-  lu_factor(f.lu, f.pivot, k);
+  dense_matrix(l, 1, -c, f.lu);
+  lu_factor(f.lu, f.pivot, l.cells);
   f.c = c;
   return f;
 }
 
 bool SurfaceMultigrid::solve_coarsest(double c) const {
-  const Level& l = *levels_.back();
-  const PatchGrid& g = l.op->grid();
-  const int m = g.n();
-  const int k = g.patches() * m * m;
+  const SparseLevel& l = sparse_.back();
+  const int k = l.cells;
   if (k > kMaxDirectCells) return false;
-  const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
   const Factor& f = factor_for(c);
-  rhs_.resize(std::size_t(k));
-  for (int q = 0; q < k; ++q) rhs_[std::size_t(q)] = l.b[cell(q)];
+  rhs_ = l.b;  // same size after the first: a copy
   lu_solve(f.lu, f.pivot, k, rhs_);
-  for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
+  std::copy(rhs_.begin(), rhs_.end(), l.x.begin());
   return true;
 }
 
@@ -282,7 +328,7 @@ DiffusionReport SurfaceMultigrid::implicit_diffusion(PatchField& x, const PatchF
 void SurfaceMultigrid::poisson_cycle(int level) const {
   const Level& l = *levels_[std::size_t(level)];
   if (level + 1 == levels()) {
-    if (!solve_coarsest_poisson()) l.op->poisson_sweeps(l.x, l.b, kCoarseSweeps);
+    coarse_correction(0, true);
     return;
   }
   l.op->poisson_sweeps(l.x, l.b, kPreSweeps);
@@ -295,10 +341,11 @@ void SurfaceMultigrid::poisson_cycle(int level) const {
   l.op->poisson_sweeps(l.x, l.b, kPostSweeps);
 }
 
-const std::vector<double>& SurfaceMultigrid::piece_areas(const SurfaceLaplacian& op) const {
+const std::vector<double>& SurfaceMultigrid::piece_areas() const {
   // In the order of SurfaceLaplacian::area (cells of every patch in turn), so that one piece's
   // area is area()'s bits.
-  std::vector<double>& areas = &op == levels_.front()->op ? fine_piece_areas_ : coarse_piece_areas_;
+  const SurfaceLaplacian& op = *levels_.front()->op;
+  std::vector<double>& areas = fine_piece_areas_;
   if (areas.empty()) {
     areas.assign(piece_sums_.size(), 0.0);
     const int n = op.n();
@@ -311,6 +358,7 @@ const std::vector<double>& SurfaceMultigrid::piece_areas(const SurfaceLaplacian&
 }
 
 void SurfaceMultigrid::remove_piece_means(const SurfaceLaplacian& op, PatchField& f) const {
+  ARDCELL_CHECK(&op == levels_.front()->op, "remove_piece_means: the finest grid's fields only");
   // Each patch's integral on the executor, added per piece in patch order (SurfaceLaplacian::
   // total's order and bits for one piece).
   const PatchGrid& g = op.grid();
@@ -326,42 +374,31 @@ void SurfaceMultigrid::remove_piece_means(const SurfaceLaplacian& op, PatchField
   piece_sums_.assign(piece_sums_.size(), 0.0);
   for (int p = 0; p < g.patches(); ++p)
     piece_sums_[std::size_t(pieces_[std::size_t(p)])] += patch_sums_[std::size_t(p)];
-  const std::vector<double>& area = piece_areas(op);
+  const std::vector<double>& area = piece_areas();
   for (std::size_t k = 0; k < piece_sums_.size(); ++k) piece_sums_[k] /= area[k];
   for_cells(op,
             [&](std::size_t q) { f[q] -= piece_sums_[std::size_t(pieces_[q / g.patch_cells()])]; });
 }
 
 bool SurfaceMultigrid::solve_coarsest_poisson() const {
-  const Level& l = *levels_.back();
-  const SurfaceLaplacian& op = *l.op;
-  const PatchGrid& g = op.grid();
-  const int m = g.n();
-  const int k = g.patches() * m * m;
+  const SparseLevel& l = sparse_.back();
+  const int k = l.cells;
   if (k > kMaxDirectCells) return false;
-  const auto cell = [&](int q) { return g.index(q / (m * m), q % m, (q / m) % m); };
-  const auto piece = [&](int q) { return pieces_[std::size_t(q / (m * m))]; };
+  const auto piece = [&](int q) { return l.piece[std::size_t(q)]; };
   std::vector<double>& w = poisson_weight_;
   Factor& f = poisson_factor_;
   if (f.lu.empty()) {
-    const std::vector<double>& area = piece_areas(op);
+    // Each piece's area in cell order, w its cells' share of it.
+    std::vector<double> area(piece_sums_.size(), 0.0);
+    for (int q = 0; q < k; ++q) area[std::size_t(piece(q))] += l.area[std::size_t(q)];
     w.resize(std::size_t(k));
     for (int q = 0; q < k; ++q)
-      w[std::size_t(q)] =
-          op.cell_area(q / (m * m), q % m, (q / m) % m) / area[std::size_t(piece(q))];
-    // Column q of lap + sum over pieces of 1_piece w_piece^T: the operator applied to the q-th
-    // unit field, plus w_q in every row of q's piece.
-    f.lu.assign(std::size_t(k) * k, 0.0);
-    unit_.assign(g.make_field().size(), 0.0);
-    lap_.assign(unit_.size(), 0.0);
-    for (int q = 0; q < k; ++q) {
-      unit_[cell(q)] = 1;
-      op.apply(unit_, lap_);
-      unit_[cell(q)] = 0;
-      for (int r = 0; r < k; ++r)
-        f.lu[std::size_t(r) * k + q] =
-            lap_[cell(r)] + (piece(r) == piece(q) ? w[std::size_t(q)] : 0);
-    }
+      w[std::size_t(q)] = l.area[std::size_t(q)] / area[std::size_t(piece(q))];
+    // lap + sum over pieces of 1_piece w_piece^T: w_q added in every row of q's piece.
+    dense_matrix(l, 0, 1, f.lu);
+    for (int r = 0; r < k; ++r)
+      for (int q = 0; q < k; ++q)
+        if (piece(r) == piece(q)) f.lu[std::size_t(r) * k + q] += w[std::size_t(q)];
     lu_factor(f.lu, f.pivot, k);
   }
   // The restricted residual's total on each piece is 0 only to the levels' differences: take
@@ -369,11 +406,11 @@ bool SurfaceMultigrid::solve_coarsest_poisson() const {
   rhs_.resize(std::size_t(k));
   piece_sums_.assign(piece_sums_.size(), 0.0);
   for (int q = 0; q < k; ++q)
-    piece_sums_[std::size_t(piece(q))] += w[std::size_t(q)] * l.b[cell(q)];
+    piece_sums_[std::size_t(piece(q))] += w[std::size_t(q)] * l.b[std::size_t(q)];
   for (int q = 0; q < k; ++q)
-    rhs_[std::size_t(q)] = l.b[cell(q)] - piece_sums_[std::size_t(piece(q))];
+    rhs_[std::size_t(q)] = l.b[std::size_t(q)] - piece_sums_[std::size_t(piece(q))];
   lu_solve(f.lu, f.pivot, k, rhs_);
-  for (int q = 0; q < k; ++q) l.x[cell(q)] = rhs_[std::size_t(q)];
+  std::copy(rhs_.begin(), rhs_.end(), l.x.begin());
   return true;
 }
 

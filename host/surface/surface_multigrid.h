@@ -13,15 +13,16 @@
 // SurfaceLaplacian::smoothing_sweeps), the residual restricted to the coarser grid as the
 // area-weighted mean of each 2 x 2 block (what leaves a fine cell's integral leaves the coarse
 // cell's), the correction solved there and added back bilinearly (the coarse ghost ring
-// exchanged first), two more sweeps. The coarsest grid is solved exactly (a dense LU of its
-// matrix, built column by column from the operator and kept while c stays the same) when it has
-// at most kMaxDirectCells cells, else by kCoarseSweeps sweeps: the global modes a stiff step
-// leaves there would take Jacobi thousands of sweeps. (BiCGSTAB on the coarsest grid instead of
-// the sweeps made the preconditioner nonlinear: truncated at 60 steps the outer iteration no
-// longer converged on the elephant's 16674 patches, and run to 1e-4 it cost more than the
-// cycles it saved.)
-// The coarsest grid has one cell a patch (so the dense solve covers meshes of up to
-// kMaxDirectCells patches at any N).
+// exchanged first), two more sweeps. The coarsest patch grid has one cell a patch; below it the
+// levels are sparse matrices (host/surface/coarse_aggregation.h): that grid's lap read off the
+// operator, then aggregates of cells with the Galerkin operator, until at most kMaxDirectCells
+// cells are left (a mesh of up to that many patches has no aggregate level). The last level is
+// solved exactly: a dense LU of its matrix, kept while c stays the same. (Point sweeps on a
+// bottom grid of 16674 cells, the elephant's, left the global modes of a projection for
+// hundreds of sweeps a cycle; BiCGSTAB there made the preconditioner nonlinear: truncated at 60
+// steps the outer iteration no longer converged, and run to 1e-4 it cost more than the cycles
+// it saved.) Should aggregation stall above kMaxDirectCells, the last level takes
+// kCoarseSweeps sweeps instead.
 // Krylov acceleration: the V-cycle is the right preconditioner of BiCGSTAB (van der Vorst 1992;
 // the operator is not symmetric: the cross terms read corner ghosts each patch fills its own
 // way), not the iteration itself. Point smoothing leaves the modes along a patch's long side
@@ -33,6 +34,7 @@
 #include <memory>
 #include <vector>
 
+#include "host/surface/coarse_aggregation.h"
 #include "host/surface/limit_surface.h"
 #include "host/surface/surface_laplacian.h"
 #include "kernels/bicgstab.h"
@@ -75,7 +77,11 @@ class SurfaceMultigrid {
   struct Level;
   void cycle(int level, double c) const;
   void poisson_cycle(int level) const;
-  // The coarsest level's x from its b, exactly (false: too many cells for a dense solve).
+  // The coarsest patch grid's correction through the sparse levels: (I - c lap) x = b, or with
+  // poisson lap x = b.
+  void coarse_correction(double c, bool poisson) const;
+  void sparse_cycle(int level, double c, bool poisson) const;
+  // The last sparse level's x from its b, exactly (false: too many cells for a dense solve).
   bool solve_coarsest(double c) const;
   bool solve_coarsest_poisson() const;
 
@@ -96,13 +102,13 @@ class SurfaceMultigrid {
   // The integral of f over each connected piece of the surface taken out: lap's null space is the
   // fields constant on each piece, its range the fields of total 0 on each.
   void remove_piece_means(const SurfaceLaplacian& op, PatchField& f) const;
-  // The area of each piece on op's grid (the finest level's operator or the coarsest's),
-  // computed once.
-  const std::vector<double>& piece_areas(const SurfaceLaplacian& op) const;
+  // The area of each piece on the finest grid, computed once.
+  const std::vector<double>& piece_areas() const;
 
   std::vector<std::unique_ptr<Level>> levels_;  // finest first
+  std::vector<SparseLevel> sparse_;             // below the coarsest patch grid, its lap first
   std::vector<int> pieces_;                     // the connected piece of each patch (patch_pieces)
-  mutable std::vector<double> patch_sums_, piece_sums_, fine_piece_areas_, coarse_piece_areas_;
+  mutable std::vector<double> patch_sums_, piece_sums_, fine_piece_areas_;
   // The finest grid's right-hand side, and BiCGSTAB's vectors there.
   mutable PatchField b_;
   mutable Krylov fine_krylov_;
@@ -118,10 +124,9 @@ class SurfaceMultigrid {
   const Factor& factor_for(double c) const;
   mutable Factor factors_[kFactors];
   mutable Factor poisson_factor_;               // lap + 1 w^T, built on the first Poisson solve
-  mutable std::vector<double> poisson_weight_;  // w: the coarsest cells' areas over the total
+  mutable std::vector<double> poisson_weight_;  // w: the last level's cells' areas over the total
   mutable int next_factor_ = 0;                 // the slot a new c replaces
   mutable std::vector<double> rhs_;
-  mutable PatchField unit_, lap_;  // the columns' scratch
 };
 
 }  // namespace ardcell

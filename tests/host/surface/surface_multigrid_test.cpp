@@ -13,19 +13,12 @@
 #include "host/surface/surface_multigrid.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
+#include "tests/host/surface/surface_test_util.h"
 
 namespace ardcell {
 namespace {
 
-PatchField random_field(const PatchGrid& g, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  PatchField f = g.make_field();
-  for (int p = 0; p < g.patches(); ++p)
-    for (int j = 0; j < g.n(); ++j)
-      for (int i = 0; i < g.n(); ++i) f[g.index(p, i, j)] = u(rng);
-  return f;
-}
+using surface_test::random_field;
 
 double max_diff(const PatchGrid& g, const PatchField& a, const PatchField& b) {
   double m = 0;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <random>
 
 #include "host/surface/limit_surface.h"
 #include "host/surface/poly_mesh.h"
@@ -59,6 +60,17 @@ inline double lap_l1(const Cell& c) { return c.lap_x[0]; }
 inline double l2(const Cell& c) { return c.x[0] * c.x[1]; }
 inline double lap_l2(const Cell& c) {
   return c.x[0] * c.lap_x[1] + c.x[1] * c.lap_x[0] - 2 * c.n[0] * c.n[1];
+}
+
+// Uniform random values in [lo, hi) on every interior cell (ghosts 0).
+inline PatchField random_field(const PatchGrid& g, unsigned seed, double lo = 0, double hi = 1) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  PatchField f = g.make_field();
+  for (int p = 0; p < g.patches(); ++p)
+    for (int j = 0; j < g.n(); ++j)
+      for (int i = 0; i < g.n(); ++i) f[g.index(p, i, j)] = u(rng);
+  return f;
 }
 
 // Area-weighted <a, b> over the interior cells.
