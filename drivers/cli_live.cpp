@@ -21,6 +21,7 @@
 #include "drivers/ffmpeg_pipe.h"
 #include "drivers/gpio_buttons.h"
 #include "drivers/png_writer.h"
+#include "drivers/surface_fluid_flags.h"
 #include "host/io/atomic_file.h"
 #include "host/live/attract_mode.h"
 #include "host/live/live_engine.h"
@@ -86,6 +87,7 @@ struct LiveArgs {
   int bezel = 0;
   std::string shape, mesh;
   int patch_cells = 16;
+  SurfaceFluidFlags fluid;  // --fluid, --force, --conserve-dye (as `ardcell surface`)
   CLI::Option* shape_opt = nullptr;
   CLI::Option* mesh_opt = nullptr;
   CLI::Option* patch_cells_opt = nullptr;
@@ -142,8 +144,13 @@ std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& openc
 // --shape / --mesh: "" when the flags can show a surface, else the usage line.
 std::string check_surface_args(const LiveArgs& a, BackendKind backend) {
   const bool on_surface = a.shape_opt->count() > 0 || a.mesh_opt->count() > 0;
-  if (!on_surface)
+  const bool fluid = a.fluid.fluid_opt->count() > 0;
+  if (!fluid)
+    if (const CLI::Option* o = a.fluid.setting_given()) return fluid_setting_without_fluid(*o);
+  if (!on_surface) {
+    if (fluid) return "--fluid runs on a surface (expected --shape or --mesh with --fluid)";
     return a.patch_cells_opt->count() ? "--patch-cells applies to --shape or --mesh" : "";
+  }
 #if !ARDCELL_WITH_OPENSUBDIV
   (void)backend;
   return "--shape/--mesh: this ardcell was built without OpenSubdiv (expected a build with "
@@ -161,6 +168,8 @@ std::string check_surface_args(const LiveArgs& a, BackendKind backend) {
   if (a.realtime_solvers)
     return "--realtime-solvers: a surface solves by its own multigrid (expected no "
            "--realtime-solvers with --shape or --mesh)";
+  if (FluidForce force; fluid)
+    if (Status s = parse_fluid_force(a.fluid.fluid, force); !s) return s.message();
   return patch_cells_problem(a.patch_cells);
 #endif
 }
@@ -317,24 +326,28 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #else
   LiveOptions o;
   o.playlist = a.playlist.empty() ? preset_names() : a.playlist;
+  // --fluid: the presets' fluids on the surface instead of their RD.
+  [[maybe_unused]] const bool fluid = on_surface && a.fluid.fluid_opt->count() > 0;
 #if ARDCELL_WITH_OPENSUBDIV
-  // On a surface the default playlist is the presets whose RD a surface can run.
+  // On a surface the default playlist is the presets whose RD a surface can run (with --fluid,
+  // the presets with a fluid).
   if (on_surface && a.playlist.empty())
-    std::erase_if(o.playlist, [](const std::string& name) {
+    std::erase_if(o.playlist, [fluid](const std::string& name) {
       Preset p;
-      return !load_preset(name, p) || !runs_on_surfaces(p);
+      return !load_preset(name, p) || !runs_on_surfaces(p, fluid);
     });
 #endif
-  const std::string first = !a.preset.empty()                  ? a.preset
-                            : on_surface && a.playlist.empty() ? std::string("turing-spots")
-                            : o.playlist.empty()               ? std::string("cavity")
-                                                               : o.playlist.front();
+  const std::string first = !a.preset.empty() ? a.preset
+                            : on_surface && a.playlist.empty()
+                                ? std::string(fluid ? "cavity" : "turing-spots")
+                            : o.playlist.empty() ? std::string("cavity")
+                                                 : o.playlist.front();
   Preset preset;
   if (Status s = load_live_preset(first, preset, a.realtime_solvers); !s)
     return fail(kExitUsage, s.message(), true);
 #if ARDCELL_WITH_OPENSUBDIV
   if (on_surface)
-    if (Status s = runs_on_surfaces(preset); !s)
+    if (Status s = runs_on_surfaces(preset, fluid); !s)
       return fail(kExitUsage, first + ": " + s.message(), true);
 #endif
   for (const std::string& name : a.playlist) {
@@ -343,7 +356,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
       return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
 #if ARDCELL_WITH_OPENSUBDIV
     if (on_surface)
-      if (Status s = runs_on_surfaces(p); !s)
+      if (Status s = runs_on_surfaces(p, fluid); !s)
         return fail(kExitUsage, "--playlist " + name + ": " + s.message(), true);
 #endif
   }
@@ -454,6 +467,12 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
     SurfaceLiveOptions options;
     options.patch_cells = a.patch_cells;
     if (a.workers_opt->count()) options.workers = a.workers;
+    if (fluid) {
+      if (Status s = parse_fluid_force(a.fluid.fluid, options.fluid.force); !s)  // checked above
+        return fail(kExitUsage, s.message(), false);
+      options.fluid.strength = a.fluid.force;
+      if (a.fluid.conserve_dye_opt->count()) options.fluid.conserve_dye = a.fluid.conserve_dye;
+    }
     factory = surface_simulations(std::move(surface), options);
   }
 #endif
@@ -678,6 +697,12 @@ void add_live_command(CLI::App& app, CliContext& ctx) {
   args->patch_cells_opt =
       live->add_option("--patch-cells", args->patch_cells,
                        "--shape/--mesh: N x N cells a patch, a power of two (16)");
+  add_surface_fluid_flags(
+      *live, args->fluid,
+      "--shape/--mesh: stable fluids carrying a dye instead of the preset's reaction-diffusion: "
+      "gravity (the dye falls towards the bottom of the screen as the view turns) or walk (a "
+      "point circling each patch pushes the fluid); the left button paints dye",
+      "; default: the preset's fluid.conserve_dye");
   live->callback([args, &ctx] { ctx.exit_code = run_live(*args, ctx); });
 }
 

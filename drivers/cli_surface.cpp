@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "drivers/cli.h"
+#include "drivers/surface_fluid_flags.h"
 
 #if ARDCELL_WITH_OPENSUBDIV
 #include "drivers/png_writer.h"
@@ -57,11 +58,11 @@ struct SurfaceArgs {
   std::string solver = "jacobi";
   std::string preset;
   // --fluid: stable fluids with a dye instead of reaction-diffusion.
-  std::string fluid, down = "0,0,-1";
-  double viscosity = 0, dye_diffusion = 0, force = 1, source_rate = 1;
-  bool conserve_dye = false;
+  SurfaceFluidFlags fluid;  // --fluid, --force, --conserve-dye (shared with `ardcell live`)
+  std::string down = "0,0,-1";
+  double viscosity = 0, dye_diffusion = 0, source_rate = 1;
   CLI::Option *mesh_opt, *shape_opt, *scale_opt, *reaction_opt, *field_opt, *f_opt, *k_opt, *dt_opt,
-      *seed_opt, *steps_opt, *solver_opt, *preset_opt, *fluid_opt, *down_opt;
+      *seed_opt, *steps_opt, *solver_opt, *preset_opt, *down_opt;
   std::vector<CLI::Option*> fluid_only;  // --viscosity, --dye-diffusion, --force, ...
   // What messages about the control mesh start with: the --mesh file, "--shape eight" for a
   // packaged mesh, nothing for one built in code (set by control_mesh).
@@ -119,16 +120,6 @@ std::pair<double, double> cell_range(const PatchGrid& g, const PatchField& f) {
   return {lo, hi};
 }
 
-// A flag's value, when one is given (--flag=VALUE): true or false, 1 or 0, nothing else (CLI11
-// would read any number as a bool).
-const CLI::Validator flag_value(
-    [](std::string& value) -> std::string {
-      for (const char* ok : {"", "true", "false", "1", "0"})
-        if (value == ok) return {};
-      return "expected no value, true or false, got '" + value + "'";
-    },
-    "", "flag");
-
 // The threads back end the patches run on side by side (the same bits for any --workers),
 // unpinned: a short command beside whatever else runs.
 ThreadBackendOptions surface_threads(int workers) {
@@ -154,13 +145,13 @@ int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
   const SurfaceMultigrid multigrid(surface, op);
   SurfaceFluidParams params;
   params.dt = a.dt_opt->count() ? a.dt : 0.05;
-  params.force = a.fluid == "walk" ? FluidForce::kWalk : FluidForce::kGravity;
-  params.strength = a.force;
+  if (Status s = parse_fluid_force(a.fluid.fluid, params.force); !s) return usage(s.message());
+  params.strength = a.fluid.force;
   params.down = down;
   params.viscosity = a.viscosity;
   params.dye_diffusion = a.dye_diffusion;
   params.source_rate = a.source_rate;
-  params.conserve_dye = a.conserve_dye;
+  params.conserve_dye = a.fluid.conserve_dye;
   params.projection.tolerance = a.tolerance;
   SurfaceFluid fluid(surface, *metric, op, multigrid, params);
   metric.reset();  // only the construction reads it
@@ -169,7 +160,7 @@ int run_fluid(SurfaceArgs& a, CliContext& ctx, const LimitSurface& surface,
                "patches=%d%s cells=%lld area=%.4g fluid=%s dt=%g force=%g viscosity=%g "
                "dye_diffusion=%g workers=%d\n",
                surface.patches(), surface.refined() ? " (refined once)" : "",
-               (long long)surface.patches() * n * n, op.area(), a.fluid.c_str(), params.dt,
+               (long long)surface.patches() * n * n, op.area(), a.fluid.fluid.c_str(), params.dt,
                params.strength, params.viscosity, params.dye_diffusion, backend.workers());
   std::fflush(ctx.out);
   StopSignals signals;
@@ -226,17 +217,17 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
   if (a.steps < 0) return usage("--steps " + std::to_string(a.steps) + ": expected 0 or more");
   if (a.workers < 0 || a.workers > 256)
     return usage("--workers " + std::to_string(a.workers) + ": expected 1..256 (0: one per core)");
-  const bool fluid = a.fluid_opt->count() > 0;
+  const bool fluid = a.fluid.fluid_opt->count() > 0;
   std::array<double, 3> down{0, 0, -1};
   if (fluid) {
-    if (a.fluid != "gravity" && a.fluid != "walk")
-      return usage("--fluid '" + a.fluid + "': expected gravity or walk");
+    FluidForce force;
+    if (Status s = parse_fluid_force(a.fluid.fluid, force); !s) return usage(s.message());
     for (CLI::Option* o : {a.preset_opt, a.f_opt, a.k_opt, a.reaction_opt, a.field_opt, a.scale_opt,
                            a.solver_opt, a.seed_opt})
       if (o->count())
         return usage(o->get_name() + ": a reaction-diffusion setting (expected no " +
                      o->get_name() + " with --fluid)");
-    if (a.fluid == "walk" && a.down_opt->count())
+    if (force == FluidForce::kWalk && a.down_opt->count())
       return usage("--down: a gravity setting (expected no --down with --fluid walk)");
     char tail = 0;
     // A direction: finite, not all 0 (its length is taken after scaling, never squared here).
@@ -246,8 +237,7 @@ int do_surface(SurfaceArgs& a, CliContext& ctx) {
       return usage("--down '" + a.down + "': expected X,Y,Z, a finite direction (not 0,0,0)");
   } else {
     for (CLI::Option* o : a.fluid_only)
-      if (o->count())
-        return usage(o->get_name() + ": a fluid setting (expected --fluid gravity or walk)");
+      if (o->count()) return usage(fluid_setting_without_fluid(*o));
   }
   SurfaceRdParams params;
   PresetRd flat;
@@ -486,8 +476,8 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
   a.seed_opt = cmd->add_option("--seed", a.seed, "random start (1; with --preset the preset's)");
   a.field_opt = cmd->add_option("--field", a.field, "a or b (b; with --preset a)");
   cmd->add_option("--colormap", a.colormap, std::string(colormap_names()) + " (magma)");
-  a.fluid_opt = cmd->add_option(
-      "--fluid", a.fluid,
+  add_surface_fluid_flags(
+      *cmd, a.fluid,
       "stable fluids instead of reaction-diffusion: gravity (dye sinks along --down) or walk "
       "(a point circling each patch pushes the fluid); the field drawn is the dye, from sources "
       "at the patches' centres");
@@ -498,19 +488,14 @@ void add_surface_command(CLI::App& app, CliContext& ctx) {
       cmd->add_option("--dye-diffusion", a.dye_diffusion,
                       "--fluid: the dye's diffusion, surface area per unit time (0)")
           ->check(finite_range(0, 1e6)),
-      cmd->add_option("--force", a.force,
-                      "--fluid: gravity's acceleration per unit dye, or the walkers' push (1)")
-          ->check(finite_range(0, 1e6)),
+      a.fluid.force_opt,
       a.down_opt = cmd->add_option(
           "--down", a.down,
           "--fluid gravity: the downward direction X,Y,Z in the mesh's coordinates (0,0,-1)"),
       cmd->add_option("--source-rate", a.source_rate,
                       "--fluid: dye added per unit time at the sources, up to 1 (1)")
           ->check(finite_range(0, 1e6)),
-      cmd->add_flag("--conserve-dye", a.conserve_dye,
-                    "--fluid: each advection keeps the dye's total, the dye within [0, 1] "
-                    "(advection alone drifts)")
-          ->check(flag_value)};
+      a.fluid.conserve_dye_opt};
   cmd->callback([args, &ctx] {
     try {
       ctx.exit_code = do_surface(*args, ctx);

@@ -101,9 +101,7 @@ SurfaceFluid::SurfaceFluid(const LimitSurface& surface, const PatchMetric& metri
   if (params_.viscosity > 0) apply_viscosity();
   if (params_.dye_diffusion > 0) diffuse_dye();
   dye_total();
-  // None of that scratch may reach a step: every buffer back to 0.
-  for (auto* v : {&vel_, &vel_next_, &vel_rhs_}) std::fill(v->begin(), v->end(), 0.0);
-  for (auto* f : {&s_, &s_next_, &s_rhs_, &phi_, &div_}) std::fill(f->begin(), f->end(), 0.0);
+  clear();  // none of that scratch may reach a step
   timings_ = FluidTimings{};
 }
 
@@ -294,6 +292,29 @@ void SurfaceFluid::set_down(const std::array<double, 3>& down) {
     down1_[k] = d[0] * axis1_[3 * k] + d[1] * axis1_[3 * k + 1] + d[2] * axis1_[3 * k + 2];
     down2_[k] = d[0] * axis2_[3 * k] + d[1] * axis2_[3 * k + 1] + d[2] * axis2_[3 * k + 2];
   }
+}
+
+void SurfaceFluid::set_params(const SurfaceFluidParams& params) {
+  const double radius = params_.source_radius;
+  params_ = params;
+  params_.source_radius = radius;
+  set_down(params_.down);
+}
+
+void SurfaceFluid::clear() {
+  for (auto* v : {&vel_, &vel_next_, &vel_rhs_}) std::fill(v->begin(), v->end(), 0.0);
+  for (auto* f : {&s_, &s_next_, &s_rhs_, &phi_, &div_}) std::fill(f->begin(), f->end(), 0.0);
+  time_ = 0;
+}
+
+double SurfaceFluid::tangential_u1(int p, int i, int j, const std::array<double, 3>& v) const {
+  const double* a = &axis1_[3 * (p * faces1_ + std::size_t(j) * (n_ + 1) + i)];
+  return v[0] * a[0] + v[1] * a[1] + v[2] * a[2];
+}
+
+double SurfaceFluid::tangential_u2(int p, int i, int j, const std::array<double, 3>& v) const {
+  const double* a = &axis2_[3 * (p * faces1_ + std::size_t(j) * n_ + i)];
+  return v[0] * a[0] + v[1] * a[1] + v[2] * a[2];
 }
 
 void SurfaceFluid::add_sources() {

@@ -38,7 +38,8 @@
 //
 // Forces (Sec. 8): gravity, f = strength s down_T with down_T the downward unit vector projected
 // on the tangent plane, f^i = g^ij <down, X_j> (the seed's, where down follows the viewer; here
-// down is a fixed direction in the mesh's coordinates, set_down changes it); and
+// down is a direction in the mesh's coordinates, set_down changes it: `ardcell live --fluid
+// gravity` sets it to the screen's down as the view turns, host/surface/surface_simulation.h); and
 // "walking": in every patch a point circles the patch's centre in its parameter plane and
 // pushes the fluid along its path, f = strength T / |T| exp(-|x - w|^2 / width^2), T the circle's
 // tangent, |T| its length on the surface.
@@ -134,6 +135,18 @@ class SurfaceFluid {
 
   // Gravity's direction (recomputes its tangential components).
   void set_down(const std::array<double, 3>& down);
+  // Live changes (`ardcell live --fluid`): every parameter but source_radius, whose cells were
+  // chosen at construction. Allocates nothing; the viscosity's and the dye diffusion's solves
+  // allocate at their first run unless the constructor ran them (params with both above 0).
+  void set_params(const SurfaceFluidParams& params);
+  // Back to rest: no velocity, no dye, time 0, every buffer 0 (a live reset; the constructor's
+  // end, after sizing the solvers' scratch).
+  void clear();
+  // The tangential part of v (in the mesh's coordinates) as the u^1 of x1-face (p, i, j),
+  // 0 <= i <= N, 0 <= j < N, or as the u^2 of x2-face (p, i, j), 0 <= i < N, 0 <= j <= N:
+  // g^ij <v, X_j> (what a live stroke pushes the fluid towards).
+  double tangential_u1(int p, int i, int j, const std::array<double, 3>& v) const;
+  double tangential_u2(int p, int i, int j, const std::array<double, 3>& v) const;
   double time() const { return time_; }
 
   // Fills every face ghost from the neighbours (edges, then corners).

@@ -25,6 +25,15 @@ Vec3 vec(const double v[3]) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
 
+CameraAxes camera_axes(const SurfaceView& view) {
+  const double az = view.azimuth_deg * std::numbers::pi / 180;
+  const double el = view.elevation_deg * std::numbers::pi / 180;
+  const Vec3 eye{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+  Vec3 right = normalized(cross(Vec3{-eye[0], -eye[1], -eye[2]}, Vec3{0, 0, 1}));
+  if (dot(right, right) == 0) right = {0, 1, 0};  // looking straight up or down
+  return {right, cross(right, Vec3{-eye[0], -eye[1], -eye[2]}), eye};
+}
+
 SurfaceRenderer::SurfaceRenderer(const LimitSurface& surface, const PatchGrid& grid) : grid_(grid) {
   const int n = grid.n(), patches = grid.patches();
   const std::size_t count = std::size_t(patches) * std::size_t(n + 1) * std::size_t(n + 1);
@@ -60,13 +69,7 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
   field_.assign(field.begin(), field.end());
   grid_.exchange(field_);
   const int n = grid_.n(), patches = grid_.patches();
-  const double az = view.azimuth_deg * std::numbers::pi / 180;
-  const double el = view.elevation_deg * std::numbers::pi / 180;
-  // Camera basis: `eye` from the surface towards the camera, `right` and `up` span the screen.
-  const Vec3 eye{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
-  Vec3 right = normalized(cross(Vec3{-eye[0], -eye[1], -eye[2]}, Vec3{0, 0, 1}));
-  if (dot(right, right) == 0) right = {0, 1, 0};  // looking straight up or down
-  const Vec3 up = cross(right, Vec3{-eye[0], -eye[1], -eye[2]});
+  const auto [right, up, eye] = camera_axes(view);
 
   // Every cell corner of every patch, projected (screen units before the fit) and coloured.
   double lo_x = std::numeric_limits<double>::max(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;

@@ -14,6 +14,7 @@
 // Evaluating the limit surface is the expensive part and does not depend on the view or the
 // field, so SurfaceRenderer does it once; a frame only projects, colours and fills, into buffers
 // sized on the first frame of a given size (no allocation after that).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +38,16 @@ struct SurfaceView {
   Rgb8 background{20, 20, 24};
   SurfaceFit fit = SurfaceFit::kOutline;
 };
+
+// The camera of `view` in the mesh's coordinates: `eye` the unit direction from the surface
+// towards the camera, (cos el cos az, cos el sin az, sin el); `right` and `up` span the screen,
+// right = -eye x z normalised (0, 1, 0 when looking straight up or down), up = right x -eye
+// (the image's rows grow downwards). What the renderer draws with, so that a stroke on the screen
+// (host/surface/surface_simulation.h) maps to the mesh as drawn.
+struct CameraAxes {
+  std::array<double, 3> right, up, eye;
+};
+CameraAxes camera_axes(const SurfaceView& view);
 
 class SurfaceRenderer {
  public:

@@ -126,6 +126,31 @@ SurfaceRdParams surface_rd_params(const PresetRd& flat, double length) {
   return params;
 }
 
+Status parse_fluid_force(const std::string& value, FluidForce& out) {
+  if (value == "gravity")
+    out = FluidForce::kGravity;
+  else if (value == "walk")
+    out = FluidForce::kWalk;
+  else
+    return Status::error("--fluid '" + value + "': expected gravity or walk");
+  return Status::ok();
+}
+
+Status preset_fluid(const Preset& p) {
+  if (p.scene.fluid.kind == FluidSceneKind::kNone)
+    return Status::error(
+        "fluid.scene is none: --fluid runs a preset's fluid (expected a preset whose "
+        "fluid.scene is cavity, obstacle, ink or table1)");
+  return Status::ok();
+}
+
+void apply_preset_fluid(const SceneConfig& scene, const std::optional<bool>& conserve_dye,
+                        SurfaceFluidParams& params) {
+  params.viscosity = scene.fluid.viscosity;
+  params.dye_diffusion = scene.fluid.dye_diffusion;
+  params.conserve_dye = conserve_dye.value_or(scene.fluid.conserve_dye);
+}
+
 SurfaceGrayScott::Start surface_start(const PresetRd& flat, double length, double area) {
   SurfaceGrayScott::Start start = flat.start;
   const double flat_cells = double(flat.grid.x) * flat.grid.y;

@@ -5,11 +5,13 @@
 // start), with rates in surface units so that the pattern's wavelength is set by `length`, the
 // surface length one flat cell stands for.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "host/config/status.h"
 #include "host/scenes/preset.h"
 #include "host/surface/poly_mesh.h"
+#include "host/surface/surface_fluid.h"
 #include "host/surface/surface_gray_scott.h"
 
 namespace ardcell {
@@ -53,6 +55,18 @@ bool update_preset_rd(const SceneConfig& scene, PresetRd& out);
 // length^2, the preset's step, Kim & Lin's implicit reaction; the start's spots at the same
 // density per flat cell, their radius in surface units.
 SurfaceRdParams surface_rd_params(const PresetRd& flat, double length);
+
+// --fluid's value (`ardcell surface` and `ardcell live`): gravity or walk; else the line naming
+// it.
+Status parse_fluid_force(const std::string& value, FluidForce& out);
+// Whether `preset` can run as a surface fluid (`ardcell live --fluid`): it must have a fluid
+// (fluid.scene other than none); one line (without the preset's name) when it has none.
+Status preset_fluid(const Preset& preset);
+// What a surface fluid takes from a flat scene, live or at the start: fluid.viscosity and
+// fluid.dye_diffusion as surface areas per unit time (the flat domain's unit length is the
+// surface's), fluid.conserve_dye unless `conserve_dye` overrides it. Allocates nothing.
+void apply_preset_fluid(const SceneConfig& scene, const std::optional<bool>& conserve_dye,
+                        SurfaceFluidParams& params);
 SurfaceGrayScott::Start surface_start(const PresetRd& flat, double length, double area);
 
 }  // namespace ardcell

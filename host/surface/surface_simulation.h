@@ -1,16 +1,22 @@
 #pragma once
-// A flat preset's reaction-diffusion on a Catmull-Clark limit surface as a LiveSimulation:
-// what `ardcell live PRESET --shape torus` (or --mesh FILE) runs (seed 004; the surface RD of
-// host/surface/surface_gray_scott.h, the preset carried over by host/surface/surface_scene.h).
-// It draws itself: a 3D view of the surface (host/surface/surface_render.h, the field's colours
-// shaded, its scale fixed by the bounding sphere so the view turns without zooming).
-// Input, from any stroke source (mouse, pen, touch, OSC, the attract mode's recordings):
+// A flat preset's reaction-diffusion, or stable fluids carrying a dye, on a Catmull-Clark limit
+// surface as a LiveSimulation: what `ardcell live PRESET --shape torus` (or --mesh FILE) runs,
+// and with --fluid gravity|walk (seed 004; the surface RD of host/surface/surface_gray_scott.h,
+// the preset carried over by host/surface/surface_scene.h; the fluid of
+// host/surface/surface_fluid.h). One class for both: the surface, the 3D view, picking, the
+// brush's geometry and turning the view are the same; what a step advances and what the brush
+// writes differ. It draws itself: a 3D view of the surface (host/surface/surface_render.h, the
+// field's colours shaded, its scale fixed by the bounding sphere so the view turns without
+// zooming). Input, from any stroke source (mouse, pen, touch, OSC, the attract mode's
+// recordings):
 //   - the tip (left button, a touch) paints: the stroke's point is picked on the 3D view (the
 //     cell drawn under it in the last frame) and every cell within the brush of that point
-//     (straight-line distance on the surface) is blended towards the preset's seed values, as
-//     the flat painter's deposit mode does (brush_falloff; radius input.brush_radius times the
-//     bounding sphere's diameter, strength input.strength times the pressure); between two
-//     samples of a stroke, dabs half the brush's radius apart on the screen fill the segment;
+//     (straight-line distance on the surface) is blended towards the preset's seed values (the
+//     fluid: the dye towards 1), as the flat painter's deposit mode does (brush_falloff; radius
+//     input.brush_radius times the bounding sphere's diameter, strength input.strength times the
+//     pressure); between two samples of a stroke, dabs half the brush's radius apart on the
+//     screen fill the segment (the fluid: input.mode push blends the velocity under the brush
+//     towards the segment's direction instead, erase the dye towards 0);
 //   - the eraser (right button) or a barrel switch turns the view: a drag across the whole
 //     canvas turns it 360 degrees around the vertical axis, a drag from top to bottom 180
 //     degrees in elevation (clamped to +-89).
@@ -19,10 +25,18 @@
 // reaction's parameters, the rates, the step, the steps a frame, the start's values (for reset
 // and the brush) and the output's field and colormap; the solver is the surface's own (multigrid
 // to the tolerance: the loop's adaptive quality does not apply), and a painting mode other than
-// deposit paints as deposit. Nothing allocates in step(), paint(), apply() or render() once the
-// first frame is drawn.
+// deposit paints as deposit.
+// The fluid (SurfaceLiveOptions::fluid): a step runs fluid.steps_per_frame fluid steps of
+// fluid.dt; the preset gives fluid.viscosity, fluid.dye_diffusion and fluid.conserve_dye
+// (apply_preset_fluid, live too) and the colormap (over the dye's [0, 1]); its RD, flat fluid
+// scene (lid, obstacle, inflow, emitters), solvers and steps are not used. Gravity's "down" is
+// the screen's downward direction in the mesh's coordinates (the seed's viewer-relative
+// gravity), taken from the view at each step; reset stops the fluid and clears the dye.
+// Nothing allocates in step(), paint(), apply() or render() once the first frame is drawn.
 #include <array>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,11 +44,13 @@
 #include "host/live/live_loop.h"
 #include "host/surface/limit_surface.h"
 #include "host/surface/poly_mesh.h"
+#include "host/surface/surface_fluid.h"
 #include "host/surface/surface_gray_scott.h"
 #include "host/surface/surface_laplacian.h"
 #include "host/surface/surface_multigrid.h"
 #include "host/surface/surface_render.h"
 #include "host/surface/surface_scene.h"
+#include "runtime/check.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
 
@@ -45,6 +61,17 @@ struct SurfaceLiveOptions {
   int workers = 0;       // threads the patches run on (0: one per core)
   Int2 view{800, 600};   // the image drawn, in pixels
   double azimuth_deg = 35, elevation_deg = 25;
+  // Stable fluids instead of the preset's RD (`ardcell live --fluid`).
+  struct Fluid {
+    FluidForce force = FluidForce::kNone;  // kNone: the preset's RD
+    double strength = 1;                   // --force
+    std::optional<bool> conserve_dye;      // --conserve-dye; unset: the preset's
+    double dt = 0.05;                      // `ardcell surface --fluid`'s step
+    // One step a frame keeps 60 frames a second at the default 16^2 cells on the torus on two
+    // cores (docs/surfaces.md); the projection to 1e-4, not the batch run's 1e-6, for time.
+    int steps_per_frame = 1;
+    double tolerance = 1e-4;
+  } fluid;
 };
 
 class SurfaceSimulation final : public LiveSimulation {
@@ -67,15 +94,29 @@ class SurfaceSimulation final : public LiveSimulation {
   Int2 view_size() const override { return {view_.width, view_.height}; }
   void render(ImageRgb8& out) override;
 
-  const SurfaceGrayScott& rd() const { return *rd_; }
+  // The RD only: a fluid has none (a check stops there with its line; fluid() instead).
+  const SurfaceGrayScott& rd() const {
+    ARDCELL_CHECK(rd_ != nullptr, "SurfaceSimulation::rd: a fluid has no reaction-diffusion");
+    return *rd_;
+  }
+  const SurfaceFluid* fluid() const { return fluid_.get(); }  // null for the RD
+  // Gravity's direction for `view`: the screen's downward direction in the mesh's coordinates.
+  static std::array<double, 3> screen_down(const SurfaceView& view);
   const SurfaceView& view() const { return view_; }
   const PatchGrid& grid() const { return op_->grid(); }
   // The cell drawn at canvas point (x, y) in [0, 1]^2 in the last render, or -1.
   long cell_at(float x, float y) const;
 
  private:
-  const PatchField& shown() const { return show_a_ ? rd_->a() : rd_->b(); }
-  void deposit(long cell, float k_base, double radius);
+  const PatchField& shown() const { return fluid_ ? fluid_->dye() : show_a_ ? rd_->a() : rd_->b(); }
+  // Every cell within `radius` of `cell`'s point: write(cell index, the brush's falloff there,
+  // patch, i, j).
+  template <typename Write>
+  void for_brush(long cell, double radius, Write&& write);
+  // What a dab writes: the RD's seed values, or the dye towards `dye` (1, or 0 to erase).
+  void deposit(long cell, float k_base, double radius, double dye = 1);
+  // The fluid's velocity towards `velocity`'s tangential part (mesh coordinates).
+  void push(long cell, float k_base, double radius, const std::array<double, 3>& velocity);
   // The shown chemical and its colours from the preset's output (show B, else A; its colormap
   // over the model's typical range).
   void set_colours(const OutputConfig& output);
@@ -88,6 +129,9 @@ class SurfaceSimulation final : public LiveSimulation {
   std::unique_ptr<SurfaceLaplacian> op_;
   std::unique_ptr<SurfaceMultigrid> multigrid_;
   std::unique_ptr<SurfaceGrayScott> rd_;
+  std::unique_ptr<SurfaceFluid> fluid_;  // instead of rd_ with options.fluid
+  SurfaceLiveOptions::Fluid fluid_options_;
+  double down_azimuth_ = NAN, down_elevation_ = NAN;  // the view gravity's down was set for
   std::unique_ptr<SurfaceRenderer> renderer_;
   std::array<PatchField, 3> positions_;  // every cell's point on the limit surface
   double diameter_ = 1;                  // of the bounding sphere the view fits
@@ -116,6 +160,7 @@ SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surfac
                                       const SurfaceLiveOptions& options);
 // Whether `preset`'s reaction-diffusion can run on a surface: preset_rd's line when it cannot
 // (the CLI's checks of the first preset and the playlist, and the default playlist's filter).
-Status runs_on_surfaces(const Preset& preset);
+// With `fluid`: whether it can run as a surface fluid instead (preset_fluid).
+Status runs_on_surfaces(const Preset& preset, bool fluid = false);
 
 }  // namespace ardcell

@@ -61,31 +61,44 @@ TEST(LiveCli, RunsOnTheBackEndAsked) {
 }
 
 #if ARDCELL_WITH_OPENSUBDIV
+// `ardcell live ARGS --screenshot FILE` in a folder of its own: the run, the screenshot and how
+// many colours it holds (a shaded surface has many).
+struct Shot {
+  Result run;
+  ardcell::PngInfo png;
+  std::size_t colours = 0;
+};
+Shot live_screenshot(const std::string& args, const std::string& tag) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ardcell_live_" + tag + "_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Shot shot;
+  shot.run = run("live " + args + " --screenshot " + (dir / "shot.png").string());
+  shot.png = ardcell::read_png(dir / "shot.png");
+  std::set<int> colours;
+  for (const auto& row : shot.png.rows)
+    for (std::size_t x = 0; x + 2 < row.size(); x += 3)
+      colours.insert(row[x] << 16 | row[x + 1] << 8 | row[x + 2]);
+  shot.colours = colours.size();
+  std::filesystem::remove_all(dir);
+  return shot;
+}
+
 // --shape: the preset's RD on a surface, drawn in 3D at 800 x 600 (the screenshot is the window's
 // pixels): a shaded torus on the dark background, many colours.
 TEST(LiveCli, ShowsAPresetOnASurface) {
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     GTEST_SKIP() << "no X or Wayland display";
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("ardcell_live_surface_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const Result r =
-      run("live turing-spots --shape torus --patch-cells 8 --frames 5 --fps 0 "
-          "--scale 1 --screenshot " +
-          (dir / "shot.png").string());
+  const Shot shot = live_screenshot(
+      "turing-spots --shape torus --patch-cells 8 --frames 5 --fps 0 --scale 1", "surface");
+  const Result& r = shot.run;
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("ardcell live: backend threads x"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("32 patches of 8^2"), std::string::npos) << r.output;
-  const ardcell::PngInfo png = ardcell::read_png(dir / "shot.png");
-  ASSERT_TRUE(png.ok) << r.output;
-  EXPECT_EQ(png.width, 800);
-  EXPECT_EQ(png.height, 600);
-  std::set<int> colours;
-  for (const auto& row : png.rows)
-    for (std::size_t x = 0; x + 2 < row.size(); x += 3)
-      colours.insert(row[x] << 16 | row[x + 1] << 8 | row[x + 2]);
-  EXPECT_GT(colours.size(), 100u) << "a shaded surface, not a flat image";
-  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(shot.png.ok) << r.output;
+  EXPECT_EQ(shot.png.width, 800);
+  EXPECT_EQ(shot.png.height, 600);
+  EXPECT_GT(shot.colours, 100u) << "a shaded surface, not a flat image";
 }
 
 TEST(LiveCli, BadSurfaceArgumentsAreOneLineAndExitCodeTwo) {
@@ -113,6 +126,61 @@ TEST(LiveCli, BadSurfaceArgumentsAreOneLineAndExitCodeTwo) {
   const Result r = run("live cavity --shape torus --frames 1");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_EQ(r.output, "ardcell live: cavity: rd.enabled is false (expected a scene with RD)\n");
+}
+
+// --fluid: stable fluids on the surface, the dye drawn in 3D (no dye yet: the shaded surface in
+// the colormap's 0), one step a frame on the threads back end.
+TEST(LiveCli, RunsAFluidOnASurface) {
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+    GTEST_SKIP() << "no X or Wayland display";
+  const Shot shot = live_screenshot(
+      "--shape torus --fluid gravity --force 2 --conserve-dye --patch-cells 8 --frames 5 --fps 0 "
+      "--scale 1",
+      "fluid");
+  const Result& r = shot.run;
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ardcell live: backend threads x"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("32 patches of 8^2, fluid gravity"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frames 5, deadline misses "), std::string::npos) << r.output;
+  ASSERT_TRUE(shot.png.ok) << r.output;
+  EXPECT_EQ(shot.png.width, 800);
+  EXPECT_EQ(shot.png.height, 600);
+  EXPECT_GT(shot.colours, 20u) << "a shaded surface, not a flat image";
+}
+
+TEST(LiveCli, BadFluidArgumentsAreOneLineAndExitCodeTwo) {
+  for (const auto& [args, line] : {
+           std::pair{"--fluid gravity",
+                     "ardcell live: --fluid runs on a surface (expected --shape or --mesh with "
+                     "--fluid)\n"},
+           std::pair{"--shape torus --fluid swirl",
+                     "ardcell live: --fluid 'swirl': expected gravity or walk\n"},
+           std::pair{"--shape torus --force 2",
+                     "ardcell live: --force: a fluid setting (expected --fluid gravity or walk)\n"},
+           std::pair{"--conserve-dye",
+                     "ardcell live: --conserve-dye: a fluid setting (expected --fluid gravity or "
+                     "walk)\n"},
+           std::pair{"--shape torus --fluid gravity --conserve-dye=2",
+                     "ardcell live: --conserve-dye: expected no value, true or false, got '2' "
+                     "(see ardcell live --help)\n"},
+           std::pair{"--shape torus --fluid walk --force -1", "ardcell live: --force: "},
+           std::pair{"--shape torus --fluid walk --backend serial",
+                     "ardcell live: --backend serial: a surface's patches run on the threads back "
+                     "end (expected auto or threads with --shape or --mesh)\n"},
+           std::pair{"turing-spots --shape torus --fluid gravity",
+                     "ardcell live: turing-spots: fluid.scene is none: --fluid runs a preset's "
+                     "fluid (expected a preset whose fluid.scene is cavity, obstacle, ink or "
+                     "table1)\n"},
+           std::pair{"--shape torus --fluid gravity --playlist cavity,turing-spots",
+                     "ardcell live: --playlist turing-spots: fluid.scene is none: --fluid runs a "
+                     "preset's fluid (expected a preset whose fluid.scene is cavity, obstacle, "
+                     "ink or table1)\n"},
+       }) {
+    const Result r = run(std::string("live --frames 1 ") + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_EQ(r.output.rfind(line, 0), 0u) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << args << ": " << r.output;
+  }
 }
 #endif
 

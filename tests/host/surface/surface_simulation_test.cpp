@@ -10,23 +10,13 @@
 #include <stdexcept>
 
 #include "host/surface/procedural_mesh.h"
+#include "tests/host/surface/surface_live_test_util.h"
 #include "tests/support/alloc_counter.h"
 
 namespace ardcell {
 namespace {
 
-Preset preset(const char* name) {
-  Preset p;
-  EXPECT_TRUE(load_preset(name, p)) << name;
-  return p;
-}
-
-std::shared_ptr<const LimitSurface> live_surface(PolyMesh mesh) {
-  auto surface = std::make_shared<LimitSurface>();
-  const Status s = build_live_surface(std::move(mesh), 8, *surface);
-  EXPECT_TRUE(s) << s.message();
-  return surface;
-}
+using namespace surface_live_test;  // NOLINT: the shared helpers of the live surface tests
 
 SurfaceLiveOptions small_options() {
   SurfaceLiveOptions o;
@@ -34,26 +24,6 @@ SurfaceLiveOptions small_options() {
   o.workers = 2;
   o.view = {320, 240};
   return o;
-}
-
-int distinct_colours(const ImageRgb8& image) {
-  std::set<int> colours;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const uint8_t* p = image.row(y) + 3 * x;
-      colours.insert(p[0] << 16 | p[1] << 8 | p[2]);
-    }
-  return int(colours.size());
-}
-
-StrokeSample sample(float x, float y, bool tip, bool eraser = false) {
-  StrokeSample s;
-  s.x = x, s.y = y;
-  s.pressure = tip ? 1.0f : 0.0f;
-  s.buttons = tip ? uint32_t(kButtonTip) : 0u;
-  s.in_range = true;
-  s.eraser = eraser;
-  return s;
 }
 
 TEST(SurfaceSimulation, DrawsTheSurfaceAndItsPattern) {
