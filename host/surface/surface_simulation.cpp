@@ -98,8 +98,9 @@ SurfaceSimulation::SurfaceSimulation(const Preset& preset,
   }
   view_.width = options.view.x;
   view_.height = options.view.y;
-  view_.azimuth_deg = options.azimuth_deg;
-  view_.elevation_deg = options.elevation_deg;
+  session_view_ = options.session_view;
+  view_.azimuth_deg = session_view_ ? session_view_->azimuth_deg.load() : options.azimuth_deg;
+  view_.elevation_deg = session_view_ ? session_view_->elevation_deg.load() : options.elevation_deg;
   view_.fit = SurfaceFit::kSphere;
   set_colours(preset.scene.output);
   state_.size = options.view;
@@ -267,6 +268,10 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
         view_.azimuth_deg = std::fmod(view_.azimuth_deg - 360.0 * (s.x - stroke.x), 360.0);
         view_.elevation_deg =
             std::clamp(view_.elevation_deg + 180.0 * (s.y - stroke.y), -89.0, 89.0);
+        if (session_view_) {
+          session_view_->azimuth_deg = view_.azimuth_deg;
+          session_view_->elevation_deg = view_.elevation_deg;
+        }
       }
       stroke = {Stroke::kTurning, s.x, s.y};
       continue;
@@ -319,8 +324,14 @@ void SurfaceSimulation::render(ImageRgb8& out) { renderer_->render(shown(), colo
 
 SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surface,
                                       const SurfaceLiveOptions& options) {
-  return [surface, options](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
-    return std::make_unique<SurfaceSimulation>(preset, surface, options);
+  SurfaceLiveOptions session = options;
+  if (!session.session_view) {
+    session.session_view = std::make_shared<SessionView>();
+    session.session_view->azimuth_deg = options.azimuth_deg;
+    session.session_view->elevation_deg = options.elevation_deg;
+  }
+  return [surface, session](const Preset& preset) -> std::unique_ptr<LiveSimulation> {
+    return std::make_unique<SurfaceSimulation>(preset, surface, session);
   };
 }
 

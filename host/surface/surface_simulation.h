@@ -34,6 +34,7 @@
 // gravity), taken from the view at each step; reset stops the fluid and clears the dye.
 // Nothing allocates in step(), paint(), apply() or render() once the first frame is drawn.
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -56,11 +57,20 @@
 
 namespace ardcell {
 
+// The view's angles shared by the simulations of one session (surface_simulations), so that a
+// preset switched in starts where the user left the view. The live loop builds the next
+// simulation on its worker thread while the running one turns the view on the main thread:
+// hence atomics.
+struct SessionView {
+  std::atomic<double> azimuth_deg, elevation_deg;
+};
+
 struct SurfaceLiveOptions {
-  int patch_cells = 16;  // N x N cells a patch, a power of two
-  int workers = 0;       // threads the patches run on (0: one per core)
-  Int2 view{800, 600};   // the image drawn, in pixels
-  double azimuth_deg = 35, elevation_deg = 25;
+  int patch_cells = 16;                         // N x N cells a patch, a power of two
+  int workers = 0;                              // threads the patches run on (0: one per core)
+  Int2 view{800, 600};                          // the image drawn, in pixels
+  double azimuth_deg = 35, elevation_deg = 25;  // unless session_view holds the session's
+  std::shared_ptr<SessionView> session_view;    // null: the view is the simulation's own
   // Stable fluids instead of the preset's RD (`ardcell live --fluid`).
   struct Fluid {
     FluidForce force = FluidForce::kNone;  // kNone: the preset's RD
@@ -138,6 +148,7 @@ class SurfaceSimulation final : public LiveSimulation {
   // Each patch's cells' centroid and the distance to its farthest cell.
   std::vector<std::array<double, 4>> patch_spheres_;
   SurfaceView view_;
+  std::shared_ptr<SessionView> session_view_;  // the session's angles (null: none)
   SurfaceColours colours_;
   bool show_a_ = true;
   SimState state_;

@@ -167,6 +167,28 @@ TEST(SurfaceSimulation, TheRightButtonTurnsTheView) {
   EXPECT_DOUBLE_EQ(sim.view().elevation_deg, 89.0);
 }
 
+// Presets switched in (the live loop's factory, one per session) start where the user left the
+// view, not at the options' angles.
+TEST(SurfaceSimulation, APresetSwitchedInKeepsTheView) {
+  const SimulationFactory factory =
+      surface_simulations(live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
+  std::unique_ptr<LiveSimulation> first = factory(preset("turing-spots"));
+  const auto& one = static_cast<SurfaceSimulation&>(*first);
+  const double azimuth = one.view().azimuth_deg, elevation = one.view().elevation_deg;
+  const StrokeSample drag[] = {sample(0.2f, 0.5f, true, true), sample(0.45f, 0.6f, true, true)};
+  first->paint(drag, {}, 0);
+  ASSERT_NEAR(one.view().azimuth_deg, azimuth - 90.0, 1e-4);
+  std::unique_ptr<LiveSimulation> second = factory(preset("meinhardt-spots"));
+  const auto& two = static_cast<SurfaceSimulation&>(*second);
+  EXPECT_EQ(two.view().azimuth_deg, one.view().azimuth_deg);
+  EXPECT_EQ(two.view().elevation_deg, one.view().elevation_deg);
+  EXPECT_NE(two.view().elevation_deg, elevation);
+  // A simulation made on its own keeps the options' angles.
+  SurfaceSimulation alone(preset("turing-spots"), live_surface(torus_mesh(8, 4, 2.0, 0.8)),
+                          small_options());
+  EXPECT_EQ(alone.view().azimuth_deg, azimuth);
+}
+
 TEST(SurfaceSimulation, LiveChangesReachTheReaction) {
   const Preset p = preset("turing-spots");
   SurfaceSimulation sim(p, live_surface(torus_mesh(8, 4, 2.0, 0.8)), small_options());
