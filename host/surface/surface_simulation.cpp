@@ -237,8 +237,15 @@ void SurfaceSimulation::push(long cell, float k_base, double radius,
   });
 }
 
+void SurfaceSimulation::follow_session_view() {
+  if (!session_view_) return;
+  view_.azimuth_deg = session_view_->azimuth_deg.load(std::memory_order_relaxed);
+  view_.elevation_deg = session_view_->elevation_deg.load(std::memory_order_relaxed);
+}
+
 void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const InputMapping& input,
                               int source) {
+  follow_session_view();
   if (source < 0 || source >= kMaxInputSources) return;
   const double radius = std::max(1e-12, input.brush_radius * diameter_);
   // Dabs along a stroke half the brush's radius apart on the screen (the sphere fit draws the
@@ -320,7 +327,10 @@ void SurfaceSimulation::paint(std::span<const StrokeSample> samples, const Input
   if (pushed) fluid_->stitch_velocity();
 }
 
-void SurfaceSimulation::render(ImageRgb8& out) { renderer_->render(shown(), colours_, view_, out); }
+void SurfaceSimulation::render(ImageRgb8& out) {
+  follow_session_view();
+  renderer_->render(shown(), colours_, view_, out);
+}
 
 SimulationFactory surface_simulations(std::shared_ptr<const LimitSurface> surface,
                                       const SurfaceLiveOptions& options) {

@@ -149,6 +149,10 @@ class SurfaceSimulation final : public LiveSimulation {
   std::vector<std::array<double, 4>> patch_spheres_;
   SurfaceView view_;
   std::shared_ptr<SessionView> session_view_;  // the session's angles (null: none)
+  // view_ takes the session's angles: a simulation built on the loop's worker thread read them
+  // once, and the running one may have turned the view since (paint and render run on the
+  // main thread, which alone writes them).
+  void follow_session_view();
   SurfaceColours colours_;
   bool show_a_ = true;
   SimState state_;

@@ -183,6 +183,14 @@ TEST(SurfaceSimulation, APresetSwitchedInKeepsTheView) {
   EXPECT_EQ(two.view().azimuth_deg, one.view().azimuth_deg);
   EXPECT_EQ(two.view().elevation_deg, one.view().elevation_deg);
   EXPECT_NE(two.view().elevation_deg, elevation);
+  // Turned again after the next one was built (the loop builds it ahead, on its worker thread):
+  // it shows the new view from its first frame.
+  std::unique_ptr<LiveSimulation> third = factory(preset("turing-spots"));
+  const StrokeSample more[] = {sample(0.5f, 0.5f, true, true), sample(0.6f, 0.5f, true, true)};
+  first->paint(more, {}, 0);
+  ImageRgb8 image;
+  third->render(image);
+  EXPECT_EQ(static_cast<SurfaceSimulation&>(*third).view().azimuth_deg, one.view().azimuth_deg);
   // A simulation made on its own keeps the options' angles.
   SurfaceSimulation alone(preset("turing-spots"), live_surface(torus_mesh(8, 4, 2.0, 0.8)),
                           small_options());
