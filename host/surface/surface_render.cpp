@@ -105,29 +105,24 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
   }
 
   if (out.width != w || out.height != h) out.resize(w, h);
-  for (int y = 0; y < h; ++y) {
-    uint8_t* row = out.row(y);
-    for (int x = 0; x < w; ++x)
-      row[3 * x] = view.background.r, row[3 * x + 1] = view.background.g,
-              row[3 * x + 2] = view.background.b;
-  }
   const std::size_t pixels = std::size_t(w) * std::size_t(h);
   if (w != width_ || h != height_) {
     depth_.resize(pixels);
     pick_.resize(pixels);
     width_ = w, height_ = h;
   }
-  std::fill(depth_.begin(), depth_.end(), -std::numeric_limits<double>::max());
-  std::fill(pick_.begin(), pick_.end(), -1L);
-  // Fills a triangle: pixel centres inside it (edge functions), nearer than what is there; the
-  // pixel's colour interpolates the corners' and its pick records `cell`.
-  const auto fill = [&](const Corner& a, const Corner& b, const Corner& c, long cell) {
+  // Fills the part of a triangle in rows [band0, band1): pixel centres inside it (edge
+  // functions), nearer than what is there; the pixel's colour interpolates the corners' and its
+  // pick records `cell`.
+  const auto fill = [&](const Corner& a, const Corner& b, const Corner& c, long cell, int band0,
+                        int band1) {
     const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     if (std::abs(area) < 1e-12) return;
+    const int y0 = std::max(band0, int(std::floor(std::min({a.y, b.y, c.y}))));
+    const int y1 = std::min(band1 - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
+    if (y0 > y1) return;
     const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x}))));
     const int x1 = std::min(w - 1, int(std::ceil(std::max({a.x, b.x, c.x}))));
-    const int y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y}))));
-    const int y1 = std::min(h - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const double px = x + 0.5, py = y + 0.5;
@@ -149,16 +144,29 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
         px_rgb[2] = mix(a.b, b.b, c.b);
       }
   };
-  for (int p = 0; p < patches; ++p)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const auto at = [&](int di, int dj) -> const Corner& {
-          return corners_[(std::size_t(p) * (n + 1) + j + dj) * (n + 1) + i + di];
-        };
-        const long cell = long(grid_.index(p, i, j));
-        fill(at(0, 0), at(1, 0), at(1, 1), cell);
-        fill(at(0, 0), at(1, 1), at(0, 1), cell);
-      }
+  // Bands of image rows on the executor's workers: each clears its rows and draws every
+  // triangle's part in them, the triangles in the same order as one band would, so a pixel's
+  // depth test sees the same sequence and the image is the same for any number of bands.
+  executor_->for_rows(h, w, [&](int band0, int band1) {
+    for (int y = band0; y < band1; ++y) {
+      uint8_t* row = out.row(y);
+      for (int x = 0; x < w; ++x)
+        row[3 * x] = view.background.r, row[3 * x + 1] = view.background.g,
+                row[3 * x + 2] = view.background.b;
+      std::fill_n(depth_.begin() + std::ptrdiff_t(y) * w, w, -std::numeric_limits<double>::max());
+      std::fill_n(pick_.begin() + std::ptrdiff_t(y) * w, w, -1L);
+    }
+    for (int p = 0; p < patches; ++p)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const auto at = [&](int di, int dj) -> const Corner& {
+            return corners_[(std::size_t(p) * (n + 1) + j + dj) * (n + 1) + i + di];
+          };
+          const long cell = long(grid_.index(p, i, j));
+          fill(at(0, 0), at(1, 0), at(1, 1), cell, band0, band1);
+          fill(at(0, 0), at(1, 1), at(0, 1), cell, band0, band1);
+        }
+  });
 }
 
 long SurfaceRenderer::cell_at(int x, int y) const {

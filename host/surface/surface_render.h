@@ -22,6 +22,7 @@
 #include "host/render/image.h"
 #include "host/surface/limit_surface.h"
 #include "host/surface/patch_grid.h"
+#include "runtime/row_executor.h"
 
 namespace ardcell {
 
@@ -71,6 +72,9 @@ class SurfaceRenderer {
   long cell_at(int x, int y) const;
   // The kSphere fit's bounding sphere: the bounding box's centre to the farthest vertex.
   double radius() const { return radius_; }
+  // Where a render rasterises (bands of image rows; the serial executor by default): the same
+  // image for any number of workers. `executor` must outlive the renderer.
+  void set_executor(RowExecutor& executor) { executor_ = &executor; }
 
  private:
   struct Vertex {
@@ -87,10 +91,11 @@ class SurfaceRenderer {
   double centre_[3] = {0, 0, 0};  // of the bounding box
   double radius_ = 0;             // centre to the farthest vertex
   PatchField field_;              // the field with its ghosts refreshed
-  std::vector<Corner> corners_;   // vertices_ projected for the current frame
-  std::vector<double> depth_;     // per pixel, of the nearest triangle so far
-  std::vector<long> pick_;        // per pixel, its cell or -1
-  int width_ = 0, height_ = 0;    // of depth_ and pick_
+  RowExecutor* executor_ = &RowExecutor::serial();
+  std::vector<Corner> corners_;  // vertices_ projected for the current frame
+  std::vector<double> depth_;    // per pixel, of the nearest triangle so far
+  std::vector<long> pick_;       // per pixel, its cell or -1
+  int width_ = 0, height_ = 0;   // of depth_ and pick_
 };
 
 // The fixed-camera PNG: SurfaceRenderer(surface, grid).render(...) into a new image.

@@ -80,6 +80,7 @@ SurfaceSimulation::SurfaceSimulation(const Preset& preset,
   metric.reset();  // only the construction reads it
   positions_ = cell_positions(surface_ref, op_->grid());
   renderer_ = std::make_unique<SurfaceRenderer>(surface_ref, op_->grid());
+  renderer_->set_executor(*executor_);  // the frame's pixels on the patches' workers
   // The brush's scale: the bounding sphere the view fits (its diameter).
   diameter_ = 2 * renderer_->radius();
   // Each patch's bounding sphere, so that a dab tests the cells of the patches it reaches only.

@@ -15,6 +15,8 @@
 
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
 #include "tests/support/alloc_counter.h"
 
 namespace ardcell {
@@ -135,6 +137,40 @@ TEST(SurfaceRenderer, ASecondFrameOfTheSameSizeAllocatesNothing) {
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(image.width, 160);
   EXPECT_EQ(image.height, 120);
+}
+
+// Rasterised in bands of rows on a threads back end (the live window's), the image and the pick
+// buffer are the serial renderer's, pixel for pixel; a second frame allocates nothing there too.
+TEST(SurfaceRenderer, BandsOnWorkersDrawTheSerialImage) {
+  const Scene s = torus(8);
+  PatchField field = s.grid.make_field();
+  for (std::size_t k = 0; k < field.size(); ++k) field[k] = std::sin(0.01 * double(k));
+  SurfaceView view;
+  view.width = 160, view.height = 121;  // an odd height: uneven bands
+  view.azimuth_deg = 50, view.elevation_deg = 40, view.fit = SurfaceFit::kSphere;
+  SurfaceRenderer serial(s.surface, s.grid);
+  ImageRgb8 expected;
+  serial.render(field, SurfaceColours{}, view, expected);
+  ThreadBackendOptions options;
+  options.workers = 3;
+  options.pin = false;
+  ThreadBackend backend(options);
+  RowExecutor executor(backend);
+  SurfaceRenderer banded(s.surface, s.grid);
+  banded.set_executor(executor);
+  ImageRgb8 image;
+  banded.render(field, SurfaceColours{}, view, image);
+  EXPECT_EQ(image.rgb, expected.rgb);
+  long picked = 0;
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      ASSERT_EQ(banded.cell_at(x, y), serial.cell_at(x, y)) << "pixel " << x << ", " << y;
+      picked += banded.cell_at(x, y) >= 0;
+    }
+  EXPECT_GT(picked, view.width * view.height / 10) << "the torus covers part of the image";
+  const long before = g_allocations.load();
+  banded.render(field, gray(), view, image);
+  EXPECT_EQ(g_allocations.load() - before, 0);
 }
 
 TEST(SurfaceRenderer, CellAtNamesTheCellDrawnAtAPixel) {
