@@ -39,6 +39,7 @@ SurfaceRenderer::SurfaceRenderer(const LimitSurface& surface, const PatchGrid& g
   const std::size_t count = std::size_t(patches) * std::size_t(n + 1) * std::size_t(n + 1);
   vertices_.resize(count);
   corners_.resize(count);
+  patch_rows_.resize(std::size_t(patches));
   field_ = grid.make_field();
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k)
@@ -99,9 +100,16 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
   const double extent = std::max({hi_x - lo_x, hi_y - lo_y, 1e-30});
   const double scale = 0.9 * std::min(w, h) / extent;
   const double cx = 0.5 * (lo_x + hi_x), cy = 0.5 * (lo_y + hi_y);
-  for (Corner& k : corners_) {
-    k.x = 0.5 * w + (k.x - cx) * scale;
-    k.y = 0.5 * h - (k.y - cy) * scale;
+  const std::size_t per_patch = std::size_t(n + 1) * std::size_t(n + 1);
+  for (int p = 0; p < patches; ++p) {
+    double top = std::numeric_limits<double>::max(), bottom = -top;
+    for (std::size_t q = std::size_t(p) * per_patch; q < std::size_t(p + 1) * per_patch; ++q) {
+      Corner& k = corners_[q];
+      k.x = 0.5 * w + (k.x - cx) * scale;
+      k.y = 0.5 * h - (k.y - cy) * scale;
+      top = std::min(top, k.y), bottom = std::max(bottom, k.y);
+    }
+    patch_rows_[std::size_t(p)] = {top, bottom};
   }
 
   if (out.width != w || out.height != h) out.resize(w, h);
@@ -147,7 +155,7 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
   // Bands of image rows on the executor's workers: each clears its rows and draws every
   // triangle's part in them, the triangles in the same order as one band would, so a pixel's
   // depth test sees the same sequence and the image is the same for any number of bands.
-  executor_->for_rows(h, w, [&](int band0, int band1) {
+  (executor_ ? *executor_ : RowExecutor::serial()).for_rows(h, w, [&](int band0, int band1) {
     for (int y = band0; y < band1; ++y) {
       uint8_t* row = out.row(y);
       for (int x = 0; x < w; ++x)
@@ -156,7 +164,11 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
       std::fill_n(depth_.begin() + std::ptrdiff_t(y) * w, w, -std::numeric_limits<double>::max());
       std::fill_n(pick_.begin() + std::ptrdiff_t(y) * w, w, -1L);
     }
-    for (int p = 0; p < patches; ++p)
+    for (int p = 0; p < patches; ++p) {
+      // A patch whose rows miss the band has no triangle to draw in it (fill would clip each
+      // to nothing): skipped whole, so a band's work follows its share of the image.
+      const auto [top, bottom] = patch_rows_[std::size_t(p)];
+      if (std::ceil(bottom) < band0 || std::floor(top) > band1 - 1) continue;
       for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
           const auto at = [&](int di, int dj) -> const Corner& {
@@ -166,6 +178,7 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
           fill(at(0, 0), at(1, 0), at(1, 1), cell, band0, band1);
           fill(at(0, 0), at(1, 1), at(0, 1), cell, band0, band1);
         }
+    }
   });
 }
 

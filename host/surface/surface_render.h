@@ -87,15 +87,16 @@ class SurfaceRenderer {
   };
 
   const PatchGrid& grid_;
-  std::vector<Vertex> vertices_;  // patch by patch, (n + 1) x (n + 1) corners, row j major
-  double centre_[3] = {0, 0, 0};  // of the bounding box
-  double radius_ = 0;             // centre to the farthest vertex
-  PatchField field_;              // the field with its ghosts refreshed
-  RowExecutor* executor_ = &RowExecutor::serial();
-  std::vector<Corner> corners_;  // vertices_ projected for the current frame
-  std::vector<double> depth_;    // per pixel, of the nearest triangle so far
-  std::vector<long> pick_;       // per pixel, its cell or -1
-  int width_ = 0, height_ = 0;   // of depth_ and pick_
+  std::vector<Vertex> vertices_;     // patch by patch, (n + 1) x (n + 1) corners, row j major
+  double centre_[3] = {0, 0, 0};     // of the bounding box
+  double radius_ = 0;                // centre to the farthest vertex
+  PatchField field_;                 // the field with its ghosts refreshed
+  RowExecutor* executor_ = nullptr;  // null: the calling thread's serial executor
+  std::vector<Corner> corners_;      // vertices_ projected for the current frame
+  std::vector<std::array<double, 2>> patch_rows_;  // each patch's top and bottom y on screen
+  std::vector<double> depth_;                      // per pixel, of the nearest triangle so far
+  std::vector<long> pick_;                         // per pixel, its cell or -1
+  int width_ = 0, height_ = 0;                     // of depth_ and pick_
 };
 
 // The fixed-camera PNG: SurfaceRenderer(surface, grid).render(...) into a new image.
