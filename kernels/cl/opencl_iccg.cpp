@@ -71,10 +71,8 @@ void OpenClIccg::precondition(const ClStencilOperator& op, const ClNullSpace* nu
   cl_kernel dots = cl_.kernel("iccg_dots");
   set_kernel_args(dots, r_, z_, size_.x, size_.y, partials_.data);
   cl_.enqueue_rows(dots, 0, size_.y);
-  const int ny = size_.y;
-  partials_.read(cl_.context(), 0, 2 * ny, partials_.host.data());
-  rz = partials_.added(0, ny);
-  rr = partials_.added(ny, 2 * ny);
+  const auto [first, second] = partials_.sum_pair(cl_.context(), size_.y);
+  rz = first, rr = second;
 }
 
 int OpenClIccg::iterate(const ClStencilOperator& op, const DeviceField& b, DeviceField& x,

@@ -744,6 +744,11 @@ double ClRowPartials::added(int y0, int y1) const {
   return total;
 }
 
+std::array<double, 2> ClRowPartials::sum_pair(OpenClContext& ctx, int rows_each) const {
+  read(ctx, 0, 2 * rows_each, host.data());
+  return {added(0, rows_each), added(rows_each, 2 * rows_each)};
+}
+
 ClRowPartials OpenClKernels::row_partials(int rows) const {
   ClRowPartials p;
   p.rows = std::max(rows, 0);

@@ -6,6 +6,7 @@
 // into tiles (Tiling) that the work-groups walk SPE-style, double-buffered in __local memory.
 // Launchers only enqueue: OpenClContext::finish() (or a read) waits.
 #if defined(ARDCELL_WITH_OPENCL)
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -115,6 +116,9 @@ struct ClRowPartials {
   // Rows [y0, y1) of `host` (where read(..., host.data()) left them) added in row order: for
   // kernels that write several reductions side by side, read once.
   double added(int y0, int y1) const;
+  // Two reductions of `rows` rows written side by side (rows [0, rows) and [rows, 2 rows)): one
+  // read, each added in row order.
+  std::array<double, 2> sum_pair(OpenClContext& ctx, int rows) const;
 };
 
 class OpenClKernels {

@@ -50,9 +50,8 @@ void OpenClTensorFieldSolve::dots(const OpenClBuffer& a, const OpenClBuffer& b,
                                   double& cd) {
   set_kernel_args(dots_, a, b, c, d, 1, size_.x, size_.y, partials_.data);
   cl_.enqueue_rows(dots_, 0, size_.y);
-  partials_.read(cl_.context(), 0, 2 * size_.y, partials_.host.data());
-  ab = partials_.added(0, size_.y);
-  cd = partials_.added(size_.y, 2 * size_.y);
+  const auto [first, second] = partials_.sum_pair(cl_.context(), size_.y);
+  ab = first, cd = second;
 }
 
 double OpenClTensorFieldSolve::step(const OpenClBuffer& y, const OpenClBuffer& av, double w,
@@ -62,9 +61,9 @@ double OpenClTensorFieldSolve::step(const OpenClBuffer& y, const OpenClBuffer& a
                   size_.y, s_, partials_.data);
   cl_.enqueue_rows(step_, 0, size_.y);
   if (!shadow_r) return partials_.sum(cl_.context(), 0, size_.y);
-  partials_.read(cl_.context(), 0, 2 * size_.y, partials_.host.data());
-  *shadow_r = partials_.added(size_.y, 2 * size_.y);
-  return partials_.added(0, size_.y);
+  const auto [rr, sr] = partials_.sum_pair(cl_.context(), size_.y);
+  *shadow_r = sr;
+  return rr;
 }
 
 // bicgstab() (kernels/bicgstab.h) with TensorFieldSolve::solve's space, residual, operator and
