@@ -21,6 +21,10 @@
 //   elephant --fluid walk --patch-cells 2`: 16674 patches, too many for the dense bottom solve,
 //   so the multigrid's bottom grid goes through aggregate levels, host/surface/
 //   coarse_aggregation.h); not in the paper (skipped when the mesh is not packaged).
+//   SurfaceRender/torus/16   the live window's 3D view (host/surface/surface_render.h): the torus
+//   of `ardcell live --shape torus` (32 patches of 16 x 16 cells) drawn at 800 x 600, a frame on
+//   the calling thread and a frame in bands of rows on every core in turn: serial_ms, threads_ms,
+//   speedup, same_image (1 when the two images are equal).
 // Counters: ms_per_step, sweeps (Jacobi or smoothing sweeps on the finest grid a step, both
 // solves), cycles (mg: V-cycles a step, both solves), paper_cpu_ms, paper_gpu_ms, x_paper_cpu (the
 // paper's CPU time over ours, wall clock: > 1 is faster).
@@ -39,6 +43,7 @@
 #include "host/surface/surface_fluid.h"
 #include "host/surface/surface_gray_scott.h"
 #include "host/surface/surface_multigrid.h"
+#include "host/surface/surface_render.h"
 #include "host/surface/surface_scene.h"
 #include "runtime/row_executor.h"
 #include "runtime/thread/thread_backend.h"
@@ -162,6 +167,42 @@ void BM_SurfaceWorkers(benchmark::State& state, int n) {
   state.counters["same_bits"] = one->rd->a() == all->rd->a() && one->rd->b() == all->rd->b();
 }
 
+void BM_SurfaceRender(benchmark::State& state) {
+  LimitSurface surface;
+  if (Status s = LimitSurface::build(torus_mesh(8, 4, 2.0, 0.8), {}, surface); !s) {
+    state.SkipWithError(s.message().c_str());
+    return;
+  }
+  const PatchGrid grid(surface.topology(), 16, CornerGhosts::kDiagonalExtrapolate);
+  PatchField field = grid.make_field();
+  for (std::size_t k = 0; k < field.size(); ++k) field[k] = 0.5 + 0.5 * std::sin(0.05 * double(k));
+  ThreadBackendOptions threads;
+  threads.pin = false;
+  ThreadBackend backend(threads);
+  RowExecutor executor(backend);
+  SurfaceRenderer serial(surface, grid), banded(surface, grid);
+  banded.set_executor(executor);
+  SurfaceView view;  // 800 x 600, as the live window
+  view.fit = SurfaceFit::kSphere;
+  ImageRgb8 images[2];
+  using Clock = std::chrono::steady_clock;
+  double seconds[2] = {0, 0};
+  for (auto _ : state) {
+    view.azimuth_deg += 1;  // a turning view, as a drag turns it
+    for (int k = 0; k < 2; ++k) {
+      const auto t0 = Clock::now();
+      (k == 0 ? serial : banded).render(field, SurfaceColours{}, view, images[k]);
+      seconds[k] += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+  }
+  const double frames = double(state.iterations());
+  state.counters["serial_ms"] = 1e3 * seconds[0] / frames;
+  state.counters["threads_ms"] = 1e3 * seconds[1] / frames;
+  state.counters["speedup"] = seconds[0] / seconds[1];
+  state.counters["workers"] = backend.workers();
+  state.counters["same_image"] = images[0].rgb == images[1].rgb;
+}
+
 // Seed 004, Table 1 (gpu/cpu ms per full fluid step), the rows our meshes stand in for.
 constexpr TableRow kTable1[] = {
     {"torus-128", 128, {16, 17, 34, 78}, {41, 131, 474, 1764}},
@@ -270,6 +311,9 @@ int main(int argc, char** argv) {
   static constexpr TableRow kElephant{"elephant", 16674, {0, 0, 0, 0}, {0, 0, 0, 0}};
   benchmark::RegisterBenchmark("Surface/fluid/elephant/2",
                                [](benchmark::State& s) { BM_SurfaceFluid(s, kElephant, -1, 2); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
+  benchmark::RegisterBenchmark("SurfaceRender/torus/16", BM_SurfaceRender)
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime();
   for (int n : {16, 32})
