@@ -89,12 +89,10 @@ constexpr auto kLaneSeq = std::make_index_sequence<kLanes>{};
 using RowCoeffs = GrayScott9Blocked::RowCoeffs;
 
 RowCoeffs row_coeffs(const GrayScott9Params& p) {
-  return {0.05f * p.diffusion_a,
-          0.05f * p.diffusion_b,
-          1.0f - 1.8f * p.diffusion_a - p.dt * p.F,
-          1.0f - 1.8f * p.diffusion_b - p.dt * (p.F + p.k),
-          p.dt * p.F,
-          p.dt};
+  const GrayScott9Coeffs c = gray_scott9_coeffs(p);
+  RowCoeffs r;
+  r.ca = c.ca, r.cb = c.cb, r.pa = c.pa, r.pb = c.pb, r.q = c.q, r.dt = c.dt;
+  return r;
 }
 
 struct RowConsts {

@@ -934,13 +934,11 @@ void OpenClKernels::gray_scott9_explicit(const DeviceField& a, const DeviceField
                                          DeviceField& a_out, DeviceField& b_out, Box2 region,
                                          const GrayScott9Params& p) {
   if (!check_explicit_rd_args(a, b, a_out, b_out, region)) return;
-  // The constants as kernels/explicit_rd.cpp's Gs9Row, in float.
-  const float fk = p.F + p.k;
-  const float ca = 0.05f * p.diffusion_a, cb = 0.05f * p.diffusion_b;
-  const float ma = 1.8f * p.diffusion_a, mb = 1.8f * p.diffusion_b;
+  // The constants the C++ row kernel folds (kernels/explicit_rd.h).
+  const GrayScott9Coeffs c = gray_scott9_coeffs(p);
   cl_kernel k = kernel("gray_scott9_explicit");
   set_kernel_args(k, a.buffer, b.buffer, a_out.buffer, b_out.buffer, a.stride, a.origin,
-                  box4(region), p.F, fk, p.dt, ca, cb, ma, mb);
+                  box4(region), c.ca, c.cb, c.pa, c.pb, c.q, c.dt);
   enqueue_cells(k, region);
 }
 

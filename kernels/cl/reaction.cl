@@ -356,30 +356,31 @@ __kernel void explicit_rd(__global const float* a, __global const float* b, __gl
 }
 
 // Twin of gray_scott9_explicit_tile (seed 001's Gray-Scott step, 9-point Laplacian as the
-// separable (1 4 1) x (1 4 1) sum S: L9 = 0.05 S - 1.8 A), in float in the C++ order: column
-// sums v(c) = f(c, y-1) + 4 f(c, y) + f(c, y+1), then S = v(x-1) + 4 v(x) + v(x+1).
-//   A' = A + ca S_A - ma A + dt (F (1 - A) - A B^2),  B' = B + cb S_B - mb B + dt (A B^2 - fk B)
-// (ca = 0.05 da, ma = 1.8 da, likewise b; fk = F + k; computed on the host in float). Reads
-// halo 1; outputs must not alias inputs. One work-item per cell.
+// separable (1 4 1) x (1 4 1) sum S: L9 = 0.05 S - 1.8 A), in float, each multiply-add fused as
+// the C++ writes it (kernels/explicit_rd.h): column sums v(c) = fma(4, f(c, y), f(c, y-1) +
+// f(c, y+1)), S = fma(4, v(x), v(x-1) + v(x+1)), then
+//   A' = fma(-A, dt B^2, fma(ca, S_A, fma(pa, A, q))),  B' = fma(A, dt B^2, fma(cb, S_B, pb B))
+// with the folded constants of GrayScott9Coeffs (computed on the host). Reads halo 1; outputs
+// must not alias inputs. One work-item per cell.
 inline float gs9_column(__global const float* f, int stride, int g) {
-  return f[g - stride] + 4.0f * f[g] + f[g + stride];
+  return fma(4.0f, f[g], f[g - stride] + f[g + stride]);
 }
 
 __kernel void gray_scott9_explicit(__global const float* a, __global const float* b,
                                    __global float* a_out, __global float* b_out, int stride,
-                                   int origin, int4 reg, float F, float fk, float dt, float ca,
-                                   float cb, float ma, float mb) {
+                                   int origin, int4 reg, float ca, float cb, float pa, float pb,
+                                   float q, float dt) {
   const int x = reg.s0 + get_global_id(0), y = reg.s1 + get_global_id(1);
   if (x >= reg.s2 || y >= reg.s3) return;
   const int g = global_index(stride, origin, x, y);
   const float A = a[g], B = b[g];
-  const float sa = gs9_column(a, stride, g - 1) + 4.0f * gs9_column(a, stride, g) +
-                   gs9_column(a, stride, g + 1);
-  const float sb = gs9_column(b, stride, g - 1) + 4.0f * gs9_column(b, stride, g) +
-                   gs9_column(b, stride, g + 1);
-  const float abb = A * B * B;
-  a_out[g] = A + ca * sa - ma * A + dt * (F * (1.0f - A) - abb);
-  b_out[g] = B + cb * sb - mb * B + dt * (abb - fk * B);
+  const float sa = fma(4.0f, gs9_column(a, stride, g),
+                       gs9_column(a, stride, g - 1) + gs9_column(a, stride, g + 1));
+  const float sb = fma(4.0f, gs9_column(b, stride, g),
+                       gs9_column(b, stride, g - 1) + gs9_column(b, stride, g + 1));
+  const float bb = dt * (B * B);
+  a_out[g] = fma(-A, bb, fma(ca, sa, fma(pa, A, q)));
+  b_out[g] = fma(A, bb, fma(cb, sb, pb * B));
 }
 
 // ---- The second-order schemes' per-cell kernels (docs/numerics.md, "Reaction-diffusion in

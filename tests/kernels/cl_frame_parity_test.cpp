@@ -524,8 +524,10 @@ TEST(ClFrameParity, GrayScott9Explicit) {
       const DeviceField da = dev.up(a), db = dev.up(b);
       DeviceField dao = dev.up(a_out), dbo = dev.up(b_out);
       d.cl->gray_scott9_explicit(da, db, dao, dbo, region, p);
-      EXPECT_LE(relative_error(dev.down(dao), a_ref, a_out, region), kTolerance) << size << region;
-      EXPECT_LE(relative_error(dev.down(dbo), b_ref, b_out, region), kTolerance) << size << region;
+      // Each multiply-add fused as the C++ writes it: on PoCL, the C++ bits.
+      const double bound = is_pocl(*d.ctx) ? 0.0 : kTolerance;
+      EXPECT_LE(relative_error(dev.down(dao), a_ref, a_out, region), bound) << size << region;
+      EXPECT_LE(relative_error(dev.down(dbo), b_ref, b_out, region), bound) << size << region;
     }
 }
 

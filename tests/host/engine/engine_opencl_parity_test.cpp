@@ -118,6 +118,19 @@ double long_parity(const SceneConfig& scene, int frames, const char* what) {
   return worst;
 }
 
+// Seed 001: the device steps the 9-point twin one step at a time, the CPU the temporally
+// blocked kernel (kernels/gray_scott9.h); both fuse the same multiply-adds (kernels/explicit_rd.h),
+// so on PoCL the frames are the CPU's bits.
+TEST(EngineOpenCl, Seed001IsTheCpusBitsOnPocl) {
+  if (!test_opencl_device()) GTEST_SKIP() << "no OpenCL device (no ICD or no platform)";
+  const SceneConfig scene = awkward_preset_scene("seed001");
+  const double error = long_parity(scene, 20, "seed001 (the 9-point twin)");
+  Engine probe(scene, on_device());
+  if (is_pocl_device(static_cast<OpenClDevice&>(probe.device()))) {
+    EXPECT_EQ(error, 0.0);
+  }
+}
+
 // Seed 003's explicit step (Eqn 27), 10 steps a frame through Device::generalized_rd_steps
 // (4 + 4 + 2; on the device and, at this size, the CPU one step at a time, the results swapped
 // into place): 20 frames within 1e-5.
