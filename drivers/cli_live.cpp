@@ -387,10 +387,10 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   std::unique_ptr<RankWall> wall;
   if (walled) {
-    // A scene of tile passes splits its grid between the screens, unless the wall switches
-    // presets (--playlist) or steps on OpenCL; every other scene, and those, run whole on every
-    // screen (host/live/live_wall.h).
-    const bool split = preset.scene.fluid.kind == FluidSceneKind::kTable1 &&
+    // A scene that runs as blocks (block_support) splits its grid between the screens, unless
+    // the wall switches presets (--playlist) or steps on OpenCL; every other scene, and those,
+    // run whole on every screen (host/live/live_wall.h).
+    const bool split = block_support(preset.scene).problem.empty() &&
                        backend != BackendKind::kOpenCl && a.playlist_opt->count() == 0;
     if (split) {
       if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);

@@ -3,8 +3,6 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "host/engine/table1_plan.h"
-
 namespace ardcell {
 
 #if defined(ARDCELL_WITH_MPI)
@@ -26,15 +24,16 @@ std::string start_rank_job(const std::string& flag, const std::string& text, Cli
 
 std::string split_rank_job(const std::string& flag, const std::string& text,
                            const SceneConfig& scene, RankJob& job, EngineOptions& options) {
-  if (scene.fluid.kind != FluidSceneKind::kTable1)
-    return flag + " applies to the scenes built of tile passes (table1, table1-ard); scene '" +
-           scene.name + "' runs its steps as stages on whole fields (expected no " + flag + ")";
+  const BlockSupport support = block_support(scene);
+  if (!support.problem.empty())
+    return flag + ": scene '" + scene.name +
+           "' runs on one process's whole grid: " + support.problem + " (expected no " + flag + ")";
   try {
-    job.layout = BlockLayout::split(scene.size, job.parts);
+    job.layout = BlockLayout::split(scene.size, job.parts, support.periodic_x, support.periodic_y);
   } catch (const std::invalid_argument& e) {
     return flag + " " + text + ": " + e.what();
   }
-  const int width = table1_block_halo(scene);
+  const int width = support.halo;
   for (int b = 0; b < job.layout->count(); ++b)
     if (job.layout->block(b).width() < width || job.layout->block(b).height() < width)
       return flag + " " + text + ": a block of " + std::to_string(job.layout->block(b).width()) +

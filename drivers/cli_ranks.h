@@ -30,9 +30,9 @@ struct RankJob {
 // line.
 std::string start_rank_job(const std::string& flag, const std::string& text, CliContext& ctx,
                            RankJob& job);
-// Cuts the scene's grid into the job's blocks (a scene of tile passes: the table1 scenes),
-// checks that each block holds its halo, makes the halo channel and points options.plan at this
-// rank's block. "" or the usage line.
+// Cuts the scene's grid into the job's blocks (the scenes block_support() accepts,
+// host/engine/engine.h), checks that each block holds its halo, makes the halo channel and points
+// options.plan at this rank's block. "" or the usage line.
 std::string split_rank_job(const std::string& flag, const std::string& text,
                            const SceneConfig& scene, RankJob& job, EngineOptions& options);
 #endif

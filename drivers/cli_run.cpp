@@ -582,8 +582,8 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--workers", a.workers, "threads back end workers (default: one per core)");
   a.ranks_opt = run->add_option(
       "--ranks", a.ranks,
-      "table1 scenes under mpirun: the grid cut into WxH blocks, one per process (mpirun -np "
-      "W*H)");
+      "under mpirun: the grid cut into WxH blocks, one per process (mpirun -np W*H): the table1 "
+      "scenes and the explicit RD schemes without a fluid (seed001)");
   a.store_kib_opt = run->add_option(
       "--store-kib", a.store_kib,
       "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2 "

@@ -78,13 +78,19 @@ const char* device_op_name(DeviceOp op) {
       return "ETDRK4 step (FFT)";
     case DeviceOp::kStamJacobi:
       return "Stam's Jacobi sweeps";
+    case DeviceOp::kExchangeHalos:
+      return "halo exchange";
     case DeviceOp::kCount:
       break;
   }
   return "?";
 }
 
-CpuDevice::CpuDevice(RowExecutor& ex) : ex_(&ex) {}
+CpuDevice::CpuDevice(RowExecutor& ex, const DeviceBlock& block) : ex_(&ex), block_(block) {
+  ARDCELL_CHECK(
+      !block.halo || (!block.block.empty() && box_of_size(block.grid).contains(block.block)),
+      "CpuDevice: a block inside its grid");
+}
 CpuDevice::~CpuDevice() = default;
 
 CpuDevice& CpuDevice::serial() {
@@ -107,9 +113,9 @@ void CpuDevice::reserve(Int2 grid) {
 }
 
 template <class F>
-void CpuDevice::for_bands(Int2 size, const F& f) {
-  ex_->for_rows(size.y, size.x, [&](int y0, int y1, int worker) {
-    const Box2 rows{{0, y0}, {size.x, y1}};
+void CpuDevice::for_bands(Box2 cells, const F& f) {
+  ex_->for_rows(cells.height(), cells.width(), [&](int y0, int y1, int worker) {
+    const Box2 rows{{cells.min.x, cells.min.y + y0}, {cells.max.x, cells.min.y + y1}};
     if constexpr (std::is_invocable_v<const F&, Box2, int>)
       f(rows, worker);
     else
@@ -129,8 +135,19 @@ void CpuDevice::copy(const FieldF& from, FieldF& to) {
 
 void CpuDevice::swap(FieldF& a, FieldF& b) { std::swap(a, b); }
 
+void CpuDevice::exchange_halos(std::span<FieldF* const> fields, int depth) {
+  if (!block_.halo || fields.empty()) return;
+  constexpr std::size_t kMaxFields = 8;
+  ARDCELL_CHECK(fields.size() <= kMaxFields && depth <= block_.halo->width(),
+                "exchange_halos: at most 8 fields, as deep as the channel's width");
+  std::array<HaloField, kMaxFields> halo;
+  for (std::size_t i = 0; i < fields.size(); ++i) halo[i] = {fields[i], depth};
+  block_.halo->begin(std::span(halo.data(), fields.size()));
+  block_.halo->finish();
+}
+
 void CpuDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
-  ardcell::fill_boundary(f.view(), f.size(), fill);
+  ardcell::fill_boundary(f.view(), domain_of(f), fill);
 }
 
 void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
@@ -139,10 +156,10 @@ void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int 
   const FieldF* cur = start ? start : &a;
   FieldF* next = &b;
   for (int s = 0; s < sweeps; ++s) {
-    for_bands(a.size(), [&](Box2 rows) {
+    for_bands(a.interior(), [&](Box2 rows) {
       ardcell::stam_jacobi_sweep(rhs.view(), cur->view(), next->view(), rows, p);
     });
-    ardcell::fill_boundary(next->view(), next->size(), fill);
+    ardcell::fill_boundary(next->view(), domain_of(*next), fill);
     cur = next;
     next = next == &b ? &a : &b;
   }
@@ -150,39 +167,39 @@ void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int 
 
 void CpuDevice::fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) {
   // Solid cells are written from fluid cells only: bands of rows do not interfere.
-  for_bands(f.size(),
+  for_bands(f.interior(),
             [&](Box2 rows) { ardcell::fill_obstacle(f.view(), solid.view(), rows, rule); });
 }
 
 void CpuDevice::add_boundary_values(FieldF& b, const BoundaryFill& fill, double scale) {
-  ardcell::add_boundary_values(b.view(), b.size(), fill, scale);
+  ardcell::add_boundary_values(b.view(), domain_of(b), fill, scale);
 }
 
 void CpuDevice::add_splat(FieldF& f, const SplatParams& splat) {
-  for_bands(f.size(), [&](Box2 rows) { ardcell::add_splat(f.view(), rows, splat); });
+  for_bands(f.interior(), [&](Box2 rows) { ardcell::add_splat(f.view(), rows, splat); });
 }
 
 void CpuDevice::set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) {
-  ardcell::set_inflow_stripes(dye.view(), dye.size(), stripes, side);
+  ardcell::set_inflow_stripes(dye.view(), domain_of(dye), stripes, side);
 }
 
 void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
                              const FieldF* open_x, const FieldF* open_y) {
   if (open_x && open_y) {
-    for_bands(rhs.size(), [&](Box2 rows) {
+    for_bands(rhs.interior(), [&](Box2 rows) {
       ardcell::pressure_rhs_cut(u.view(), v.view(), open_x->view(), open_y->view(), rhs.view(),
                                 rows, p);
     });
     return;
   }
-  for_bands(rhs.size(),
+  for_bands(rhs.interior(),
             [&](Box2 rows) { ardcell::pressure_rhs(u.view(), v.view(), rhs.view(), rows, p); });
 }
 
 void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
                                 FieldF& vf, const ProjectParams& params, bool periodic) {
   const Int2 n = p.size();
-  for_bands(n, [&](Box2 rows) {
+  for_bands(box_of_size(n), [&](Box2 rows) {
     ardcell::face_velocities(u.view(), v.view(), p.view(), uf.view(), vf.view(), rows, params,
                              rows.max.y == n.y);
   });
@@ -201,14 +218,14 @@ void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& 
 
 void CpuDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
                                   const ProjectParams& params) {
-  for_bands(p.size(), [&](Box2 rows) {
+  for_bands(p.interior(), [&](Box2 rows) {
     ardcell::subtract_gradient(p.view(), u.view(), v.view(), rows, params);
   });
 }
 
 void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                                 const AdvectParams& p) {
-  for_bands(u.size(), [&](Box2 rows) {
+  for_bands(u.interior(), [&](Box2 rows) {
     ardcell::advect_velocity(u0.view(), v0.view(), u.view(), v.view(), rows, p);
   });
 }
@@ -223,7 +240,7 @@ void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& 
     in[i] = q0[i]->view();
     out[i] = q[i]->view();
   }
-  for_bands(q[0]->size(), [&](Box2 rows) {
+  for_bands(q[0]->interior(), [&](Box2 rows) {
     ardcell::advect_fields(u.view(), v.view(), std::span(in.data(), q.size()),
                            std::span(out.data(), q.size()), rows, p);
   });
@@ -231,7 +248,7 @@ void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& 
 
 void CpuDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                                   const AdvectParams& p) {
-  for_bands(q.size(), [&](Box2 rows) {
+  for_bands(q.interior(), [&](Box2 rows) {
     ardcell::advect_scalar_mac(q0.view(), uf.view(), vf.view(), q.view(), rows, p);
   });
 }
@@ -247,7 +264,7 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
                 "maccormack_correct: one q_hat, q_back and output per input, 1 to "
                 "kMaxAdvectFields (one with mac)");
   if (mac) {
-    for_bands(q[0]->size(), [&](Box2 rows) {
+    for_bands(q[0]->interior(), [&](Box2 rows) {
       ardcell::maccormack_correct_mac(q0[0]->view(), q_hat[0]->view(), q_back[0]->view(), u.view(),
                                       v.view(), q[0]->view(), rows, p);
     });
@@ -262,7 +279,7 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
     out[i] = q[i]->view();
   }
   const std::size_t n = q.size();
-  for_bands(q[0]->size(), [&](Box2 rows) {
+  for_bands(q[0]->interior(), [&](Box2 rows) {
     ardcell::maccormack_correct(u.view(), v.view(), std::span(in.data(), n),
                                 std::span(hat.data(), n), std::span(back.data(), n),
                                 std::span(out.data(), n), rows, p);
@@ -302,20 +319,20 @@ SolveReport CpuDevice::solve(LinearSolver& solver, const StencilOperator& op, co
 }
 
 void CpuDevice::reaction_implicit(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
-  for_bands(a.size(), [&](Box2 rows) {
+  for_bands(a.interior(), [&](Box2 rows) {
     reaction_implicit_tile(a.view(), b.view(), a.view(), b.view(), rows, p, dt);
   });
 }
 
 void CpuDevice::reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) {
-  for_bands(a.size(), [&](Box2 rows) {
+  for_bands(a.interior(), [&](Box2 rows) {
     reaction_table_tile(a.view(), b.view(), a.view(), b.view(), rows, table.view());
   });
 }
 
 void CpuDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
                              const AnisotropyParams& p) {
-  for_bands(a.size(),
+  for_bands(a.interior(),
             [&](Box2 rows) { conductivity_tile(a.view(), theta0.view(), k.view(), rows, p); });
 }
 
@@ -331,19 +348,19 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
       ARDCELL_CHECK(row_scratch_stride_ >= 2 * std::size_t(a.nx() + 2),
                     "explicit_rd: reserve() the grid first");
       const GrayScott9Params gs{p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b};
-      for_bands(a.size(), [&](Box2 rows, int worker) {
+      for_bands(a.interior(), [&](Box2 rows, int worker) {
         gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
                                   row_scratch(worker));
       });
       break;
     }
     case ExplicitScheme::k9:
-      for_bands(a.size(), [&](Box2 rows) {
+      for_bands(a.interior(), [&](Box2 rows) {
         explicit_rd9_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
       });
       break;
     case ExplicitScheme::k5:
-      for_bands(a.size(), [&](Box2 rows) {
+      for_bands(a.interior(), [&](Box2 rows) {
         explicit_rd5_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
       });
       break;
@@ -361,7 +378,7 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
                                const GeneralizedTaps& k, const GeneralizedRdParams& p) {
   ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
                 "generalized_rd: reserve() the grid first");
-  for_bands(a.size(), [&](Box2 rows, int worker) {
+  for_bands(a.interior(), [&](Box2 rows, int worker) {
     generalized_rd_rows(k, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
                         rows.max.y, p, row_scratch(worker));
   });
@@ -382,7 +399,7 @@ void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF
   }
   ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
                 "generalized_rd_steps: reserve() the grid first");
-  for_bands(a.size(), [&](Box2 rows, int worker) {
+  for_bands(a.interior(), [&](Box2 rows, int worker) {
     generalized_rd_fused_rows(k, a.view(), b.view(), a_out.view(), b_out.view(), a.size(),
                               rows.min.y, rows.max.y, p, steps, row_scratch(worker));
   });
@@ -390,7 +407,7 @@ void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF
 
 void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                 const Rank2FaceField& d, const GeneralizedRdParams& p) {
-  for_bands(a.size(), [&](Box2 rows, int) {
+  for_bands(a.interior(), [&](Box2 rows, int) {
     tensor_field_rd_rows(d, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
                          rows.max.y, p);
   });

@@ -11,6 +11,11 @@
 // copies maps each FieldF to its copy and moves data only when the other side needs it
 // (sync_to_host / host_wrote). swap() exchanges two fields on every side, as std::swap does on
 // the host.
+// A device may run one BLOCK of a decomposed grid (runtime/block_layout.h; DeviceBlock): its
+// fields cover the block with a halo, its ops compute the block's cells, boundary fills write the
+// domain's ghost ring only where the block touches it, and exchange_halos() - the halo exchange,
+// a step the stages call before an op that reads across the block's edges - fills the rest from
+// the other blocks. Which scenes' stages run so: host/engine/engine.h block_problem().
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -27,6 +32,7 @@
 #include "kernels/reaction_table.h"
 #include "kernels/sources.h"
 #include "kernels/stam_sweeps.h"
+#include "runtime/block_layout.h"
 #include "runtime/boundary.h"
 #include "runtime/field.h"
 
@@ -71,6 +77,7 @@ enum class DeviceOp : uint8_t {
   kSbdfRhs,
   kEtdrk4,
   kStamJacobi,
+  kExchangeHalos,
   kCount
 };
 const char* device_op_name(DeviceOp op);
@@ -79,6 +86,15 @@ const char* device_op_name(DeviceOp op);
 struct FieldRange {
   double sum = 0.0;
   float lo = 0.0f, hi = 0.0f;
+};
+
+// Where a device's fields lie: the whole grid (no halo channel), or the block `block` of the
+// grid, whose halos `halo` fills from the blocks that own those cells (collective: every block
+// of the group exchanges the same fields in the same order).
+struct DeviceBlock {
+  Int2 grid{};
+  Box2 block{};
+  HaloChannel* halo = nullptr;
 };
 
 class Device {
@@ -97,6 +113,13 @@ class Device {
   virtual void reserve(Int2 grid) = 0;
   // Returns when every op issued so far has finished (a device may queue them).
   virtual void finish() = 0;
+  // The block this device computes (DeviceBlock::halo null: the whole grid).
+  virtual const DeviceBlock& block() const = 0;
+  bool on_block() const { return block().halo != nullptr; }
+
+  // --- the halo exchange (runtime/block_layout.h HaloChannel): fills each field's halo `depth`
+  // cells deep around the block from the blocks that own those cells. Nothing on the whole grid.
+  virtual void exchange_halos(std::span<FieldF* const> fields, int depth) = 0;
 
   // --- fields
   // Whole allocations (halo included); same layout.
@@ -111,7 +134,7 @@ class Device {
   virtual void host_wrote(const ReactionTable& table) = 0;
 
   // --- boundaries (runtime/boundary.h)
-  // The ghost ring of the domain (f.size()).
+  // The ghost ring of the domain (the whole grid's, where the field holds it).
   virtual void fill_boundary(FieldF& f, const BoundaryFill& fill) = 0;
   // Solid cells of the interior from their fluid neighbours.
   virtual void fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) = 0;
@@ -234,7 +257,9 @@ class Device {
 // of rows; reductions add per-row partials in row order. Fields are the host's own.
 class CpuDevice final : public Device {
  public:
-  explicit CpuDevice(RowExecutor& ex);
+  // On a block (block.halo set), ops compute block.block, boundary fills apply on the edges of
+  // block.grid it touches, and exchange_halos() goes through block.halo.
+  explicit CpuDevice(RowExecutor& ex, const DeviceBlock& block = {});
   ~CpuDevice() override;
   // The calling thread's serial device (RowExecutor::serial()), for tools and tests.
   static CpuDevice& serial();
@@ -246,6 +271,8 @@ class CpuDevice final : public Device {
   bool fields_on_host() const override { return true; }
   void reserve(Int2 grid) override;
   void finish() override {}
+  const DeviceBlock& block() const override { return block_; }
+  void exchange_halos(std::span<FieldF* const> fields, int depth) override;
 
   void copy(const FieldF& from, FieldF& to) override;
   void swap(FieldF& a, FieldF& b) override;
@@ -311,13 +338,16 @@ class CpuDevice final : public Device {
                    const ReactionParams* reaction) override;
 
  private:
-  // The interior rows of an nx x ny grid in bands: f(Box2 rows) or f(Box2 rows, worker).
+  // The rows of `cells` (a field's interior) in bands: f(Box2 rows) or f(Box2 rows, worker).
   template <class F>
-  void for_bands(Int2 size, const F& f);
+  void for_bands(Box2 cells, const F& f);
+  // The grid whose ghost ring the boundary fills write: the block's grid, or f's own size.
+  Int2 domain_of(const FieldF& f) const { return block_.halo ? block_.grid : f.size(); }
   // Worker w's row scratch (seed 001's row sums): row_scratch_stride_ floats (reserve()).
   float* row_scratch(int worker) { return row_scratch_.data() + row_scratch_stride_ * worker; }
 
   RowExecutor* ex_;
+  DeviceBlock block_;
   std::vector<float> row_scratch_;
   std::size_t row_scratch_stride_ = 0;
 };

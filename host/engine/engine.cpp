@@ -27,7 +27,22 @@ struct Engine::Solvers {
 
 namespace {
 
-std::unique_ptr<Device> make_engine_device(const EngineOptions& options, RowExecutor& cpu) {
+// A scene of stages on a block: the device computes the block and exchanges its halos (a scene
+// of tile passes exchanges in its passes: its device keeps the whole grid).
+DeviceBlock device_block(const SceneConfig& config, const EngineOptions& options) {
+  if (options.plan.block.empty() || config.fluid.kind == FluidSceneKind::kTable1) return {};
+  if (std::string why = block_support(config).problem; !why.empty())
+    throw std::invalid_argument("blocks: " + why);
+  if (options.backend == EngineOptions::Backend::kOpenCl)
+    throw std::invalid_argument(
+        "blocks: a block of a decomposed grid runs on the serial or threads back end (expected "
+        "--backend serial or threads)");
+  ARDCELL_CHECK(options.plan.halo != nullptr, "Engine: a block needs its halo channel");
+  return {config.size, options.plan.block, options.plan.halo};
+}
+
+std::unique_ptr<Device> make_engine_device(const EngineOptions& options, RowExecutor& cpu,
+                                           const DeviceBlock& block) {
   if (options.backend == EngineOptions::Backend::kOpenCl) {
 #if defined(ARDCELL_WITH_OPENCL)
     ARDCELL_CHECK(options.opencl != nullptr, "Engine: the OpenCL back end needs a context");
@@ -36,7 +51,7 @@ std::unique_ptr<Device> make_engine_device(const EngineOptions& options, RowExec
     ARDCELL_CHECK(false, "Engine: this build has no OpenCL");
 #endif
   }
-  return std::make_unique<CpuDevice>(cpu);
+  return std::make_unique<CpuDevice>(cpu, block);
 }
 
 std::unique_ptr<Backend> make_engine_backend(const EngineOptions& options) {
@@ -54,7 +69,7 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
     : config_(config),
       backend_(make_engine_backend(options)),
       executor_(std::make_unique<RowExecutor>(*backend_)),
-      device_(make_engine_device(options, *executor_)),
+      device_(make_engine_device(options, *executor_, device_block(config, options))),
       solvers_(std::make_unique<Solvers>()) {
   ARDCELL_CHECK(config.size.x > 0 && config.size.y > 0, "Engine: grid size must be positive");
   ARDCELL_CHECK(config.domain_width > 0.0 && config.dt > 0.0,
@@ -62,10 +77,6 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
   state_.size = config_.size;
   state_.h = config_.domain_width / config_.size.x;
   state_.dt = config_.dt;
-  if (!options.plan.block.empty() && config_.fluid.kind != FluidSceneKind::kTable1)
-    throw std::invalid_argument(
-        "blocks: only a scene built of tile passes (fluid.scene table1) runs as one block of a "
-        "decomposed grid");
   const bool on_device = !device_->fields_on_host();
   if (config_.fluid.kind == FluidSceneKind::kTable1) {
     PlanOptions plan = options.plan;
@@ -105,6 +116,17 @@ Engine::Engine(const SceneConfig& config, const EngineOptions& options)
 }
 
 Engine::~Engine() = default;
+
+BlockSupport block_support(const SceneConfig& scene) {
+  BlockSupport b;
+  if (scene.fluid.kind == FluidSceneKind::kTable1) {
+    b.halo = table1_block_halo(scene);
+    return b;
+  }
+  b.problem = rd_block_problem(scene);
+  b.periodic_x = b.periodic_y = scene.rd.boundary == BoundaryKind::kPeriodic;
+  return b;
+}
 
 const char* Engine::backend_name() const {
   // A plan's serial schedule runs on a serial back end of its own.

@@ -48,9 +48,23 @@ struct EngineOptions {
   // Scenes of tile passes (fluid.scene table1, host/engine/table1_plan.h): the schedule,
   // the local store per worker and the residency. The serial back end runs the serial schedule.
   // With plan.block and plan.halo the engine runs one block of a decomposed grid (its state's
-  // fields cover the block; runtime/block_layout.h); other scenes refuse a block.
+  // fields cover the block; runtime/block_layout.h), on the CPU, for the scenes
+  // block_support() accepts; it refuses the others.
   PlanOptions plan = {};
 };
+
+// How a scene runs as blocks of a decomposed grid: `problem` is one line saying why it cannot
+// ("" when it can), `halo` the width its blocks' halos exchange (HaloExchange, HaloChannel),
+// and the axes along which its grid wraps (BlockLayout::split's periodic axes). Blocks run the
+// scenes of tile passes (table1: their passes exchange, host/engine/frame_plan.h) and the
+// scenes whose stages' ops exchange a block's halos themselves (rd_block_problem,
+// host/engine/rd_step.h: the explicit RD schemes without a fluid).
+struct BlockSupport {
+  std::string problem;
+  int halo = 1;
+  bool periodic_x = false, periodic_y = false;
+};
+BlockSupport block_support(const SceneConfig& scene);
 
 class Engine {
  public:

@@ -3,8 +3,9 @@
 // built once and run every frame): an ordered list of the frame's steps, each either
 //   a PASS  - a fused group of kernels that run on a tile while it sits in a worker's local
 //             store, with the barrier between passes (the Table 1 scenes' frame), or
-//   a STAGE - a step that runs as ops of a Device (host/engine/device.h) on whole fields, each
-//             op in bands of rows on the CPU workers or as its OpenCL twin: what the other
+//   a STAGE - a step that runs as ops of a Device (host/engine/device.h) on the device's
+//             fields (the whole grid, or a block whose halos its ops exchange: DeviceBlock),
+//             each op in bands of rows on the CPU workers or as its OpenCL twin: what the other
 //             scenes' solvers are made of (FluidStep, RdStepper append their stages).
 // run() then replays it every frame on any Backend (or Device) without allocating, and times
 // each step.
@@ -170,7 +171,8 @@ class FramePlan {
   // indices, halos large enough for the ops' reach) and cuts its tiles.
   int add_pass(PassDesc desc);
   // Adds a stage at the end of the frame; returns its index (stages and passes share one
-  // numbering). A stage works on whole fields: a block plan (options.halo) refuses it.
+  // numbering). A stage exchanges through its Device, not the plan: a plan whose passes
+  // exchange (options.halo) refuses it.
   int add_stage(StageDesc desc);
   // Runs every step in order (one frame): passes on `backend`, stages as they are; without
   // `with_rd`, the rd stages are left out. No allocation (an MPI halo channel's buffers grow in

@@ -57,6 +57,9 @@ class OpenClDevice final : public Device {
   void host_wrote(const ReactionTable& table) override;
   using Device::host_wrote;
   void finish() override;
+  // The whole grid: a block of a decomposed grid runs on the CPU (Engine refuses one here).
+  const DeviceBlock& block() const override { return cpu_.block(); }
+  void exchange_halos(std::span<FieldF* const>, int) override {}
 
   void fill_boundary(FieldF& f, const BoundaryFill& fill) override;
   void fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) override;

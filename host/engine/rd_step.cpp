@@ -197,10 +197,28 @@ std::string rd_config_problem(const SceneConfig& scene) {
   return "";
 }
 
+std::string rd_block_problem(const SceneConfig& scene) {
+  const RdConfig& rd = scene.rd;
+  if (scene.fluid.kind != FluidSceneKind::kNone)
+    return "fluid.scene: this fluid runs on the whole grid only (blocks of a decomposed grid "
+           "run the table1 scenes and RD scenes without a fluid)";
+  if (!rd.enabled) return "rd.enabled: a scene without RD has nothing to run as blocks";
+  if (rd.diffusion_operator != RdOperator::kLaplacian ||
+      (rd.scheme != RdScheme::kExplicit5 && rd.scheme != RdScheme::kExplicit9))
+    return "rd.scheme: this scheme runs on the whole grid only (blocks of a decomposed grid run "
+           "rd.scheme explicit5 or explicit9 with rd.operator laplacian)";
+  return "";
+}
+
 RdStepper::RdStepper(const SceneConfig& scene, Device& device)
-    : scene_(scene), dev_(&device), rd_(scene.rd) {
+    : scene_(scene),
+      dev_(&device),
+      rd_(scene.rd),
+      cells_(device.on_block() ? device.block().block : box_of_size(scene.size)) {
   RowExecutor& ex = device.executor();
   if (std::string why = rd_config_problem(scene); !why.empty()) throw std::invalid_argument(why);
+  if (device.on_block())
+    if (std::string why = rd_block_problem(scene); !why.empty()) throw std::invalid_argument(why);
   const double scene_h = scene.domain_width / scene.size.x;
   dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
   h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_h;
@@ -238,19 +256,19 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   // Seed 001's scheme: a frame's steps in one op, temporally blocked, where the device has it.
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
       rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic &&
-      device.supports(DeviceOp::kGrayScott9Steps))
+      device.supports(DeviceOp::kGrayScott9Steps) && !device.on_block())
     gray_scott9_ = std::make_unique<GrayScott9Blocked>(scene.size, ex);
-  conductivity_ = FieldF(scene.size, 1);
-  scratch_a_ = FieldF(scene.size, chemical_halo());
-  scratch_b_ = FieldF(scene.size, chemical_halo());
+  conductivity_ = FieldF::over(cells_, 1);
+  scratch_a_ = FieldF::over(cells_, chemical_halo());
+  scratch_b_ = FieldF::over(cells_, chemical_halo());
   if (scene.fluid.kind != FluidSceneKind::kNone && rd_.advect &&
       scene.fluid.advection == AdvectionScheme::kMacCormack) {
-    back_a_ = FieldF(scene.size, chemical_halo());
-    back_b_ = FieldF(scene.size, chemical_halo());
+    back_a_ = FieldF::over(cells_, chemical_halo());
+    back_b_ = FieldF::over(cells_, chemical_halo());
   }
   if (rd_.scheme == RdScheme::kSbdf2) {
-    prev_a_ = FieldF(scene.size, 1);
-    prev_b_ = FieldF(scene.size, 1);
+    prev_a_ = FieldF::over(cells_, 1);
+    prev_b_ = FieldF::over(cells_, 1);
   }
   if (rd_.scheme == RdScheme::kEtdrk4) {
     etdrk4_ = std::make_unique<PeriodicEtdrk4>(scene.size, ex);
@@ -327,20 +345,37 @@ std::string RdStepper::parameter_problem(const SceneConfig& scene) const {
 
 void RdStepper::init_state(SimState& s) {
   restart();
-  const Int2 n = scene_.size;
   const int halo = chemical_halo();
-  if (s.A.empty() || s.A.size() != n || s.A.halo() != halo) s.A = FieldF(n, halo);
-  if (s.B.empty() || s.B.size() != n || s.B.halo() != halo) s.B = FieldF(n, halo);
-  if (s.theta0.empty() || s.theta0.size() != n) {
-    s.theta0 = FieldF(n, 1);
+  if (s.A.empty() || s.A.interior() != cells_ || s.A.halo() != halo)
+    s.A = FieldF::over(cells_, halo);
+  if (s.B.empty() || s.B.interior() != cells_ || s.B.halo() != halo)
+    s.B = FieldF::over(cells_, halo);
+  if (s.theta0.empty() || s.theta0.interior() != cells_) {
+    s.theta0 = FieldF::over(cells_, 1);
     s.theta0.fill(rd_.anisotropy.theta0);
   }
-  s.A.fill(rd_.background_a);
-  s.B.fill(rd_.background_b);
+  if (cells_ == box_of_size(scene_.size)) {
+    write_initial_pattern(s.A, s.B);
+  } else {
+    // A block: the whole grid's pattern (one random sequence over the grid), then its cells.
+    FieldF a(scene_.size, 0), b(scene_.size, 0);
+    write_initial_pattern(a, b);
+    s.A.fill(rd_.background_a);
+    s.B.fill(rd_.background_b);
+    copy_box<float>(std::as_const(a).view(), s.A.view(), cells_);
+    copy_box<float>(std::as_const(b).view(), s.B.view(), cells_);
+  }
+  for (const FieldF* f : {&s.A, &s.B, &s.theta0}) dev_->host_wrote(*f);
+}
+
+void RdStepper::write_initial_pattern(FieldF& A, FieldF& B) const {
+  const Int2 n = scene_.size;
+  A.fill(rd_.background_a);
+  B.fill(rd_.background_b);
   SplitMix rng{rd_.seed};
   auto put = [&](int x, int y) {
-    s.A(x, y) = rd_.seed_a;
-    s.B(x, y) = rd_.seed_b;
+    A(x, y) = rd_.seed_a;
+    B(x, y) = rd_.seed_b;
   };
   switch (rd_.initial) {
     case RdInitialPattern::kUniform:
@@ -383,9 +418,9 @@ void RdStepper::init_state(SimState& s) {
       // whose free end curls into a spiral (Barkley, FitzHugh-Nagumo).
       const int w = std::max(1, int(std::lround(rd_.seed_size * n.x)));
       for (int y = 0; y < n.y / 2; ++y)
-        for (int x = w; x < std::min(n.x, 2 * w); ++x) s.A(x, y) = rd_.seed_a;
+        for (int x = w; x < std::min(n.x, 2 * w); ++x) A(x, y) = rd_.seed_a;
       for (int y = 0; y < n.y; ++y)
-        for (int x = 0; x < std::min(n.x, w); ++x) s.B(x, y) = rd_.seed_b;
+        for (int x = 0; x < std::min(n.x, w); ++x) B(x, y) = rd_.seed_b;
       break;
     }
   }
@@ -394,11 +429,10 @@ void RdStepper::init_state(SimState& s) {
     for (int y = 0; y < n.y; ++y)
       for (int x = 0; x < n.x; ++x) {
         const double ua = 2.0 * rng.uniform() - 1.0, ub = 2.0 * rng.uniform() - 1.0;
-        s.A(x, y) = float(std::clamp(s.A(x, y) * (1.0 + rd_.noise * ua), box.a_lo, box.a_hi));
-        s.B(x, y) = float(std::clamp(s.B(x, y) * (1.0 + rd_.noise * ub), box.b_lo, box.b_hi));
+        A(x, y) = float(std::clamp(A(x, y) * (1.0 + rd_.noise * ua), box.a_lo, box.a_hi));
+        B(x, y) = float(std::clamp(B(x, y) * (1.0 + rd_.noise * ub), box.b_lo, box.b_hi));
       }
   }
-  for (const FieldF* f : {&s.A, &s.B, &s.theta0}) dev_->host_wrote(*f);
 }
 
 void RdStepper::fill_chemical_ghosts(SimState& s) {
@@ -459,6 +493,9 @@ void RdStepper::sbdf2_step(SimState& s) {
 
 void RdStepper::explicit_step(SimState& s) {
   fill_chemical_ghosts(s);
+  // The 5- and 9-point stencils read one cell across the block's edges.
+  FieldF* const chemicals[] = {&s.A, &s.B};
+  dev_->exchange_halos(chemicals, 1);
   const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
   const float da = rd_.diffuse ? float(rd_.diffusion_a * base) : 0.0f;
   const float db = rd_.diffuse ? float(rd_.diffusion_b * base) : 0.0f;
@@ -555,8 +592,8 @@ void RdStepper::advect(SimState& s) {
 }
 
 void RdStepper::append_stages(FramePlan& plan, SimState& s) {
-  ARDCELL_CHECK(!s.A.empty() && s.A.size() == scene_.size && s.B.size() == scene_.size,
-                "RD stages need A and B of the scene's size (RdStepper::init_state)");
+  ARDCELL_CHECK(!s.A.empty() && s.A.interior() == cells_ && s.B.interior() == cells_,
+                "RD stages need A and B over the device's cells (RdStepper::init_state)");
   plan.add_stage({"rd: reaction-diffusion", [this, &s] { react_diffuse(s); }, true});
   // The velocity is allocated by now when the scene has one.
   if (!s.u.empty() && !s.v.empty() && s.u.size() == scene_.size)

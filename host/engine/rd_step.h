@@ -56,6 +56,11 @@ namespace ardcell {
 // One line naming the first bad RD parameter of the scene, or "" when it can run.
 std::string rd_config_problem(const SceneConfig& scene);
 
+// One line saying why the scene's RD cannot run as one block of a decomposed grid (a Device on a
+// block, host/engine/device.h), "" when it can: the explicit 5- and 9-point schemes without a
+// fluid, whose steps exchange a halo of one cell (Device::exchange_halos) before each step.
+std::string rd_block_problem(const SceneConfig& scene);
+
 // For the generalized operator, one line a run prints before it starts: the explicit update's
 // spectral radius rho(I + dt D K) for A and B (seed 003, Eqn 27), with a warning when it
 // exceeds 1; "" for the other schemes and operators.
@@ -73,8 +78,9 @@ class RdStepper {
   ~RdStepper();
 
   // Allocates A, B when absent (and theta0 when absent: filled with rd.anisotropy.theta0; a
-  // painted theta0 is kept) and writes the initial pattern. Deterministic for a
-  // given rd.seed. Restarts the multistep history (restart()).
+  // painted theta0 is kept) over the device's cells (its block, or the grid) and writes the
+  // initial pattern. Deterministic for a given rd.seed; a block gets its cells of the grid's
+  // pattern. Restarts the multistep history (restart()).
   void init_state(SimState& s);
 
   // The state's A and B were written by someone else (a reset, a loaded state, painting): the
@@ -107,6 +113,8 @@ class RdStepper {
   // The halo init_state() gives A and B, and the fields they swap with: GrayScott9Blocked::kHalo
   // for seed 001's blocked steps, else 1 (theta0's).
   int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : 1; }
+  // The scene's initial A and B over the whole grid (fields of the scene's size).
+  void write_initial_pattern(FieldF& A, FieldF& B) const;
   void fill_chemical_ghosts(SimState& s);
   void react(SimState& s);
   // The conductivity k = a(theta) of A as it is now (null when isotropic).
@@ -135,6 +143,7 @@ class RdStepper {
   SceneConfig scene_;
   Device* dev_;
   RdConfig rd_;
+  Box2 cells_;  // the cells the device computes: its block, or the whole grid
   double dt_, h_;
   std::unique_ptr<ImplicitDiffusion> diff_a_, diff_b_;
   std::unique_ptr<GeneralizedTaps> generalized_;                   // rd.operator generalized

@@ -161,8 +161,10 @@ EngineSimulation::EngineSimulation(const Preset& preset, const PaintConfig& pain
   const auto lock = lock_device();
   engine_ = std::make_unique<Engine>(preset.scene, options);
   const SceneConfig& scene = engine_->config();
-  // A frame plan's RD rides in its fluid passes (the table1 scenes): no coarser RD grid.
-  if (!scene.rd.enabled || !preset.quality.adaptive || scene.fluid.kind == FluidSceneKind::kTable1)
+  // A frame plan's RD rides in its fluid passes (the table1 scenes), and a block of a split wall
+  // steps its cells of the one grid: no coarser RD grid.
+  if (!scene.rd.enabled || !preset.quality.adaptive ||
+      scene.fluid.kind == FluidSceneKind::kTable1 || engine_->device().on_block())
     return;
   snap_a_ = FieldF(scene.size, 1);
   snap_b_ = FieldF(scene.size, 1);

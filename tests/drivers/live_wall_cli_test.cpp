@@ -5,8 +5,9 @@
 // of one process's window at one pixel a cell after the same frames, for 2 and 4 screens (2x1,
 // 1x2, 2x2); with a bezel the hidden cells are black and every other pixel is one process's. A
 // mirrored wall (cavity-gray-scott: every screen steps the whole grid) shows one process's frame
-// too, and screens on different back ends (PoCL and the CPU) are brought back in step. A
-// signal to one screen ends every screen; bad wall settings exit 2 with one line.
+// too, and so does a split wall of a scene of stages (seed 001: each screen steps its block), and
+// screens on different back ends (PoCL and the CPU) are brought back in step. A signal to one
+// screen ends every screen; bad wall settings exit 2 with one line.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -27,23 +28,23 @@ class LiveWallCliTest : public BinaryRunTest {
   void SetUp() override {
     BinaryRunTest::SetUp();
     // table1-ard on 96 x 64 cells: blocks of 48 x 32 hold its halo of 23.
-    std::ifstream in(ARDCELL_SOURCE_DIR "/presets/table1-ard.toml");
+    write_resized("table1-ard", "size = [256, 256]", "size = [96, 64]", "wall.toml");
+    // cavity-gray-scott (fluid and anisotropic RD as stages on whole fields) on 48 x 32 cells.
+    write_resized("cavity-gray-scott", "size = [256, 256]", "size = [48, 32]", "mirrored.toml");
+    // seed001 (explicit 9-point Gray-Scott as stages, halos of one cell) on 96 x 64 cells.
+    write_resized("seed001", "size = [400, 400]", "size = [96, 64]", "seed001.toml");
+  }
+  // The built-in preset `name` with its grid line `size` replaced by `resized`, as work()/out.
+  void write_resized(const std::string& name, const std::string& size, const std::string& resized,
+                     const std::string& out) {
+    std::ifstream in(std::string(ARDCELL_SOURCE_DIR "/presets/") + name + ".toml");
     std::stringstream text;
     text << in.rdbuf();
     std::string preset = text.str();
-    const std::size_t at = preset.find("size = [256, 256]");
-    ASSERT_NE(at, std::string::npos);
-    preset.replace(at, 17, "size = [96, 64]");
-    std::ofstream(work() / "wall.toml") << preset;
-    // cavity-gray-scott (fluid and anisotropic RD as stages on whole fields) on 48 x 32 cells.
-    std::ifstream in_cgs(ARDCELL_SOURCE_DIR "/presets/cavity-gray-scott.toml");
-    std::stringstream cgs;
-    cgs << in_cgs.rdbuf();
-    preset = cgs.str();
-    const std::size_t at_cgs = preset.find("size = [256, 256]");
-    ASSERT_NE(at_cgs, std::string::npos);
-    preset.replace(at_cgs, 17, "size = [48, 32]");
-    std::ofstream(work() / "mirrored.toml") << preset;
+    const std::size_t at = preset.find(size);
+    ASSERT_NE(at, std::string::npos) << name;
+    preset.replace(at, size.size(), resized);
+    std::ofstream(work() / out) << preset;
   }
   bool has_display() const { return std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"); }
   // An Open MPI job's environment (mpi_env) with Mesa's softpipe for SDL's GL: llvmpipe's JIT
@@ -100,6 +101,15 @@ TEST_F(LiveWallCliTest, TheWallShowsOneProcesssFrame) {
   walls_show_one_frame("wall.toml", 30, {"2x1", "1x2", "2x2"}, [](const BinaryRunResult& r) {
     // Rank 0 alone reports: its back end and how the wall runs, in one line.
     EXPECT_EQ(count_lines(r.err.substr(0, r.err.find("frames 30,"))), 1) << r.err;
+    EXPECT_NE(r.err.find("each screen steps its block of the grid (split)"), std::string::npos)
+        << r.err;
+  });
+}
+
+// A scene of stages whose ops exchange a block's halos (seed 001) splits its grid too.
+TEST_F(LiveWallCliTest, AScreenOfAStageSceneStepsItsBlock) {
+  if (!has_display()) GTEST_SKIP() << "no X or Wayland display";
+  walls_show_one_frame("seed001.toml", 20, {"2x1", "2x2"}, [](const BinaryRunResult& r) {
     EXPECT_NE(r.err.find("each screen steps its block of the grid (split)"), std::string::npos)
         << r.err;
   });

@@ -28,14 +28,19 @@ inline double interior_sum(const FieldF& f) {
   return s;
 }
 
-// Bit for bit the same cells, the halo included (same layouts).
-inline bool same_cells(const FieldF& a, const FieldF& b) {
-  const Box2 box = a.with_halo();
+// Bit for bit the same cells over `box`, which both fields hold (halo cells allowed): a block's
+// owned cells against the same cells of the whole grid.
+inline bool same_cells_in(const FieldF& a, const FieldF& b, const Box2& box) {
   for (int y = box.min.y; y < box.max.y; ++y)
     if (std::memcmp(a.row(y) + box.min.x, b.row(y) + box.min.x,
                     std::size_t(box.width()) * sizeof(float)) != 0)
       return false;
   return true;
+}
+
+// Bit for bit the same cells, the halo included (same layouts).
+inline bool same_cells(const FieldF& a, const FieldF& b) {
+  return same_cells_in(a, b, a.with_halo());
 }
 
 inline double max_relative_error(const FieldF& got, const FieldF& ref) {

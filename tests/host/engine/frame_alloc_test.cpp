@@ -1,13 +1,17 @@
 // No heap allocation during a steady-state frame: global operator new is replaced in this
 // test program and counted while frames run, on every schedule of the Table 1 plan and on every
 // preset on every back end of the engine (the OpenCL one on PoCL: the host side of its frame, which
-// only enqueues kernels), the FFT steps on the OpenCL device included.
+// only enqueues kernels), the FFT steps on the OpenCL device included, and blocks of a scene of
+// stages exchanging their halos.
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <barrier>
 #include <cstdlib>
+#include <memory>
 #include <new>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "host/engine/device.h"
@@ -15,6 +19,7 @@
 #include "host/engine/table1_plan.h"
 #include "host/scenes/preset.h"
 #include "host/scenes/scene_registry.h"
+#include "runtime/block_layout.h"
 
 #include "tests/support/alloc_counter.h"
 #if defined(ARDCELL_WITH_OPENCL)
@@ -68,6 +73,43 @@ TEST(FrameAlloc, EveryPresetOnEveryBackendSteps0Allocations) {
       EXPECT_EQ(g_allocations.load() - before, 0) << name << " on " << engine.backend_name();
     }
   }
+}
+
+// Blocks of a scene of stages (seed 001 as 2x1 blocks on threads, one engine each): the halo
+// exchange of every step allocates nothing either.
+TEST(FrameAlloc, StageBlocksStep0Allocations) {
+  SceneConfig scene = builtin_scenes().find("seed001")->make();
+  scene.size = {127, 93};
+  const BlockSupport support = block_support(scene);
+  ASSERT_EQ(support.problem, "");
+  const BlockLayout layout =
+      BlockLayout::split(scene.size, {2, 1}, support.periodic_x, support.periodic_y);
+  LocalBlockGroup group(layout, support.halo);
+  std::vector<std::unique_ptr<Engine>> blocks;
+  for (int b = 0; b < 2; ++b) {
+    EngineOptions o{EngineOptions::Backend::kThreads, 2};
+    o.plan.block = layout.block(b);
+    o.plan.halo = &group.channel(b);
+    blocks.push_back(std::make_unique<Engine>(scene, o));
+  }
+  // Both blocks step together (their exchanges meet); the count covers both threads' frames.
+  std::barrier<> sync(2);
+  std::thread other([&] {
+    blocks[1]->step();
+    sync.arrive_and_wait();  // the first frames are done
+    sync.arrive_and_wait();  // counting
+    for (int i = 0; i < 3; ++i) blocks[1]->step();
+    sync.arrive_and_wait();
+  });
+  blocks[0]->step();
+  sync.arrive_and_wait();
+  const long before = g_allocations.load();
+  sync.arrive_and_wait();
+  for (int i = 0; i < 3; ++i) blocks[0]->step();
+  sync.arrive_and_wait();
+  const long after = g_allocations.load();
+  other.join();
+  EXPECT_EQ(after - before, 0);
 }
 
 // The FFT steps on the OpenCL device (the test above runs them on the CPU: 127 and 31 are prime

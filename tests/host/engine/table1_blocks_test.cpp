@@ -4,7 +4,6 @@
 // uneven layouts of a grid no block divides.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <memory>
 #include <string>
 #include <thread>
@@ -14,6 +13,7 @@
 #include "host/engine/table1_plan.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
+#include "tests/support/field_compare.h"
 
 namespace ardcell {
 namespace {
@@ -34,16 +34,6 @@ EngineOptions options(PlanSchedule s) {
   o.plan.schedule = s;
   o.plan.local_store_bytes = 1024 * 1024;
   return o;
-}
-
-// Every cell a block owns (its interior and the domain's ring along its walls) equals the same
-// cell of the whole-grid run.
-bool same_owned_cells(const FieldF& block, const FieldF& whole, const Box2& owned) {
-  for (int y = owned.min.y; y < owned.max.y; ++y)
-    if (std::memcmp(block.row(y) + owned.min.x, whole.row(y) + owned.min.x,
-                    std::size_t(owned.width()) * sizeof(float)) != 0)
-      return false;
-  return true;
 }
 
 void run_blocks(PlanSchedule schedule, Int2 parts, const SimState& whole, int frames) {
@@ -68,11 +58,11 @@ void run_blocks(PlanSchedule schedule, Int2 parts, const SimState& whole, int fr
   for (int b = 0; b < layout.count(); ++b) {
     const SimState& s = blocks[std::size_t(b)]->state();
     const Box2 owned = layout.owned(b);
-    EXPECT_TRUE(same_owned_cells(s.u, whole.u, owned)) << what << " block " << b << ": u";
-    EXPECT_TRUE(same_owned_cells(s.v, whole.v, owned)) << what << " block " << b << ": v";
-    EXPECT_TRUE(same_owned_cells(s.dye, whole.dye, owned)) << what << " block " << b << ": dye";
-    EXPECT_TRUE(same_owned_cells(s.A, whole.A, owned)) << what << " block " << b << ": A";
-    EXPECT_TRUE(same_owned_cells(s.B, whole.B, owned)) << what << " block " << b << ": B";
+    EXPECT_TRUE(same_cells_in(s.u, whole.u, owned)) << what << " block " << b << ": u";
+    EXPECT_TRUE(same_cells_in(s.v, whole.v, owned)) << what << " block " << b << ": v";
+    EXPECT_TRUE(same_cells_in(s.dye, whole.dye, owned)) << what << " block " << b << ": dye";
+    EXPECT_TRUE(same_cells_in(s.A, whole.A, owned)) << what << " block " << b << ": A";
+    EXPECT_TRUE(same_cells_in(s.B, whole.B, owned)) << what << " block " << b << ": B";
   }
 }
 
