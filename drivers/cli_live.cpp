@@ -1,29 +1,21 @@
 // `ardcell live [PRESET]`: the real-time window (drivers/display_sdl.h) running the live loop
 // (host/live/live_loop.h) with presets, adaptive quality, attract mode, GPIO buttons, OSC and
 // recording. See docs/live-and-kiosk.md.
-#include <arpa/inet.h>
 #include <sched.h>
 #include <sys/mman.h>
 
 #include <atomic>
 #include <cerrno>
-#include <chrono>
-#include <condition_variable>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <mutex>
-#include <thread>
 
 #include "drivers/cli.h"
 #include "drivers/cli_backend.h"
 #include "drivers/cli_ranks.h"
-#include "drivers/ffmpeg_pipe.h"
-#include "drivers/gpio_buttons.h"
-#include "drivers/png_writer.h"
+#include "drivers/live_services.h"
 #include "drivers/surface_fluid_flags.h"
 #include "host/io/atomic_file.h"
-#include "host/live/attract_mode.h"
 #include "host/live/live_engine.h"
 #include "host/live/live_wall.h"
 #if defined(ARDCELL_WITH_MPI)
@@ -37,15 +29,6 @@
 #include "runtime/opencl/backend_choice.h"
 #ifdef ARDCELL_WITH_SDL2
 #include "drivers/display_sdl.h"
-#endif
-#ifdef ARDCELL_WITH_GPIOD
-#include "drivers/gpio_gpiod.h"
-#endif
-#ifdef ARDCELL_WITH_LIBLO
-#include "drivers/osc_liblo.h"
-#endif
-#ifdef ARDCELL_WITH_SYSTEMD
-#include <systemd/sd-daemon.h>
 #endif
 
 namespace ardcell {
@@ -111,12 +94,6 @@ std::string check_wall_args(const LiveArgs& a) {
   return "";
 }
 
-// An IPv4 address outside 127.0.0.0/8: listening there needs --osc-remote.
-bool is_remote_address(const std::string& address) {
-  in_addr a{};
-  return inet_pton(AF_INET, address.c_str(), &a) == 1 && (ntohl(a.s_addr) >> 24) != 127;
-}
-
 // --backend / --cl-device: what to run the presets on. "" when valid, else the usage line.
 std::string check_backend_args(const LiveArgs& a, BackendKind& kind, bool& opencl_asked) {
   if (!parse_backend_kind(a.backend, kind))
@@ -173,28 +150,6 @@ std::string check_surface_args(const LiveArgs& a, BackendKind backend) {
   return patch_cells_problem(a.patch_cells);
 #endif
 }
-
-// FrameSink (drivers/) as the live loop's FrameWriter.
-class SinkWriter final : public FrameWriter {
- public:
-  explicit SinkWriter(std::unique_ptr<FrameSink> sink) : sink_(std::move(sink)) {}
-  Status write(const ImageRgb8& frame) override { return sink_->write(frame, {index_++, 0, 0}); }
-  Status finish() override { return sink_->finish(); }
-
- private:
-  std::unique_ptr<FrameSink> sink_;
-  int64_t index_ = 0;
-};
-
-class PngWriter final : public FrameWriter {
- public:
-  explicit PngWriter(std::string path) : path_(std::move(path)) {}
-  Status write(const ImageRgb8& frame) override { return write_png(path_, frame); }
-  Status finish() override { return Status::ok(); }
-
- private:
-  std::string path_;
-};
 
 void request_realtime(std::FILE* err) {
   sched_param sp{};
@@ -442,19 +397,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   o.screenshot_dir = a.screenshot_dir;
   o.exit_screenshot = a.screenshot;
   o.log = ctx.err;
-  o.recorder = [](const std::string& path, Int2 size, double fps,
-                  Status& err) -> std::unique_ptr<FrameWriter> {
-    std::unique_ptr<FrameSink> sink;
-    std::string note;
-    err = make_video_sink(path, size.x, size.y, int(fps + 0.5), sink, note);
-    if (!note.empty()) std::fprintf(stderr, "ardcell live: %s\n", note.c_str());
-    if (!err) return nullptr;
-    return std::make_unique<SinkWriter>(std::move(sink));
-  };
-  o.screenshotter = [](const std::string& path, Int2, double,
-                       Status&) -> std::unique_ptr<FrameWriter> {
-    return std::make_unique<PngWriter>(path);
-  };
+  use_file_writers(o);
 #if defined(ARDCELL_WITH_MPI)
   o.wall = wall.get();
   if (walled) o.adaptive = false;
@@ -488,55 +431,16 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   if (Status s = loop.start(first); !s) return fail(kExitUsage, s.message(), true);
   install_report_signal();
 
-  std::unique_ptr<AttractMode> attract;
-  if (a.attract_seconds > 0) {
-    attract = std::make_unique<AttractMode>(a.attract_seconds);
-    if (!a.attract_dir.empty()) {
-      if (Status s = attract->load_folder(a.attract_dir); !s)
-        std::fprintf(ctx.err, "ardcell live: attract: %s\n", s.message().c_str());
-    }
-    if (attract->recordings() == 0)
-      std::fprintf(ctx.err, "ardcell live: attract: no recordings; attract mode is off\n");
-    loop.set_attract_mode(attract.get());
-  }
-
-#ifdef ARDCELL_WITH_GPIOD
-  std::unique_ptr<GpioButtons> buttons;
-  if (!a.gpio_config.empty()) {
-    GpioConfig cfg;
-    if (Status s = load_gpio_config(a.gpio_config, cfg); !s)
-      return fail(kExitUsage, s.message(), true);
-    Status gs = Status::ok();
-    auto src = open_gpiod_source(cfg, gs);
-    if (src)
-      buttons = std::make_unique<GpioButtons>(std::move(src), cfg, loop.commands());
-    else
-      std::fprintf(ctx.err, "ardcell live: %s\n", gs.message().c_str());
-  }
-#else
-  if (!a.gpio_config.empty())
-    std::fprintf(ctx.err, "ardcell live: --gpio: this build has no libgpiod; buttons are off\n");
-#endif
-#ifdef ARDCELL_WITH_LIBLO
-  std::unique_ptr<OscServer> osc;
-  // On a wall OSC listens on screen 0 only (one port); what it receives reaches every screen.
-  if (a.osc_port >= 0 && (!walled || screen == 0)) {
-    Status os = Status::ok();
-    osc = OscServer::start(a.osc_port, a.osc_bind, loop.commands(), loop.remote_input(),
-                           loop.remote_log(), os, a.preset_dirs);
-    if (!osc) return fail(kExitUsage, os.message(), true);
-    std::fprintf(ctx.err, "ardcell live: OSC on udp://%s:%d\n", a.osc_bind.c_str(), osc->port());
-    if (is_remote_address(a.osc_bind))
-      std::fprintf(ctx.err,
-                   "ardcell live: warning: OSC listens beyond this machine (%s): anyone who can "
-                   "reach UDP port %d can switch presets, paint and record; there is no "
-                   "authentication\n",
-                   a.osc_bind.c_str(), osc->port());
-  }
-#else
-  if (a.osc_port >= 0)
-    return fail(kExitUsage, "--osc: this build has no liblo (ARDCELL_WITH_LIBLO=OFF)", false);
-#endif
+  // Kiosk services: the attract mode, GPIO buttons, OSC (on a wall, screen 0 listens for all).
+  LiveServices services;
+  const LiveServiceProblem problem = services.start({.attract_seconds = a.attract_seconds,
+                                                     .attract_dir = a.attract_dir,
+                                                     .gpio_config = a.gpio_config,
+                                                     .osc_port = a.osc_port,
+                                                     .osc_bind = a.osc_bind,
+                                                     .preset_dirs = a.preset_dirs},
+                                                    !walled || screen == 0, loop, ctx.err);
+  if (!problem.line.empty()) return fail(kExitUsage, problem.line, problem.local);
 #if defined(ARDCELL_WITH_MPI)
   // Every screen started, or every screen leaves (the one that could not said why); and every
   // screen runs the same, or a mirrored wall's screens would step different simulations.
@@ -573,36 +477,7 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
   std::fprintf(ctx.err, "ardcell live: backend %.*s%s\n", int(loop.simulation().backend().size()),
                loop.simulation().backend().data(), wall_line.c_str());
 
-  // The watchdog thread waits on `stopped` between pings, so that the end of the loop wakes it
-  // at once (a plain sleep held the exit up to half of WatchdogSec).
-  std::mutex watchdog_mutex;
-  std::condition_variable stopped;
-  bool running = true;
-  std::thread watchdog;
-#ifdef ARDCELL_WITH_SYSTEMD
-  sd_notify(0, "READY=1");
-  uint64_t usec = 0;
-  if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0) {
-    // Pings only while frames keep coming: a stuck loop lets systemd restart the kiosk.
-    watchdog = std::thread([&loop, &running, &watchdog_mutex, &stopped, usec] {
-      int64_t seen = -1;
-      std::unique_lock<std::mutex> lock(watchdog_mutex);
-      while (!stopped.wait_for(lock, std::chrono::microseconds(usec / 2),
-                               [&running] { return !running; })) {
-        const int64_t beat = loop.heartbeat().load();
-        if (beat != seen) sd_notify(0, "WATCHDOG=1");
-        seen = beat;
-      }
-    });
-  }
-#endif
-  const Status s = loop.run();
-  {
-    const std::lock_guard<std::mutex> lock(watchdog_mutex);
-    running = false;
-  }
-  stopped.notify_all();
-  if (watchdog.joinable()) watchdog.join();
+  const Status s = services.run(loop);
   if (loop.wall_resyncs() > 0)
     std::fprintf(ctx.err,
                  "ardcell live: wall: the screens drifted apart %lld times; each time they went "
