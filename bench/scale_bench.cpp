@@ -1,16 +1,18 @@
-// Scaling across processes: frames per second of table1-ard on ONE grid cut into blocks, one per
-// MPI rank, as `mpirun -np R ardcell run table1-ard --ranks WxH` runs it (the blocked schedule;
-// one rank's workers pinned, several ranks' left to mpirun's binding; the plan's halo exchange
-// through MpiHaloChannel). Run under
+// Scaling across processes: frames per second of a scene on ONE grid cut into blocks, one per
+// MPI rank, as `mpirun -np R ardcell run SCENE --ranks WxH` runs it (table1-ard: the blocked
+// schedule, the plan's halo exchange; seed001: its stages, a halo of one cell exchanged before
+// every step; one rank's workers pinned, several ranks' left to mpirun's binding; the exchange
+// through MpiHaloChannel). One rank runs the whole grid, as `ardcell run SCENE` does. Run under
 // mpirun by `ardcell bench scale` (drivers/cli_bench_scale.cpp), one configuration a process
 // group:
+//   ARDCELL_BENCH_SCENE    a built-in scene that runs as blocks (default table1-ard);
 //   ARDCELL_BENCH_GRID     the whole grid, "WxH" (default 2048x2048);
 //   ARDCELL_BENCH_RANKS    the layout, "2x1" (must match mpirun -np; default 1x1);
 //   ARDCELL_BENCH_WORKERS  threads back end workers per rank (default 1);
 //   ARDCELL_BENCH_FRAMES   frames timed (default 20): a fixed count, the same on every rank,
 //                          since ranks that chose their own iteration counts would wait on
 //                          each other's exchanges for ever.
-// Benchmark Scale/<ranks>/<grid>/workers:<n>, one iteration a frame. Counters: fps,
+// Benchmark Scale/<scene>/<ranks>/<grid>/workers:<n>, one iteration a frame. Counters: fps,
 // cells_per_s, halo_bytes_per_frame (sent by all ranks), mpi_ms_per_frame (rank 0's time in
 // exchanges, waiting for its neighbours included, while its other workers compute the inner
 // tiles), ranks, workers. Rank 0 reports; the other
@@ -25,7 +27,6 @@
 
 #include "bench/bench_env.h"
 #include "host/engine/engine.h"
-#include "host/engine/table1_plan.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
 #include "runtime/mpi/mpi_world.h"
@@ -39,11 +40,13 @@ class SilentReporter : public benchmark::BenchmarkReporter {
   void ReportRuns(const std::vector<Run>&) override {}
 };
 
-void run_scale(benchmark::State& state, MpiWorld& world, Int2 grid, Int2 ranks, int workers) {
-  SceneConfig scene = builtin_scenes().find("table1-ard")->make();
-  scene.size = grid;
-  const BlockLayout layout = BlockLayout::split(grid, ranks);
-  MpiHaloChannel channel(layout, table1_block_halo(scene), world);
+void run_scale(benchmark::State& state, MpiWorld& world, SceneConfig scene, Int2 ranks,
+               int workers) {
+  const Int2 grid = scene.size;
+  const BlockSupport support = block_support(scene);
+  const BlockLayout layout =
+      BlockLayout::split(grid, ranks, support.periodic_x, support.periodic_y);
+  MpiHaloChannel channel(layout, support.halo, world);
   EngineOptions o;
   o.backend = EngineOptions::Backend::kThreads;
   o.workers = workers;
@@ -51,8 +54,12 @@ void run_scale(benchmark::State& state, MpiWorld& world, Int2 grid, Int2 ranks, 
   // the core of the thread that woke it); ranks do not (each would pin to the same cores).
   o.pin_workers = world.size() == 1;
   o.plan.schedule = PlanSchedule::kBlocked;
-  o.plan.block = layout.block(world.rank());
-  o.plan.halo = &channel;
+  // One rank runs the whole grid as `ardcell run` does (seed001: its temporally blocked kernel);
+  // several run blocks.
+  if (world.size() > 1) {
+    o.plan.block = layout.block(world.rank());
+    o.plan.halo = &channel;
+  }
   Engine engine(scene, o);
   engine.step();  // warm: first touch of every field and store
   channel.reset_stats();
@@ -91,12 +98,26 @@ int main(int argc, char** argv) {
                    grid_text.c_str(), ranks_text.c_str(), world.size());
     return 2;
   }
+  const std::string scene_name = bench_env_text("ARDCELL_BENCH_SCENE", "table1-ard");
+  const SceneEntry* entry = builtin_scenes().find(scene_name);
+  SceneConfig scene;
+  if (entry) {
+    scene = entry->make();
+    scene.size = grid;
+  }
+  if (!entry || !block_support(scene).problem.empty()) {
+    if (world.rank() == 0)
+      std::fprintf(stderr, "scale_bench: ARDCELL_BENCH_SCENE '%s': %s\n", scene_name.c_str(),
+                   entry ? block_support(scene).problem.c_str()
+                         : "not a built-in scene (expected one that runs as blocks)");
+    return 2;
+  }
   const int workers = std::max(1, bench_env_int("ARDCELL_BENCH_WORKERS", 1));
   const int frames = std::max(1, bench_env_int("ARDCELL_BENCH_FRAMES", 20));
-  const std::string name =
-      "Scale/" + ranks_text + "/" + grid_text + "/workers:" + std::to_string(workers);
+  const std::string name = "Scale/" + scene_name + "/" + ranks_text + "/" + grid_text +
+                           "/workers:" + std::to_string(workers);
   benchmark::RegisterBenchmark(
-      name.c_str(), [&](benchmark::State& st) { run_scale(st, world, grid, ranks, workers); })
+      name.c_str(), [&](benchmark::State& st) { run_scale(st, world, scene, ranks, workers); })
       ->Iterations(frames)
       ->UseRealTime()
       ->Unit(benchmark::kMillisecond);

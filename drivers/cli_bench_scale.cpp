@@ -1,5 +1,6 @@
-// `ardcell bench scale`: one table1-ard grid over several processes (Open MPI), against one
-// process on the same cores: bench/scale_bench.cpp under mpirun, one process group per row.
+// `ardcell bench scale`: one grid of a scene that runs as blocks (--scene: table1-ard, the
+// default, or seed001) over several processes (Open MPI), against one process on the same
+// cores: bench/scale_bench.cpp under mpirun, one process group per row.
 //   strong - the fixed grid --size (default 2048^2), 1 rank and R ranks (R x 1 blocks), the
 //            machine's cores shared out (workers per rank = cores / R);
 //   weak   - --weak^2 cells per rank ((R --weak) x --weak), the same cores.
@@ -19,6 +20,8 @@
 
 #include "drivers/bench_program.h"
 #include "drivers/cli.h"
+#include "host/engine/engine.h"
+#include "host/scenes/scene_registry.h"
 #include "runtime/box.h"
 
 #ifndef ARDCELL_MPIEXEC
@@ -31,6 +34,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct ScaleOptions {
+  std::string scene = "table1-ard";
   int size = 2048;
   int weak = 1024;
   std::string ranks = "1,2";
@@ -60,6 +64,10 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
   if (std::find(ranks.begin(), ranks.end(), 1) == ranks.end()) ranks.insert(ranks.begin(), 1);
   if (o.size < 64 || o.weak < 64 || o.frames < 1)
     return usage("--size and --weak: expected 64 or more cells; --frames: 1 or more");
+  if (const SceneEntry* entry = builtin_scenes().find(o.scene); !entry)
+    return usage("--scene " + o.scene + ": not a built-in scene (expected table1-ard or seed001)");
+  else if (std::string why = block_support(entry->make()).problem; !why.empty())
+    return usage("--scene " + o.scene + ": runs on one process's whole grid: " + why);
   const std::string binary =
       o.binary.empty() ? bench_binary_beside_ardcell("scale_bench").string() : o.binary;
   if (!fs::exists(binary))
@@ -86,6 +94,7 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
       const std::string grid = std::to_string(row.grid.x) + "x" + std::to_string(row.grid.y);
       const std::string json = (fs::path(o.out) / ".scale_bench.json").string();
       std::vector<std::pair<std::string, std::string>> env = {
+          {"ARDCELL_BENCH_SCENE", o.scene},
           {"ARDCELL_BENCH_GRID", grid},
           {"ARDCELL_BENCH_RANKS", std::to_string(r) + "x1"},
           {"ARDCELL_BENCH_WORKERS", std::to_string(row.workers)},
@@ -128,7 +137,8 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
         row.efficiency = row.cells_per_s / one.cells_per_s;
 
   std::ostringstream md, csv;
-  md << "table1-ard (blocked schedule) over Open MPI ranks on " << cores
+  md << o.scene << (o.scene == "table1-ard" ? " (blocked schedule)" : "")
+     << " over Open MPI ranks on " << cores
      << " cores; efficiency = cells/s over the 1-rank row of the same kind\n\n"
      << "| scaling | ranks | workers/rank | grid | fps | cells/s | efficiency | halo KiB/frame "
         "| MPI ms/frame (rank 0) |\n"
@@ -164,8 +174,10 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
 
 void add_bench_scale_command(CLI::App& bench, CliContext& ctx) {
   auto* scale = bench.add_subcommand(
-      "scale", "One table1-ard grid over MPI ranks against one process: strong and weak scaling");
+      "scale", "One scene's grid over MPI ranks against one process: strong and weak scaling");
   auto o = std::make_shared<ScaleOptions>();
+  scale->add_option("--scene", o->scene, "A scene that runs as blocks: table1-ard or seed001")
+      ->capture_default_str();
   scale->add_option("--size", o->size, "Strong scaling: the grid side N (N x N)")
       ->capture_default_str();
   scale->add_option("--weak", o->weak, "Weak scaling: the grid side per rank")

@@ -1,7 +1,9 @@
 // `ardcell bench scale` through the real binary: bench/scale_bench under Open MPI's mpirun for
 // 1 and 2 ranks, strong and weak, at a small size: the table and scale.md / scale.csv hold one
 // row per run with a positive rate; one rank sends no halo, two do; the 1-rank rows are the
-// efficiency's reference (1.000). Bad --ranks exits 2 with one line.
+// efficiency's reference (1.000); the same for seed 001 (--scene seed001: a scene of stages whose
+// blocks exchange before every step). Bad --ranks and a scene that cannot run as blocks exit 2
+// with one line.
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -15,13 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class BenchScaleTest : public BinaryRunTest {
- protected:
-  BinaryRunResult run_bench(const std::string& args) {
-    return run_command(mpi_env() + "exec '" ARDCELL_BINARY "' bench scale " + args);
-  }
-};
-
 std::vector<std::string> csv_cells(const std::string& line) {
   std::vector<std::string> cells;
   std::stringstream in(line);
@@ -29,38 +24,59 @@ std::vector<std::string> csv_cells(const std::string& line) {
   return cells;
 }
 
+class BenchScaleTest : public BinaryRunTest {
+ protected:
+  BinaryRunResult run_bench(const std::string& args) {
+    return run_command(mpi_env() + "exec '" ARDCELL_BINARY "' bench scale " + args);
+  }
+  // scale.md and scale.csv in `dir`: four rows (strong and weak, 1 and 2 ranks) with a positive
+  // rate; one rank sends no halo and is the efficiency's reference, two do.
+  void expect_scale_rows(const BinaryRunResult& r, const fs::path& dir) {
+    EXPECT_NE(r.out.find("| strong | 2 | "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("| weak | 2 | "), std::string::npos) << r.out;
+    const std::string csv = slurp(dir / "scale.csv");
+    ASSERT_TRUE(fs::exists(dir / "scale.md"));
+    std::stringstream lines(csv);
+    std::string header, line;
+    std::getline(lines, header);
+    EXPECT_EQ(header,
+              "scaling,ranks,workers_per_rank,grid_x,grid_y,fps,cells_per_s,efficiency,"
+              "halo_bytes_per_frame,mpi_ms_per_frame");
+    int rows = 0;
+    while (std::getline(lines, line)) {
+      const std::vector<std::string> c = csv_cells(line);
+      ASSERT_EQ(c.size(), 10u) << line;
+      ++rows;
+      const int ranks = std::stoi(c[1]);
+      EXPECT_GT(std::stod(c[5]), 0.0) << line;
+      if (ranks == 1) {
+        EXPECT_EQ(std::stod(c[8]), 0.0) << line;  // nothing to send
+        EXPECT_EQ(std::stod(c[7]), 1.0) << line;  // the reference
+      } else {
+        EXPECT_GT(std::stod(c[8]), 0.0) << line;
+      }
+      // Weak scaling: 64 x 64 cells per rank.
+      if (c[0] == "weak") {
+        EXPECT_EQ(std::stoi(c[3]) * std::stoi(c[4]), ranks * 64 * 64) << line;
+      }
+    }
+    EXPECT_EQ(rows, 4);
+  }
+};
+
 TEST_F(BenchScaleTest, OneAndTwoRanksStrongAndWeak) {
   const BinaryRunResult r = run_bench("--size 96 --weak 64 --frames 2 --ranks 2 --out res");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("| strong | 2 | "), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("| weak | 2 | "), std::string::npos) << r.out;
-  const std::string csv = slurp(work() / "res" / "scale.csv");
-  ASSERT_TRUE(fs::exists(work() / "res" / "scale.md"));
-  std::stringstream lines(csv);
-  std::string header, line;
-  std::getline(lines, header);
-  EXPECT_EQ(header,
-            "scaling,ranks,workers_per_rank,grid_x,grid_y,fps,cells_per_s,efficiency,"
-            "halo_bytes_per_frame,mpi_ms_per_frame");
-  int rows = 0;
-  while (std::getline(lines, line)) {
-    const std::vector<std::string> c = csv_cells(line);
-    ASSERT_EQ(c.size(), 10u) << line;
-    ++rows;
-    const int ranks = std::stoi(c[1]);
-    EXPECT_GT(std::stod(c[5]), 0.0) << line;
-    if (ranks == 1) {
-      EXPECT_EQ(std::stod(c[8]), 0.0) << line;  // nothing to send
-      EXPECT_EQ(std::stod(c[7]), 1.0) << line;  // the reference
-    } else {
-      EXPECT_GT(std::stod(c[8]), 0.0) << line;
-    }
-    // Weak scaling: 64 x 64 cells per rank.
-    if (c[0] == "weak") {
-      EXPECT_EQ(std::stoi(c[3]) * std::stoi(c[4]), ranks * 64 * 64) << line;
-    }
-  }
-  EXPECT_EQ(rows, 4);
+  EXPECT_EQ(r.out.find("table1-ard (blocked schedule) over Open MPI ranks"), 0u) << r.out;
+  expect_scale_rows(r, work() / "res");
+}
+
+TEST_F(BenchScaleTest, Seed001AsBlocks) {
+  const BinaryRunResult r =
+      run_bench("--scene seed001 --size 96 --weak 64 --frames 2 --ranks 2 --out seed");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.find("seed001 over Open MPI ranks"), 0u) << r.out;
+  expect_scale_rows(r, work() / "seed");
 }
 
 TEST_F(BenchScaleTest, BadRanksExitTwo) {
@@ -68,6 +84,16 @@ TEST_F(BenchScaleTest, BadRanksExitTwo) {
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err,
             "ardcell bench scale: --ranks '0,x': expected rank counts 1..256, comma-separated\n");
+}
+
+TEST_F(BenchScaleTest, AWholeGridSceneExitsTwo) {
+  const BinaryRunResult r = run_bench("--scene cavity --out res");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.find("ardcell bench scale: --scene cavity: runs on one process's whole grid: "
+                       "fluid.scene: "),
+            0u)
+      << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
 }
 
 }  // namespace
