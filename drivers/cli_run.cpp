@@ -402,7 +402,7 @@ int do_run(RunArgs& a, CliContext& ctx) {
   if (!planned) {
     const std::string general =
         " applies to the scenes built of tile passes (table1, table1-ard); scene '" + scene.name +
-        "' runs its steps as stages on whole fields (expected no ";
+        "' runs its steps as stages (expected no ";
     if (a.schedule_opt->count()) return usage("--schedule" + general + "--schedule)");
     if (a.store_kib_opt->count()) return usage("--store-kib" + general + "--store-kib)");
   } else if (a.schedule_opt->count()) {

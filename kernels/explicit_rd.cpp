@@ -82,13 +82,6 @@ inline void gray_scott9_row(const float* __restrict a0, const float* __restrict 
 
 }  // namespace
 
-void gray_scott9_explicit_row(const float* const a_rows[3], const float* const b_rows[3],
-                              float* a_out, float* b_out, int n, const GrayScott9Params& p,
-                              float* scratch) {
-  gray_scott9_row(a_rows[0], a_rows[1], a_rows[2], b_rows[0], b_rows[1], b_rows[2], scratch,
-                  scratch + (n + 2), a_out, b_out, n, gray_scott9_coeffs(p));
-}
-
 void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<float> a_out,
                                View<float> b_out, Box2 region, const GrayScott9Params& p,
                                float* scratch) {

@@ -45,12 +45,6 @@ struct GrayScott9Coeffs {
   float ca = 0, cb = 0, pa = 0, pb = 0, q = 0, dt = 0;
 };
 GrayScott9Coeffs gray_scott9_coeffs(const GrayScott9Params& p);
-// One output row of it from raw row pointers (the building block of temporally blocked
-// schedules): a_rows/b_rows point at x = x0 - 1 of rows y - 1, y, y + 1 (n + 2 cells each);
-// writes n cells at a_out/b_out (x = x0). scratch: 2 * (n + 2) floats.
-void gray_scott9_explicit_row(const float* const a_rows[3], const float* const b_rows[3],
-                              float* a_out, float* b_out, int n, const GrayScott9Params& p,
-                              float* scratch);
 // scratch: at least 2 * (region.width() + 2) floats (row sums), 64-byte aligned preferred.
 void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<float> a_out,
                                View<float> b_out, Box2 region, const GrayScott9Params& p,

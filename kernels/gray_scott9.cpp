@@ -39,24 +39,31 @@ using Vec = float __attribute__((vector_size(kLanes * sizeof(float))));
 // a * b + c. This file is built with -ffp-contract=off (CMakeLists.txt), so the compiler never
 // fuses on its own: where a fused multiply-add is wanted it is written here, and every inlined
 // copy of an expression then rounds alike (contraction decided per copy had made cells at
-// x = 0 differ between schedules in AVX2 builds). Without FMA hardware: two roundings.
+// x = 0 differ between schedules in AVX2 builds). Rounded once on every target, as the per-step
+// kernel's std::fma and the OpenCL twin's fma are (kernels/explicit_rd.h), so that all give the
+// same bits: lane by lane with fmaf where the intrinsics are missing (one instruction on
+// aarch64; a libm call, slow but exact, on an x86 build without FMA).
 [[gnu::always_inline]] inline Vec fma(Vec a, Vec b, Vec c) {
 #if defined(__AVX512F__)
   return Vec(_mm512_fmadd_ps(__m512(a), __m512(b), __m512(c)));
 #elif defined(__FMA__) && defined(__AVX__)
   return Vec(_mm256_fmadd_ps(__m256(a), __m256(b), __m256(c)));
 #else
-  return a * b + c;
+  Vec r;
+  for (int i = 0; i < kLanes; ++i) r[i] = __builtin_fmaf(a[i], b[i], c[i]);
+  return r;
 #endif
 }
-// c - a * b, rounded once where FMA exists.
+// c - a * b, rounded once.
 [[gnu::always_inline]] inline Vec fnma(Vec a, Vec b, Vec c) {
 #if defined(__AVX512F__)
   return Vec(_mm512_fnmadd_ps(__m512(a), __m512(b), __m512(c)));
 #elif defined(__FMA__) && defined(__AVX__)
   return Vec(_mm256_fnmadd_ps(__m256(a), __m256(b), __m256(c)));
 #else
-  return c - a * b;
+  Vec r;
+  for (int i = 0; i < kLanes; ++i) r[i] = __builtin_fmaf(-a[i], b[i], c[i]);
+  return r;
 #endif
 }
 
@@ -89,9 +96,8 @@ constexpr auto kLaneSeq = std::make_index_sequence<kLanes>{};
 using RowCoeffs = GrayScott9Blocked::RowCoeffs;
 
 RowCoeffs row_coeffs(const GrayScott9Params& p) {
-  const GrayScott9Coeffs c = gray_scott9_coeffs(p);
   RowCoeffs r;
-  r.ca = c.ca, r.cb = c.cb, r.pa = c.pa, r.pb = c.pb, r.q = c.q, r.dt = c.dt;
+  static_cast<GrayScott9Coeffs&>(r) = gray_scott9_coeffs(p);
   return r;
 }
 

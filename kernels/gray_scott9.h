@@ -97,9 +97,9 @@ class GrayScott9Blocked {
   void set_balance_probe(uint32_t seed) { probe_state_ = seed; }
 
   // The row kernel's constants (seed 001's update with them folded in, gray_scott9.cpp).
-  struct RowCoeffs {
-    float ca = 0, cb = 0, pa = 0, pb = 0, q = 0, dt = 0;
-    // What the vectors outside a call's [jlo, jhi) hold when that range is not the whole row.
+  // The update's folded constants (kernels/explicit_rd.h), and what the vectors outside a
+  // call's [jlo, jhi) hold when that range is not the whole row.
+  struct RowCoeffs : GrayScott9Coeffs {
     float fixed_a = 0, fixed_b = 0;
   };
   using RowsKernel = void (*)(const float* const*, const float* const*, float* const*,

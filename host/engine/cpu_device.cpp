@@ -78,8 +78,6 @@ const char* device_op_name(DeviceOp op) {
       return "ETDRK4 step (FFT)";
     case DeviceOp::kStamJacobi:
       return "Stam's Jacobi sweeps";
-    case DeviceOp::kExchangeHalos:
-      return "halo exchange";
     case DeviceOp::kCount:
       break;
   }
@@ -153,6 +151,7 @@ void CpuDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
 void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
                                    const StamSweepParams& p, const BoundaryFill& fill,
                                    const FieldF* start) {
+  whole_grid_only("stam_jacobi_sweeps: the whole grid only");
   const FieldF* cur = start ? start : &a;
   FieldF* next = &b;
   for (int s = 0; s < sweeps; ++s) {
@@ -166,6 +165,7 @@ void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int 
 }
 
 void CpuDevice::fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) {
+  whole_grid_only("fill_obstacle: the whole grid only");
   // Solid cells are written from fluid cells only: bands of rows do not interfere.
   for_bands(f.interior(),
             [&](Box2 rows) { ardcell::fill_obstacle(f.view(), solid.view(), rows, rule); });
@@ -185,6 +185,7 @@ void CpuDevice::set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) 
 
 void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
                              const FieldF* open_x, const FieldF* open_y) {
+  whole_grid_only("pressure_rhs: the whole grid only");
   if (open_x && open_y) {
     for_bands(rhs.interior(), [&](Box2 rows) {
       ardcell::pressure_rhs_cut(u.view(), v.view(), open_x->view(), open_y->view(), rhs.view(),
@@ -198,6 +199,7 @@ void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, cons
 
 void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
                                 FieldF& vf, const ProjectParams& params, bool periodic) {
+  whole_grid_only("face_velocities: the whole grid only");
   const Int2 n = p.size();
   for_bands(box_of_size(n), [&](Box2 rows) {
     ardcell::face_velocities(u.view(), v.view(), p.view(), uf.view(), vf.view(), rows, params,
@@ -218,6 +220,7 @@ void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& 
 
 void CpuDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
                                   const ProjectParams& params) {
+  whole_grid_only("subtract_gradient: the whole grid only");
   for_bands(p.interior(), [&](Box2 rows) {
     ardcell::subtract_gradient(p.view(), u.view(), v.view(), rows, params);
   });
@@ -225,6 +228,7 @@ void CpuDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
 
 void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                                 const AdvectParams& p) {
+  whole_grid_only("advect_velocity: the whole grid only");
   for_bands(u.interior(), [&](Box2 rows) {
     ardcell::advect_velocity(u0.view(), v0.view(), u.view(), v.view(), rows, p);
   });
@@ -232,6 +236,7 @@ void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, F
 
 void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& u, const FieldF& v,
                                std::span<FieldF* const> q, const AdvectParams& p) {
+  whole_grid_only("advect_scalars: the whole grid only");
   ARDCELL_CHECK(q0.size() == q.size() && q.size() <= std::size_t(kMaxAdvectFields) && !q.empty(),
                 "advect_scalars: one output per input, 1 to kMaxAdvectFields");
   std::array<View<const float>, kMaxAdvectFields> in;
@@ -248,6 +253,7 @@ void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& 
 
 void CpuDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                                   const AdvectParams& p) {
+  whole_grid_only("advect_scalar_mac: the whole grid only");
   for_bands(q.interior(), [&](Box2 rows) {
     ardcell::advect_scalar_mac(q0.view(), uf.view(), vf.view(), q.view(), rows, p);
   });
@@ -258,6 +264,7 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
                                    std::span<const FieldF* const> q_back, const FieldF& u,
                                    const FieldF& v, std::span<FieldF* const> q,
                                    const AdvectParams& p, bool mac) {
+  whole_grid_only("maccormack_correct: the whole grid only");
   ARDCELL_CHECK(q0.size() == q.size() && q_hat.size() == q.size() && q_back.size() == q.size() &&
                     q.size() <= std::size_t(kMaxAdvectFields) && !q.empty() &&
                     (!mac || q.size() == 1),
@@ -287,6 +294,7 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
 }
 
 FieldRange CpuDevice::range(const FieldF& f) {
+  whole_grid_only("range: the whole grid only");
   const int ny = f.ny();
   double* lo = ex_->rows_scratch(ny, 0);
   double* hi = ex_->rows_scratch(ny, 1);
@@ -304,6 +312,7 @@ FieldRange CpuDevice::range(const FieldF& f) {
 }
 
 void CpuDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
+  whole_grid_only("restore_mass: the whole grid only");
   const double total_weight = ex_->sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
     row_mass_weights(f.view(), f.nx(), y0, y1, lo, hi, partials);
   });
@@ -315,6 +324,7 @@ void CpuDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
 
 SolveReport CpuDevice::solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                              FieldF& x) {
+  whole_grid_only("solve: the whole grid only");
   return solver.solve(op, b, x);
 }
 
@@ -332,12 +342,14 @@ void CpuDevice::reaction_table(FieldF& a, FieldF& b, const ReactionTable& table)
 
 void CpuDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
                              const AnisotropyParams& p) {
+  whole_grid_only("conductivity: the whole grid only");
   for_bands(a.interior(),
             [&](Box2 rows) { conductivity_tile(a.view(), theta0.view(), k.view(), rows, p); });
 }
 
 SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                           const FieldF* conductivity, const DiffusionStep& s) {
+  whole_grid_only("implicit_diffusion: the whole grid only");
   return diffusion.step(field, conductivity, s);
 }
 
@@ -369,6 +381,7 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
 
 void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
                                   const GrayScott9Params& p) {
+  whole_grid_only("gray_scott9_steps: the whole grid only");
   GrayScott9Blocked::adopt(a);
   GrayScott9Blocked::adopt(b);
   blocked.run(a, b, steps, p);
@@ -376,6 +389,7 @@ void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF&
 
 void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                const GeneralizedTaps& k, const GeneralizedRdParams& p) {
+  whole_grid_only("generalized_rd: the whole grid only");
   ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
                 "generalized_rd: reserve() the grid first");
   for_bands(a.interior(), [&](Box2 rows, int worker) {
@@ -387,6 +401,7 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
 void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,
                                      const GeneralizedTaps& k, const GeneralizedRdParams& p,
                                      int steps) {
+  whole_grid_only("generalized_rd_steps: the whole grid only");
   // Nothing to fuse without a diffusion (no neighbour is read). Up to 512^2 the fields stay in
   // the caches between steps and fusing does not pay (bench/RESULTS_SEED003.md); and each band
   // computes S (S - 1) rows twice at each edge, so bands (up to 4 per worker) under 64 rows
@@ -407,6 +422,7 @@ void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF
 
 void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                 const Rank2FaceField& d, const GeneralizedRdParams& p) {
+  whole_grid_only("tensor_field_rd: the whole grid only");
   for_bands(a.interior(), [&](Box2 rows, int) {
     tensor_field_rd_rows(d, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
                          rows.max.y, p);
@@ -416,6 +432,8 @@ void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
 void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) { solve.solve(x); }
 
 SolveReport CpuDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
+  whole_grid_only("tensor_field_solve: the whole grid only");
+  whole_grid_only("periodic_solve: the whole grid only");
   return solve.solve(x, s);
 }
 

@@ -15,7 +15,8 @@
 // fields cover the block with a halo, its ops compute the block's cells, boundary fills write the
 // domain's ghost ring only where the block touches it, and exchange_halos() - the halo exchange,
 // a step the stages call before an op that reads across the block's edges - fills the rest from
-// the other blocks. Which scenes' stages run so: host/engine/engine.h block_problem().
+// the other blocks. Which scenes' stages run so: host/engine/engine.h block_support(); the ops
+// that still assume the whole grid refuse a block.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -77,7 +78,6 @@ enum class DeviceOp : uint8_t {
   kSbdfRhs,
   kEtdrk4,
   kStamJacobi,
-  kExchangeHalos,
   kCount
 };
 const char* device_op_name(DeviceOp op);
@@ -341,6 +341,9 @@ class CpuDevice final : public Device {
   // The rows of `cells` (a field's interior) in bands: f(Box2 rows) or f(Box2 rows, worker).
   template <class F>
   void for_bands(Box2 cells, const F& f);
+  // The ops that still assume the whole grid (their kernels wrap, reduce or sweep over [0, n)
+  // with no exchange between): a block that reaches one is a gap in block_support().
+  void whole_grid_only(const char* op) const { ARDCELL_CHECK(!block_.halo, op); }
   // The grid whose ghost ring the boundary fills write: the block's grid, or f's own size.
   Int2 domain_of(const FieldF& f) const { return block_.halo ? block_.grid : f.size(); }
   // Worker w's row scratch (seed 001's row sums): row_scratch_stride_ floats (reserve()).

@@ -354,28 +354,27 @@ void RdStepper::init_state(SimState& s) {
     s.theta0 = FieldF::over(cells_, 1);
     s.theta0.fill(rd_.anisotropy.theta0);
   }
-  if (cells_ == box_of_size(scene_.size)) {
-    write_initial_pattern(s.A, s.B);
-  } else {
-    // A block: the whole grid's pattern (one random sequence over the grid), then its cells.
-    FieldF a(scene_.size, 0), b(scene_.size, 0);
-    write_initial_pattern(a, b);
-    s.A.fill(rd_.background_a);
-    s.B.fill(rd_.background_b);
-    copy_box<float>(std::as_const(a).view(), s.A.view(), cells_);
-    copy_box<float>(std::as_const(b).view(), s.B.view(), cells_);
-  }
+  write_initial_pattern(s.A, s.B);
   for (const FieldF* f : {&s.A, &s.B, &s.theta0}) dev_->host_wrote(*f);
 }
 
 void RdStepper::write_initial_pattern(FieldF& A, FieldF& B) const {
+  // The pattern is laid out over the whole grid (one random sequence); the cells outside these
+  // fields' (a block's) are skipped.
   const Int2 n = scene_.size;
+  const Box2 cells = A.interior();
   A.fill(rd_.background_a);
   B.fill(rd_.background_b);
   SplitMix rng{rd_.seed};
+  auto put_a = [&](int x, int y, float v) {
+    if (cells.contains(Int2{x, y})) A(x, y) = v;
+  };
+  auto put_b = [&](int x, int y, float v) {
+    if (cells.contains(Int2{x, y})) B(x, y) = v;
+  };
   auto put = [&](int x, int y) {
-    A(x, y) = rd_.seed_a;
-    B(x, y) = rd_.seed_b;
+    put_a(x, y, rd_.seed_a);
+    put_b(x, y, rd_.seed_b);
   };
   switch (rd_.initial) {
     case RdInitialPattern::kUniform:
@@ -418,9 +417,9 @@ void RdStepper::write_initial_pattern(FieldF& A, FieldF& B) const {
       // whose free end curls into a spiral (Barkley, FitzHugh-Nagumo).
       const int w = std::max(1, int(std::lround(rd_.seed_size * n.x)));
       for (int y = 0; y < n.y / 2; ++y)
-        for (int x = w; x < std::min(n.x, 2 * w); ++x) A(x, y) = rd_.seed_a;
+        for (int x = w; x < std::min(n.x, 2 * w); ++x) put_a(x, y, rd_.seed_a);
       for (int y = 0; y < n.y; ++y)
-        for (int x = 0; x < std::min(n.x, w); ++x) B(x, y) = rd_.seed_b;
+        for (int x = 0; x < std::min(n.x, w); ++x) put_b(x, y, rd_.seed_b);
       break;
     }
   }
@@ -429,6 +428,7 @@ void RdStepper::write_initial_pattern(FieldF& A, FieldF& B) const {
     for (int y = 0; y < n.y; ++y)
       for (int x = 0; x < n.x; ++x) {
         const double ua = 2.0 * rng.uniform() - 1.0, ub = 2.0 * rng.uniform() - 1.0;
+        if (!cells.contains(Int2{x, y})) continue;
         A(x, y) = float(std::clamp(A(x, y) * (1.0 + rd_.noise * ua), box.a_lo, box.a_hi));
         B(x, y) = float(std::clamp(B(x, y) * (1.0 + rd_.noise * ub), box.b_lo, box.b_hi));
       }

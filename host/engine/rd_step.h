@@ -113,7 +113,8 @@ class RdStepper {
   // The halo init_state() gives A and B, and the fields they swap with: GrayScott9Blocked::kHalo
   // for seed 001's blocked steps, else 1 (theta0's).
   int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : 1; }
-  // The scene's initial A and B over the whole grid (fields of the scene's size).
+  // The scene's initial A and B, laid out over the whole grid, into A and B's cells (the grid or
+  // a block; the same interior).
   void write_initial_pattern(FieldF& A, FieldF& B) const;
   void fill_chemical_ghosts(SimState& s);
   void react(SimState& s);

@@ -213,6 +213,9 @@ bool Painter::update_theta0(SimState& s) {
   if (!orientation_dirty_) return false;
   orientation_dirty_ = false;
   if (s.theta0.empty()) s.theta0 = FieldF(grid_, 1);
+  // A block's theta0 (a split wall's screen, host/engine/engine.h block_support): the extension
+  // fills the whole grid, and the scenes that run as blocks are isotropic: theta0 is left alone.
+  if (s.theta0.interior() != box_of_size(grid_)) return false;
   return extender_.extend(weight_.view(), dir_cos_.view(), dir_sin_.view(), s.theta0.view(),
                           config_.theta_scale, config_.theta_offset);
 }

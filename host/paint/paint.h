@@ -92,7 +92,8 @@ class Painter {
   void apply(const StrokeSample& sample, SimState& state) { apply({&sample, 1}, state); }
 
   // When orientation sources changed since the last call: theta0 over the whole grid from
-  // them (fast marching extension); returns true if theta0 was written.
+  // them (fast marching extension); returns true if theta0 was written. A theta0 over a block
+  // (a split wall's screen) is left alone.
   bool update_theta0(SimState& state);
   // Forgets every orientation source (theta0 itself is left as it is).
   void clear_orientation();

@@ -82,7 +82,7 @@ TEST_F(RunRanksTest, RanksSaveTheFieldsOfOneProcess) {
 // blocks before each of a frame's 10 steps.
 TEST_F(RunRanksTest, Seed001RanksSaveTheFieldsOfOneProcess) {
   const std::string seed001 = "run seed001 --size 127x93 --quiet --every 0 --steps 8 ";
-  ASSERT_EQ(run(seed001 + "--save-state one").code, 0);
+  ASSERT_EQ(run(seed001 + "--backend threads --save-state one").code, 0);
   struct Layout {
     int ranks;
     const char* parts;

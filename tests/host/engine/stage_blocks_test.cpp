@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "host/engine/engine.h"
+#include "host/paint/paint.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
 #include "tests/support/field_compare.h"
@@ -144,6 +145,45 @@ TEST(StageBlocks, ABlockDoesNotDivideItsPattern) {
   Engine block(scene, o);  // constructing steps nothing: no exchange is waited for
   EXPECT_TRUE(same_cells_in(block.state().A, whole.state().A, layout.owned(3)));
   EXPECT_TRUE(same_cells_in(block.state().B, whole.state().B, layout.owned(3)));
+}
+
+// A stroke painted into a block (a split wall's screen): deposits land in its cells, and an
+// orientation stroke leaves its theta0 alone (the extension fills a whole grid; the explicit
+// schemes are isotropic) instead of writing past the block.
+TEST(StageBlocks, PaintingABlockStaysInIt) {
+  const SceneConfig scene = periodic_scene();
+  const BlockSupport support = block_support(scene);
+  const BlockLayout layout =
+      BlockLayout::split(scene.size, {2, 2}, support.periodic_x, support.periodic_y);
+  LocalBlockGroup group(layout, support.halo);
+  EngineOptions o = options(EngineOptions::Backend::kSerial, 1);
+  o.plan.block = layout.block(0);
+  o.plan.halo = &group.channel(0);
+  Engine block(scene, o);
+  SimState& s = block.state();
+  const FieldF theta0 = s.theta0;
+  std::vector<StrokeSample> stroke;
+  for (int k = 0; k <= 20; ++k) {  // from (10, 10) across the block's corner to (100, 80)
+    StrokeSample p;
+    p.time = 0.01 * k;
+    p.x = float((10 + 4.5 * k) / scene.size.x);
+    p.y = float(1 - (10 + 3.5 * k) / scene.size.y);  // y from the top
+    p.pressure = 1;
+    p.buttons = kButtonTip;
+    p.in_range = true;
+    stroke.push_back(p);
+  }
+  PaintConfig deposit;
+  deposit.mode = PaintMode::kDeposit;
+  Painter painter(scene.size, deposit);
+  painter.apply(stroke, s);
+  EXPECT_LT(s.A(10, 10), 0.9f);  // blended towards deposit_a (0.5) from the background (1)
+  PaintConfig orient;
+  orient.mode = PaintMode::kOrient;
+  Painter orienter(scene.size, orient);
+  orienter.apply(stroke, s);
+  EXPECT_FALSE(orienter.update_theta0(s));
+  EXPECT_TRUE(same_cells(s.theta0, theta0));
 }
 
 TEST(StageBlocks, ScenesThatRunWholeSayWhy) {
