@@ -65,7 +65,9 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
   if (o.size < 64 || o.weak < 64 || o.frames < 1)
     return usage("--size and --weak: expected 64 or more cells; --frames: 1 or more");
   if (const SceneEntry* entry = builtin_scenes().find(o.scene); !entry)
-    return usage("--scene " + o.scene + ": not a built-in scene (expected table1-ard or seed001)");
+    return usage("--scene " + o.scene +
+                 ": not a built-in scene (expected one that runs as blocks: table1, table1-ard, "
+                 "seed001)");
   else if (std::string why = block_support(entry->make()).problem; !why.empty())
     return usage("--scene " + o.scene + ": runs on one process's whole grid: " + why);
   const std::string binary =
@@ -176,7 +178,8 @@ void add_bench_scale_command(CLI::App& bench, CliContext& ctx) {
   auto* scale = bench.add_subcommand(
       "scale", "One scene's grid over MPI ranks against one process: strong and weak scaling");
   auto o = std::make_shared<ScaleOptions>();
-  scale->add_option("--scene", o->scene, "A scene that runs as blocks: table1-ard or seed001")
+  scale
+      ->add_option("--scene", o->scene, "A scene that runs as blocks (table1, table1-ard, seed001)")
       ->capture_default_str();
   scale->add_option("--size", o->size, "Strong scaling: the grid side N (N x N)")
       ->capture_default_str();

@@ -1,9 +1,9 @@
 #pragma once
 // What runs beside `ardcell live`'s loop (host/live/live_loop.h): the writers of its recordings
 // and screenshots, and on a kiosk the attract mode, GPIO buttons (libgpiod), the OSC server
-// (liblo) and systemd's watchdog (docs/live-and-kiosk.md). Each kiosk service is optional; one
-// whose library this build lacks, or whose device is missing, says so in one line and the rest
-// runs.
+// (liblo) and systemd's watchdog (docs/live-and-kiosk.md). Each kiosk service is optional: GPIO
+// buttons without libgpiod or without their chip, and an attract mode without recordings, say so
+// in one line and the rest runs; --osc in a build without liblo is a usage error.
 #include <cstdio>
 #include <memory>
 #include <string>

@@ -429,11 +429,13 @@ void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
   });
 }
 
-void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) { solve.solve(x); }
+void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
+  whole_grid_only("periodic_solve: the whole grid only");
+  solve.solve(x);
+}
 
 SolveReport CpuDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
   whole_grid_only("tensor_field_solve: the whole grid only");
-  whole_grid_only("periodic_solve: the whole grid only");
   return solve.solve(x, s);
 }
 
