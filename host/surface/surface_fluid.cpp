@@ -317,6 +317,12 @@ double SurfaceFluid::tangential_u2(int p, int i, int j, const std::array<double,
   return v[0] * a[0] + v[1] * a[1] + v[2] * a[2];
 }
 
+void SurfaceFluid::fill_sources(double value) {
+  const PatchGrid& g = op_.grid();
+  for (int p = 0; p < patches_; ++p)
+    for (const auto& [i, j] : source_cells_) s_[g.index(p, i, j)] = value;
+}
+
 void SurfaceFluid::add_sources() {
   if (!(params_.source_rate > 0)) return;
   const double add = params_.dt * params_.source_rate;

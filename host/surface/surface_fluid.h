@@ -142,6 +142,10 @@ class SurfaceFluid {
   // Back to rest: no velocity, no dye, time 0, every buffer 0 (a live reset; the constructor's
   // end, after sizing the solvers' scratch).
   void clear();
+  // Sets the dye to `value` in every patch's source disc (source_radius around its centre): the
+  // seed's Fig. 8 start, a spot of dye on each patch, without a source adding more (a live
+  // start). Allocates nothing.
+  void fill_sources(double value);
   // The tangential part of v (in the mesh's coordinates) as the u^1 of x1-face (p, i, j),
   // 0 <= i <= N, 0 <= j < N, or as the u^2 of x2-face (p, i, j), 0 <= i < N, 0 <= j <= N:
   // g^ij <v, X_j> (what a live stroke pushes the fluid towards).

@@ -118,9 +118,10 @@ SurfaceSimulation::SurfaceSimulation(const Preset& preset,
 SurfaceSimulation::~SurfaceSimulation() = default;
 
 void SurfaceSimulation::reset() {
-  if (fluid_)
+  if (fluid_) {
     fluid_->clear();
-  else
+    if (fluid_options_.start_dye) fluid_->fill_sources(1.0);
+  } else
     rd_->seed_pattern(positions_, surface_start(flat_, length_, op_->area()));
   strokes_.fill({});
 }

@@ -81,6 +81,9 @@ struct SurfaceLiveOptions {
     // cores (docs/surfaces.md); the projection to 1e-4, not the batch run's 1e-6, for time.
     int steps_per_frame = 1;
     double tolerance = 1e-4;
+    // At the start and every reset, a spot of dye on each patch (SurfaceFluid::fill_sources,
+    // the seed's Fig. 8 sources, filled once); false: a clean surface for the brush.
+    bool start_dye = true;
   } fluid;
 };
 

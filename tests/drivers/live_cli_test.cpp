@@ -128,8 +128,8 @@ TEST(LiveCli, BadSurfaceArgumentsAreOneLineAndExitCodeTwo) {
   EXPECT_EQ(r.output, "ardcell live: cavity: rd.enabled is false (expected a scene with RD)\n");
 }
 
-// --fluid: stable fluids on the surface, the dye drawn in 3D (no dye yet: the shaded surface in
-// the colormap's 0), one step a frame on the threads back end.
+// --fluid: stable fluids on the surface, the dye drawn in 3D (a spot of it on every patch at the
+// start), one step a frame on the threads back end.
 TEST(LiveCli, RunsAFluidOnASurface) {
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
     GTEST_SKIP() << "no X or Wayland display";

@@ -24,12 +24,14 @@ using namespace surface_live_test;  // NOLINT: the shared helpers of the live su
 
 std::shared_ptr<const LimitSurface> torus() { return live_surface(torus_mesh(8, 4, 2.0, 0.8)); }
 
-SurfaceLiveOptions fluid_options(FluidForce force, int workers = 2) {
+// A clean surface (no start dye) unless `start_dye`: the strokes' tests count what they paint.
+SurfaceLiveOptions fluid_options(FluidForce force, int workers = 2, bool start_dye = false) {
   SurfaceLiveOptions o;
   o.patch_cells = 8;
   o.workers = workers;
   o.view = {320, 240};
   o.fluid.force = force;
+  o.fluid.start_dye = start_dye;
   return o;
 }
 
@@ -416,6 +418,31 @@ TEST(SurfaceFluidLive, WalkersResetAndLiveChanges) {
   next.fluid.conserve_dye = true;
   fixed.apply(next);
   EXPECT_FALSE(fixed.fluid()->params().conserve_dye);
+}
+
+// By default the surface starts with a spot of dye on every patch (the seed's Fig. 8 sources,
+// filled once), which gravity then carries: the view shows a flow before anyone paints; reset
+// brings the spots back.
+TEST(SurfaceFluidLive, StartsWithASpotOfDyeOnEveryPatch) {
+  SurfaceSimulation sim(preset("cavity"), torus(), fluid_options(FluidForce::kGravity, 2, true));
+  const PatchGrid& g = sim.grid();
+  const PatchField start = sim.fluid()->dye();
+  int dyed = 0;
+  for (int p = 0; p < g.patches(); ++p) {
+    int on_patch = 0;
+    for (int j = 0; j < g.n(); ++j)
+      for (int i = 0; i < g.n(); ++i) on_patch += start[g.index(p, i, j)] == 1.0 ? 1 : 0;
+    EXPECT_GT(on_patch, 0) << "patch " << p;
+    dyed += on_patch;
+  }
+  EXPECT_LT(dyed, g.patches() * g.n() * g.n() / 4) << "spots, not a coat";
+  EXPECT_GT(summarize(sim).sum, 0.0);
+  for (int k = 0; k < 10; ++k) sim.step();
+  EXPECT_GT(max_speed(*sim.fluid()), 0.0) << "gravity pulls the dye";
+  EXPECT_NE(sim.fluid()->dye(), start);
+  sim.reset();
+  EXPECT_EQ(sim.fluid()->dye(), start);
+  EXPECT_EQ(max_speed(*sim.fluid()), 0.0);
 }
 
 TEST(SurfaceFluidLive, RefusesAPresetWithoutAFluid) {
