@@ -31,7 +31,8 @@
 // (apply_preset_fluid, live too) and the colormap (over the dye's [0, 1]); its RD, flat fluid
 // scene (lid, obstacle, inflow, emitters), solvers and steps are not used. Gravity's "down" is
 // the screen's downward direction in the mesh's coordinates (the seed's viewer-relative
-// gravity), taken from the view at each step; reset stops the fluid and clears the dye.
+// gravity), taken from the view at each step; reset stops the fluid and brings back the start's
+// spots of dye (fluid.start_dye; none when it is off).
 // Nothing allocates in step(), paint(), apply() or render() once the first frame is drawn.
 #include <array>
 #include <atomic>

@@ -424,6 +424,7 @@ TEST(SurfaceFluidLive, WalkersResetAndLiveChanges) {
 // filled once), which gravity then carries: the view shows a flow before anyone paints; reset
 // brings the spots back.
 TEST(SurfaceFluidLive, StartsWithASpotOfDyeOnEveryPatch) {
+  EXPECT_TRUE(SurfaceLiveOptions{}.fluid.start_dye) << "what `ardcell live --fluid` gets";
   SurfaceSimulation sim(preset("cavity"), torus(), fluid_options(FluidForce::kGravity, 2, true));
   const PatchGrid& g = sim.grid();
   const PatchField start = sim.fluid()->dye();
@@ -505,7 +506,8 @@ TEST(SurfaceFluidLive, SteadyFramesDoNotAllocate) {
   Preset p = preset("cavity");
   p.scene.fluid.viscosity = 0;
   p.scene.fluid.dye_diffusion = 0;
-  SurfaceSimulation sim(p, torus(), fluid_options(FluidForce::kGravity));
+  // With the start's dye: reset refills it, and the steps after carry it.
+  SurfaceSimulation sim(p, torus(), fluid_options(FluidForce::kGravity, 2, true));
   SceneConfig changed = p.scene;
   changed.fluid.viscosity = 0.01;
   changed.fluid.dye_diffusion = 0.01;
