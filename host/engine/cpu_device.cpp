@@ -91,6 +91,27 @@ CpuDevice::CpuDevice(RowExecutor& ex, const DeviceBlock& block) : ex_(&ex), bloc
 }
 CpuDevice::~CpuDevice() = default;
 
+bool CpuDevice::supports(DeviceOp op) const {
+  if (!block_.halo) return true;
+  switch (op) {
+    case DeviceOp::kCopy:
+    case DeviceOp::kFillBoundary:
+    case DeviceOp::kAddBoundaryValues:
+    case DeviceOp::kAddSplat:
+    case DeviceOp::kInflowStripes:
+    case DeviceOp::kReactionImplicit:
+    case DeviceOp::kReactionTable:
+    case DeviceOp::kExplicitRd:
+      return true;
+    default:
+      return false;
+  }
+}
+
+void CpuDevice::require(DeviceOp op) const {
+  if (!supports(op)) detail::check_failed("supports(op)", __FILE__, __LINE__, device_op_name(op));
+}
+
 CpuDevice& CpuDevice::serial() {
   thread_local CpuDevice device(RowExecutor::serial());
   return device;
@@ -151,7 +172,7 @@ void CpuDevice::fill_boundary(FieldF& f, const BoundaryFill& fill) {
 void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int sweeps,
                                    const StamSweepParams& p, const BoundaryFill& fill,
                                    const FieldF* start) {
-  whole_grid_only("stam_jacobi_sweeps: the whole grid only");
+  require(DeviceOp::kStamJacobi);
   const FieldF* cur = start ? start : &a;
   FieldF* next = &b;
   for (int s = 0; s < sweeps; ++s) {
@@ -165,7 +186,7 @@ void CpuDevice::stam_jacobi_sweeps(const FieldF& rhs, FieldF& a, FieldF& b, int 
 }
 
 void CpuDevice::fill_obstacle(FieldF& f, const Field<uint8_t>& solid, ObstacleRule rule) {
-  whole_grid_only("fill_obstacle: the whole grid only");
+  require(DeviceOp::kFillObstacle);
   // Solid cells are written from fluid cells only: bands of rows do not interfere.
   for_bands(f.interior(),
             [&](Box2 rows) { ardcell::fill_obstacle(f.view(), solid.view(), rows, rule); });
@@ -185,7 +206,7 @@ void CpuDevice::set_inflow_stripes(FieldF& dye, int stripes, BoundarySide side) 
 
 void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, const ProjectParams& p,
                              const FieldF* open_x, const FieldF* open_y) {
-  whole_grid_only("pressure_rhs: the whole grid only");
+  require(DeviceOp::kPressureRhs);
   if (open_x && open_y) {
     for_bands(rhs.interior(), [&](Box2 rows) {
       ardcell::pressure_rhs_cut(u.view(), v.view(), open_x->view(), open_y->view(), rhs.view(),
@@ -199,7 +220,7 @@ void CpuDevice::pressure_rhs(const FieldF& u, const FieldF& v, FieldF& rhs, cons
 
 void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& p, FieldF& uf,
                                 FieldF& vf, const ProjectParams& params, bool periodic) {
-  whole_grid_only("face_velocities: the whole grid only");
+  require(DeviceOp::kFaceVelocities);
   const Int2 n = p.size();
   for_bands(box_of_size(n), [&](Box2 rows) {
     ardcell::face_velocities(u.view(), v.view(), p.view(), uf.view(), vf.view(), rows, params,
@@ -220,7 +241,7 @@ void CpuDevice::face_velocities(const FieldF& u, const FieldF& v, const FieldF& 
 
 void CpuDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
                                   const ProjectParams& params) {
-  whole_grid_only("subtract_gradient: the whole grid only");
+  require(DeviceOp::kSubtractGradient);
   for_bands(p.interior(), [&](Box2 rows) {
     ardcell::subtract_gradient(p.view(), u.view(), v.view(), rows, params);
   });
@@ -228,7 +249,7 @@ void CpuDevice::subtract_gradient(const FieldF& p, FieldF& u, FieldF& v,
 
 void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, FieldF& v,
                                 const AdvectParams& p) {
-  whole_grid_only("advect_velocity: the whole grid only");
+  require(DeviceOp::kAdvectVelocity);
   for_bands(u.interior(), [&](Box2 rows) {
     ardcell::advect_velocity(u0.view(), v0.view(), u.view(), v.view(), rows, p);
   });
@@ -236,7 +257,7 @@ void CpuDevice::advect_velocity(const FieldF& u0, const FieldF& v0, FieldF& u, F
 
 void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& u, const FieldF& v,
                                std::span<FieldF* const> q, const AdvectParams& p) {
-  whole_grid_only("advect_scalars: the whole grid only");
+  require(DeviceOp::kAdvectScalar);
   ARDCELL_CHECK(q0.size() == q.size() && q.size() <= std::size_t(kMaxAdvectFields) && !q.empty(),
                 "advect_scalars: one output per input, 1 to kMaxAdvectFields");
   std::array<View<const float>, kMaxAdvectFields> in;
@@ -253,7 +274,7 @@ void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& 
 
 void CpuDevice::advect_scalar_mac(const FieldF& q0, const FieldF& uf, const FieldF& vf, FieldF& q,
                                   const AdvectParams& p) {
-  whole_grid_only("advect_scalar_mac: the whole grid only");
+  require(DeviceOp::kAdvectScalarMac);
   for_bands(q.interior(), [&](Box2 rows) {
     ardcell::advect_scalar_mac(q0.view(), uf.view(), vf.view(), q.view(), rows, p);
   });
@@ -264,7 +285,7 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
                                    std::span<const FieldF* const> q_back, const FieldF& u,
                                    const FieldF& v, std::span<FieldF* const> q,
                                    const AdvectParams& p, bool mac) {
-  whole_grid_only("maccormack_correct: the whole grid only");
+  require(DeviceOp::kMacCormack);
   ARDCELL_CHECK(q0.size() == q.size() && q_hat.size() == q.size() && q_back.size() == q.size() &&
                     q.size() <= std::size_t(kMaxAdvectFields) && !q.empty() &&
                     (!mac || q.size() == 1),
@@ -294,7 +315,7 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
 }
 
 FieldRange CpuDevice::range(const FieldF& f) {
-  whole_grid_only("range: the whole grid only");
+  require(DeviceOp::kRange);
   const int ny = f.ny();
   double* lo = ex_->rows_scratch(ny, 0);
   double* hi = ex_->rows_scratch(ny, 1);
@@ -312,7 +333,7 @@ FieldRange CpuDevice::range(const FieldF& f) {
 }
 
 void CpuDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
-  whole_grid_only("restore_mass: the whole grid only");
+  require(DeviceOp::kRestoreMass);
   const double total_weight = ex_->sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
     row_mass_weights(f.view(), f.nx(), y0, y1, lo, hi, partials);
   });
@@ -324,7 +345,7 @@ void CpuDevice::restore_mass(FieldF& f, double missing, float lo, float hi) {
 
 SolveReport CpuDevice::solve(LinearSolver& solver, const StencilOperator& op, const FieldF& b,
                              FieldF& x) {
-  whole_grid_only("solve: the whole grid only");
+  require(DeviceOp::kSolve);
   return solver.solve(op, b, x);
 }
 
@@ -342,14 +363,14 @@ void CpuDevice::reaction_table(FieldF& a, FieldF& b, const ReactionTable& table)
 
 void CpuDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
                              const AnisotropyParams& p) {
-  whole_grid_only("conductivity: the whole grid only");
+  require(DeviceOp::kConductivity);
   for_bands(a.interior(),
             [&](Box2 rows) { conductivity_tile(a.view(), theta0.view(), k.view(), rows, p); });
 }
 
 SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                           const FieldF* conductivity, const DiffusionStep& s) {
-  whole_grid_only("implicit_diffusion: the whole grid only");
+  require(DeviceOp::kImplicitDiffusion);
   return diffusion.step(field, conductivity, s);
 }
 
@@ -381,7 +402,7 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
 
 void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
                                   const GrayScott9Params& p) {
-  whole_grid_only("gray_scott9_steps: the whole grid only");
+  require(DeviceOp::kGrayScott9Steps);
   GrayScott9Blocked::adopt(a);
   GrayScott9Blocked::adopt(b);
   blocked.run(a, b, steps, p);
@@ -389,7 +410,7 @@ void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF&
 
 void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                const GeneralizedTaps& k, const GeneralizedRdParams& p) {
-  whole_grid_only("generalized_rd: the whole grid only");
+  require(DeviceOp::kGeneralizedRd);
   ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
                 "generalized_rd: reserve() the grid first");
   for_bands(a.interior(), [&](Box2 rows, int worker) {
@@ -401,7 +422,7 @@ void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
 void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,
                                      const GeneralizedTaps& k, const GeneralizedRdParams& p,
                                      int steps) {
-  whole_grid_only("generalized_rd_steps: the whole grid only");
+  require(DeviceOp::kGeneralizedRd);
   // Nothing to fuse without a diffusion (no neighbour is read). Up to 512^2 the fields stay in
   // the caches between steps and fusing does not pay (bench/RESULTS_SEED003.md); and each band
   // computes S (S - 1) rows twice at each edge, so bands (up to 4 per worker) under 64 rows
@@ -422,7 +443,7 @@ void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF
 
 void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                 const Rank2FaceField& d, const GeneralizedRdParams& p) {
-  whole_grid_only("tensor_field_rd: the whole grid only");
+  require(DeviceOp::kTensorFieldRd);
   for_bands(a.interior(), [&](Box2 rows, int) {
     tensor_field_rd_rows(d, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
                          rows.max.y, p);
@@ -430,12 +451,12 @@ void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
 }
 
 void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
-  whole_grid_only("periodic_solve: the whole grid only");
+  require(DeviceOp::kPeriodicSolve);
   solve.solve(x);
 }
 
 SolveReport CpuDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
-  whole_grid_only("tensor_field_solve: the whole grid only");
+  require(DeviceOp::kTensorFieldSolve);
   return solve.solve(x, s);
 }
 

@@ -8,7 +8,7 @@
 namespace ardcell {
 
 void CpuDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
-  whole_grid_only("reaction_trapezoidal: the whole grid only");
+  require(DeviceOp::kReactionTrapezoidal);
   const Int2 n = a.size();
   ex_->for_rows(n.y, n.x, [&](int y0, int y1) {
     reaction_trapezoidal_tile(a.view(), b.view(), a.view(), b.view(), Box2{{0, y0}, {n.x, y1}}, p,
@@ -18,7 +18,7 @@ void CpuDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams&
 
 void CpuDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
                          const SbdfRhsParams& p) {
-  whole_grid_only("sbdf_rhs: the whole grid only");
+  require(DeviceOp::kSbdfRhs);
   const Int2 n = a.size();
   ex_->for_rows(n.y, n.x, [&](int y0, int y1) {
     sbdf_rhs_tile(a.view(), b.view(), a_prev.view(), b_prev.view(), Box2{{0, y0}, {n.x, y1}}, p);
@@ -27,7 +27,7 @@ void CpuDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
 
 void CpuDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
                             const ReactionParams* reaction) {
-  whole_grid_only("etdrk4_step: the whole grid only");
+  require(DeviceOp::kEtdrk4);
   etdrk4.step(a, b, reaction);
 }
 

@@ -15,8 +15,8 @@
 // fields cover the block with a halo, its ops compute the block's cells, boundary fills write the
 // domain's ghost ring only where the block touches it, and exchange_halos() - the halo exchange,
 // a step the stages call before an op that reads across the block's edges - fills the rest from
-// the other blocks. Which scenes' stages run so: host/engine/engine.h block_support(); the ops
-// that still assume the whole grid refuse a block.
+// the other blocks. Which scenes' stages run so: host/engine/engine.h block_support(); which ops
+// a block runs: supports().
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -266,7 +266,10 @@ class CpuDevice final : public Device {
 
   const char* name() const override;
   int workers() const override;
-  bool supports(DeviceOp) const override { return true; }
+  // Every op on the whole grid; on a block, the ops that compute a block's cells from its own
+  // cells and halo (copies, boundary fills, per-cell kernels, the explicit stencils). An op it
+  // does not support aborts (require): block_support() keeps such scenes off blocks.
+  bool supports(DeviceOp op) const override;
   RowExecutor& executor() override { return *ex_; }
   bool fields_on_host() const override { return true; }
   void reserve(Int2 grid) override;
@@ -341,9 +344,9 @@ class CpuDevice final : public Device {
   // The rows of `cells` (a field's interior) in bands: f(Box2 rows) or f(Box2 rows, worker).
   template <class F>
   void for_bands(Box2 cells, const F& f);
-  // The ops that still assume the whole grid (their kernels wrap, reduce or sweep over [0, n)
-  // with no exchange between): a block that reaches one is a gap in block_support().
-  void whole_grid_only(const char* op) const { ARDCELL_CHECK(!block_.halo, op); }
+  // Aborts, naming `op`, when this device does not support it: on a block, an op whose kernel
+  // wraps, reduces or sweeps over [0, n) with no exchange between (a gap in block_support()).
+  void require(DeviceOp op) const;
   // The grid whose ghost ring the boundary fills write: the block's grid, or f's own size.
   Int2 domain_of(const FieldF& f) const { return block_.halo ? block_.grid : f.size(); }
   // Worker w's row scratch (seed 001's row sums): row_scratch_stride_ floats (reserve()).

@@ -256,7 +256,7 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   // Seed 001's scheme: a frame's steps in one op, temporally blocked, where the device has it.
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
       rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic &&
-      device.supports(DeviceOp::kGrayScott9Steps) && !device.on_block())
+      device.supports(DeviceOp::kGrayScott9Steps))
     gray_scott9_ = std::make_unique<GrayScott9Blocked>(scene.size, ex);
   conductivity_ = FieldF::over(cells_, 1);
   scratch_a_ = FieldF::over(cells_, chemical_halo());

@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "host/engine/device.h"
 #include "host/engine/engine.h"
 #include "host/paint/paint.h"
 #include "host/scenes/scene_registry.h"
@@ -131,20 +132,50 @@ TEST(StageBlocks, NeumannNinePointEqualsOneEngineBitwise) {
   check_scene(neumann_scene(), "explicit9 neumann");
 }
 
+// Block b of `scene` cut into 2x2, on the serial back end, alone: its group's other blocks are
+// never made, so it must not step (an exchange would wait for them for ever).
+struct LoneBlock {
+  LoneBlock(const SceneConfig& scene, int b)
+      : support(block_support(scene)),
+        layout(BlockLayout::split(scene.size, {2, 2}, support.periodic_x, support.periodic_y)),
+        group(layout, support.halo),
+        engine(scene, block_options(b)) {}
+  EngineOptions block_options(int b) {
+    EngineOptions o = options(EngineOptions::Backend::kSerial, 1);
+    o.plan.block = layout.block(b);
+    o.plan.halo = &group.channel(b);
+    return o;
+  }
+  BlockSupport support;
+  BlockLayout layout;
+  LocalBlockGroup group;
+  Engine engine;
+};
+
+// What a block's device runs (Device::supports, as an OpenCL device says what it runs): the
+// ops that compute a block's cells from its cells and halo; the whole grid's device runs all.
+TEST(StageBlocks, ABlocksDeviceSaysWhichOpsItRuns) {
+  LoneBlock block(periodic_scene(), 0);
+  const Device& on_block = block.engine.device();
+  ASSERT_TRUE(on_block.on_block());
+  for (DeviceOp op : {DeviceOp::kExplicitRd, DeviceOp::kFillBoundary, DeviceOp::kCopy,
+                      DeviceOp::kReactionImplicit, DeviceOp::kAddSplat})
+    EXPECT_TRUE(on_block.supports(op)) << device_op_name(op);
+  for (DeviceOp op : {DeviceOp::kRange, DeviceOp::kSolve, DeviceOp::kGrayScott9Steps,
+                      DeviceOp::kAdvectScalar, DeviceOp::kGeneralizedRd, DeviceOp::kPeriodicSolve})
+    EXPECT_FALSE(on_block.supports(op)) << device_op_name(op);
+  Engine whole(periodic_scene(), options(EngineOptions::Backend::kSerial, 1));
+  for (int op = 0; op < int(DeviceOp::kCount); ++op)
+    EXPECT_TRUE(whole.device().supports(DeviceOp(op))) << device_op_name(DeviceOp(op));
+}
+
 TEST(StageBlocks, ABlockDoesNotDivideItsPattern) {
   // seed001's initial square straddles the 2x2 cut: each block starts with its cells of it.
   const SceneConfig scene = periodic_scene();
   Engine whole(scene, options(EngineOptions::Backend::kSerial, 1));
-  const BlockSupport support = block_support(scene);
-  const BlockLayout layout =
-      BlockLayout::split(scene.size, {2, 2}, support.periodic_x, support.periodic_y);
-  LocalBlockGroup group(layout, support.halo);
-  EngineOptions o = options(EngineOptions::Backend::kSerial, 1);
-  o.plan.block = layout.block(3);
-  o.plan.halo = &group.channel(3);
-  Engine block(scene, o);  // constructing steps nothing: no exchange is waited for
-  EXPECT_TRUE(same_cells_in(block.state().A, whole.state().A, layout.owned(3)));
-  EXPECT_TRUE(same_cells_in(block.state().B, whole.state().B, layout.owned(3)));
+  LoneBlock block(scene, 3);  // constructing steps nothing
+  EXPECT_TRUE(same_cells_in(block.engine.state().A, whole.state().A, block.layout.owned(3)));
+  EXPECT_TRUE(same_cells_in(block.engine.state().B, whole.state().B, block.layout.owned(3)));
 }
 
 // A stroke painted into a block (a split wall's screen): deposits land in its cells, and an
@@ -152,15 +183,8 @@ TEST(StageBlocks, ABlockDoesNotDivideItsPattern) {
 // schemes are isotropic) instead of writing past the block.
 TEST(StageBlocks, PaintingABlockStaysInIt) {
   const SceneConfig scene = periodic_scene();
-  const BlockSupport support = block_support(scene);
-  const BlockLayout layout =
-      BlockLayout::split(scene.size, {2, 2}, support.periodic_x, support.periodic_y);
-  LocalBlockGroup group(layout, support.halo);
-  EngineOptions o = options(EngineOptions::Backend::kSerial, 1);
-  o.plan.block = layout.block(0);
-  o.plan.halo = &group.channel(0);
-  Engine block(scene, o);
-  SimState& s = block.state();
+  LoneBlock block(scene, 0);
+  SimState& s = block.engine.state();
   const FieldF theta0 = s.theta0;
   std::vector<StrokeSample> stroke;
   for (int k = 0; k <= 20; ++k) {  // from (10, 10) across the block's corner to (100, 80)
