@@ -7,6 +7,8 @@
 // 0.3 h^2 lap, and seed 001 uses it unscaled with dt = 1, h = 1). Reads halo 1:
 //   A' = A + dt R_A(A, B) + (DA dt / h^2) L9(A)
 // Stable only for 2 DA dt / h^2 < 1 (5-point); the stability test shows the blow-up.
+#include <cstdint>
+
 #include "kernels/reaction.h"
 #include "runtime/field.h"
 
@@ -49,5 +51,47 @@ GrayScott9Coeffs gray_scott9_coeffs(const GrayScott9Params& p);
 void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<float> a_out,
                                View<float> b_out, Box2 region, const GrayScott9Params& p,
                                float* scratch);
+
+// Seed 001's quiescent cells on the per-step schedule, skipped as GrayScott9Blocked skips them: a
+// uniform state that the float update maps to itself exactly (seed 001's background settles on
+// A = 1.00000036, B = 0 after 2 steps) stays so wherever its whole 3x3 neighbourhood has it, so a
+// step that computes only the cells within one cell of those that differ from it, and leaves the
+// rest as they are, gives the same bits. Over a run of steps that ping-pong between two pairs of
+// fields - the state (a, b) and the pair a step writes (a_out, b_out), which then become the state
+// - a QuiescentBox keeps a box of the cells of each pair that may differ from the fixed point:
+// the state's from the cells the last step wrote (differing()), the other pair's from the state
+// before. The ring around the cells (the boundary fill's or the halo exchange's) is scanned
+// every step. Who steps (host/engine/device.h explicit_rd) asks region() before a step and
+// reports stepped() after it; who writes the fields otherwise calls restart().
+class QuiescentBox {
+ public:
+  // The fields were written other than by the steps (a new state, painting, advection, a halo
+  // of another depth): the next step computes every cell and finds both boxes again.
+  void restart() { known_ = false; }
+  // Whether steps of p can skip: p's update maps a uniform state reached from (1, 0) to itself.
+  // Finds that state again when p changed (then restart()s); allocates nothing.
+  bool skips(const GrayScott9Params& p);
+  // The cells of `cells` the next step from (a, b) must compute, the others keeping what the
+  // pair it writes holds: all of them after restart(). Reads (a, b)'s ring around `cells`.
+  Box2 region(View<const float> a, View<const float> b, Box2 cells) const;
+  // The box of `rows` where a or b differs from the fixed point (empty when none does): the step's
+  // output over the rows it wrote, and, on the step after restart(), its input over every cell.
+  Box2 differing(View<const float> a, View<const float> b, Box2 rows) const;
+  // The step wrote `region`, in which its output differs from the fixed point within `written`;
+  // `input` is differing() of its input over every cell when that step followed restart().
+  void stepped(Box2 written, Box2 input);
+  bool known() const { return known_; }
+  // The fixed point (valid while skips()).
+  float fixed_a() const;
+  float fixed_b() const;
+
+ private:
+  bool known_ = false;
+  Box2 state_{}, other_{};  // the cells of the state and of the other pair that may differ
+  GrayScott9Params params_{};
+  bool found_ = false;  // params_ is the p the fixed point was sought for
+  bool skips_ = false;
+  uint32_t fixed_a_ = 0, fixed_b_ = 0;  // its bits
+};
 
 }  // namespace ardcell

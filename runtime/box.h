@@ -41,6 +41,13 @@ struct Box2 {
     return {{std::max(min.x, b.min.x), std::max(min.y, b.min.y)},
             {std::min(max.x, b.max.x), std::min(max.y, b.max.y)}};
   }
+  // The smallest box holding both (an empty box adds nothing).
+  constexpr Box2 united(const Box2& b) const {
+    if (b.empty()) return *this;
+    if (empty()) return b;
+    return {{std::min(min.x, b.min.x), std::min(min.y, b.min.y)},
+            {std::max(max.x, b.max.x), std::max(max.y, b.max.y)}};
+  }
   friend constexpr bool operator==(const Box2&, const Box2&) = default;
   friend std::ostream& operator<<(std::ostream& os, const Box2& b) {
     return os << '[' << b.min << ", " << b.max << ')';

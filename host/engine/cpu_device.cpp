@@ -129,6 +129,7 @@ void CpuDevice::reserve(Int2 grid) {
     row_scratch_stride_ = stride;
     row_scratch_.assign(row_scratch_stride_ * std::size_t(ex_->workers()), 0.0f);
   }
+  band_boxes_.resize(2 * std::size_t(ex_->workers()));
 }
 
 template <class F>
@@ -375,16 +376,42 @@ SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& 
 }
 
 void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                            ExplicitScheme scheme, const ExplicitRdParams& p) {
+                            ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet) {
   switch (scheme) {
     case ExplicitScheme::kGrayScott9: {
-      ARDCELL_CHECK(row_scratch_stride_ >= 2 * std::size_t(a.nx() + 2),
+      ARDCELL_CHECK(row_scratch_stride_ >= 2 * std::size_t(a.nx() + 2) &&
+                        band_boxes_.size() >= 2 * std::size_t(workers()),
                     "explicit_rd: reserve() the grid first");
       const GrayScott9Params gs{p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b};
-      for_bands(a.interior(), [&](Box2 rows, int worker) {
-        gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
-                                  row_scratch(worker));
-      });
+      if (!quiet || !quiet->skips(gs)) {
+        for_bands(a.interior(), [&](Box2 rows, int worker) {
+          gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
+                                    row_scratch(worker));
+        });
+        break;
+      }
+      // Only the cells that can change; each band notes where its output (and, on a run's
+      // first step, its input) differs from the fixed point, while the rows are in cache.
+      const Box2 region = quiet->region(a.view(), b.view(), a.interior());
+      const bool first = !quiet->known();
+      std::fill(band_boxes_.begin(), band_boxes_.end(), Box2{});
+      if (!region.empty())
+        for_bands(region, [&](Box2 rows, int worker) {
+          gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
+                                    row_scratch(worker));
+          Box2& out = band_boxes_[std::size_t(worker)];
+          out = out.united(quiet->differing(a_out.view(), b_out.view(), rows));
+          if (first) {
+            Box2& in = band_boxes_[std::size_t(workers() + worker)];
+            in = in.united(quiet->differing(a.view(), b.view(), rows));
+          }
+        });
+      Box2 written{}, input{};
+      for (int w = 0; w < workers(); ++w) {
+        written = written.united(band_boxes_[std::size_t(w)]);
+        input = input.united(band_boxes_[std::size_t(workers() + w)]);
+      }
+      quiet->stepped(written, input);
       break;
     }
     case ExplicitScheme::k9:

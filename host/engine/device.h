@@ -203,10 +203,14 @@ class Device {
   // a conductivity).
   virtual SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                          const FieldF* conductivity, const DiffusionStep& s) = 0;
-  // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b.
+  // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b. With `quiet`
+  // (seed 001's scheme; the caller's, restart()ed whenever the four fields are written other
+  // than by these steps), a device may compute only the cells it says can change
+  // (kernels/explicit_rd.h QuiescentBox): the same bits.
   enum class ExplicitScheme : uint8_t { k5, k9, kGrayScott9 };
   virtual void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                           ExplicitScheme scheme, const ExplicitRdParams& p) = 0;
+                           ExplicitScheme scheme, const ExplicitRdParams& p,
+                           QuiescentBox* quiet) = 0;
   // Seed 001's scheme (explicit 9-point Gray-Scott, periodic): `steps` steps of a and b in place,
   // temporally blocked (kernels/gray_scott9.h; `blocked` made for the grid on the device's
   // executor). A and B should have GrayScott9Blocked::kHalo; others are given it (an allocation).
@@ -321,8 +325,9 @@ class CpuDevice final : public Device {
                     const AnisotropyParams& p) override;
   SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                  const FieldF* conductivity, const DiffusionStep& s) override;
+  // Skips seed 001's quiescent cells with `quiet`.
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                   ExplicitScheme scheme, const ExplicitRdParams& p) override;
+                   ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet) override;
   void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
                          const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
@@ -356,6 +361,9 @@ class CpuDevice final : public Device {
   DeviceBlock block_;
   std::vector<float> row_scratch_;
   std::size_t row_scratch_stride_ = 0;
+  // Per worker, the boxes of a step's cells that differ from seed 001's fixed point: its output
+  // [w] and its input [workers() + w] (explicit_rd with a QuiescentBox).
+  std::vector<Box2> band_boxes_;
 };
 
 }  // namespace ardcell

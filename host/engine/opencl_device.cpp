@@ -625,7 +625,7 @@ SolveReport OpenClDevice::implicit_diffusion(ImplicitDiffusion& diffusion, Field
 }
 
 void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                               ExplicitScheme scheme, const ExplicitRdParams& p) {
+                               ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox*) {
   const DeviceField& da = in(a);
   const DeviceField& db = in(b);
   DeviceField& da_out = out(a_out);

@@ -99,8 +99,10 @@ class OpenClDevice final : public Device {
                     const AnisotropyParams& p) override;
   SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                  const FieldF* conductivity, const DiffusionStep& s) override;
+  // Computes every cell (no QuiescentBox: one launch over the fields is cheaper than finding
+  // the box on the device).
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                   ExplicitScheme scheme, const ExplicitRdParams& p) override;
+                   ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox*) override;
   // On the CPU (the engine steps seed 001 with the 9-point twin here instead), with one line.
   void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
                          const GrayScott9Params& p) override;

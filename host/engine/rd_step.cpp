@@ -505,7 +505,8 @@ void RdStepper::explicit_step(SimState& s) {
                         : rd_.reaction.model == ReactionModel::kGrayScott && rd_.react
                             ? Scheme::kGrayScott9
                             : Scheme::k9;
-  dev_->explicit_rd(s.A, s.B, scratch_a_, scratch_b_, scheme, p);
+  dev_->explicit_rd(s.A, s.B, scratch_a_, scratch_b_, scheme, p,
+                    scheme == Scheme::kGrayScott9 ? &quiescent_ : nullptr);
   dev_->swap(s.A, scratch_a_);
   dev_->swap(s.B, scratch_b_);
 }
@@ -589,6 +590,7 @@ void RdStepper::advect(SimState& s) {
   }
   dev_->swap(s.A, scratch_a_);
   dev_->swap(s.B, scratch_b_);
+  quiescent_.restart();  // the advection wrote both pairs
 }
 
 void RdStepper::append_stages(FramePlan& plan, SimState& s) {

@@ -31,10 +31,10 @@
 // Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps as one op where the
 // device has it (Device::gray_scott9_steps: the CPU's temporally blocked kernels/gray_scott9.h,
 // whose A and B have halo GrayScott9Blocked::kHalo); the other explicit cases, and seed 001's
-// on OpenCL, step whole fields one step at a time. Every stage is an op of the engine's
-// Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of workers,
-// or OpenCL).
-// The frame is the stages append_stages() adds to the scene's FramePlan
+// on OpenCL or on a block, step whole fields one step at a time - seed 001's skipping, on the
+// CPU, the cells that cannot change (kernels/explicit_rd.h QuiescentBox). Every stage is an op of
+// the engine's Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of
+// workers, or OpenCL). The frame is the stages append_stages() adds to the scene's FramePlan
 // (host/engine/frame_plan.h): the RD steps of the frame, then the advection. Nothing is
 // allocated in a frame once constructed.
 #include <memory>
@@ -84,9 +84,13 @@ class RdStepper {
   void init_state(SimState& s);
 
   // The state's A and B were written by someone else (a reset, a loaded state, painting): the
-  // multistep scheme (sbdf2) forgets u^(n-1) and takes its next step as SBDF1. The other
-  // schemes keep no history. Allocates nothing.
-  void restart() { history_ = false; }
+  // multistep scheme (sbdf2) forgets u^(n-1) and takes its next step as SBDF1, and seed 001's
+  // per-step scheme computes every cell again before it skips quiescent ones (QuiescentBox).
+  // The other schemes keep no history. Allocates nothing.
+  void restart() {
+    history_ = false;
+    quiescent_.restart();
+  }
   // Whether the next sbdf2 step is SBDF2 (true) or its SBDF1 start (false).
   bool has_history() const { return history_; }
 
@@ -158,6 +162,9 @@ class RdStepper {
   std::unique_ptr<PeriodicEtdrk4> etdrk4_;          // rd.scheme etdrk4
   FieldF prev_a_, prev_b_;                          // sbdf2: u^(n-1)
   bool history_ = false;                            // sbdf2: prev_a_, prev_b_ hold u^(n-1)
+  // Seed 001's quiescent cells on the per-step schedule (explicit_step): A, B and the scratch
+  // pair they swap with; advection and restart() restart it.
+  QuiescentBox quiescent_;
   RdStepStats stats_;
 };
 

@@ -1,0 +1,101 @@
+// Seed 001's per-step scheme skipping quiescent cells (kernels/explicit_rd.h QuiescentBox,
+// CpuDevice::explicit_rd): stepping only the cells that can change gives the bits of stepping
+// every cell, on the serial and threads back ends, with a pattern that crosses the periodic edge
+// (the ring brings it in), and after a stroke written between steps (restart()). Meanwhile the
+// region a step computes shrinks to the pattern once the background has settled.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "host/engine/device.h"
+#include "kernels/generalized_diffusion.h"
+#include "runtime/row_executor.h"
+#include "runtime/thread/thread_backend.h"
+#include "tests/support/field_compare.h"
+
+namespace ardcell {
+namespace {
+
+constexpr Int2 kGrid{256, 192};
+
+// Seed 001's square of B in a background of A = 1, B = 0, centred at (cx, cy), wrapped.
+void add_square(FieldF& a, FieldF& b, int cx, int cy) {
+  for (int y = cy - 3; y < cy + 3; ++y)
+    for (int x = cx - 3; x < cx + 3; ++x) {
+      const int wx = (x + kGrid.x) % kGrid.x, wy = (y + kGrid.y) % kGrid.y;
+      a(wx, wy) = 0.5f;
+      b(wx, wy) = 0.25f;
+    }
+}
+
+struct Pair {
+  FieldF a{kGrid, 1}, b{kGrid, 1}, a_out{kGrid, 1}, b_out{kGrid, 1};
+  Pair() {
+    a.fill(1.0f);
+    add_square(a, b, 254, 40);  // across the x = 0 edge
+  }
+  void step(Device& device, const ExplicitRdParams& p, QuiescentBox* quiet) {
+    fill_periodic_halo(a);
+    fill_periodic_halo(b);
+    device.explicit_rd(a, b, a_out, b_out, Device::ExplicitScheme::kGrayScott9, p, quiet);
+    device.swap(a, a_out);
+    device.swap(b, b_out);
+  }
+};
+
+void expect_skipping_keeps_the_bits(RowExecutor& ex) {
+  CpuDevice device(ex);
+  device.reserve(kGrid);
+  const ExplicitRdParams p{};  // seed 001: F 0.055, k 0.062, dt 1, DA 1, DB 0.5
+  Pair every, skipping;
+  QuiescentBox quiet;
+  const int64_t all = box_of_size(kGrid).area();
+  int64_t smallest = all;
+  for (int step = 0; step < 80; ++step) {
+    if (step == 30) {
+      // A stroke between steps, far from the pattern: the fields were written, so restart().
+      add_square(every.a, every.b, 128, 150);
+      add_square(skipping.a, skipping.b, 128, 150);
+      quiet.restart();
+    }
+    if (quiet.known()) {
+      fill_periodic_halo(skipping.a);
+      fill_periodic_halo(skipping.b);
+      const Box2 region = quiet.region(skipping.a.view(), skipping.b.view(), box_of_size(kGrid));
+      if (step > 4 && step < 30) smallest = std::min(smallest, region.area());
+    }
+    every.step(device, p, nullptr);
+    skipping.step(device, p, &quiet);
+    ASSERT_TRUE(same_cells_in(every.a, skipping.a, box_of_size(kGrid))) << "A, step " << step;
+    ASSERT_TRUE(same_cells_in(every.b, skipping.b, box_of_size(kGrid))) << "B, step " << step;
+  }
+  // The settled background is skipped: a step computes the rows of the pattern and of the tail
+  // its diffusion spreads a cell a step until B underflows (the box spans the width, the pattern
+  // lying across x = 0), under a third of the grid.
+  EXPECT_LT(smallest, all / 3);
+}
+
+TEST(QuiescentSteps, SkippingGivesTheBitsOfEveryCellSerial) {
+  expect_skipping_keeps_the_bits(RowExecutor::serial());
+}
+
+TEST(QuiescentSteps, SkippingGivesTheBitsOfEveryCellOnTwoWorkers) {
+  ThreadBackend threads({2, 512 * 1024, false});
+  RowExecutor ex(threads);
+  expect_skipping_keeps_the_bits(ex);
+}
+
+TEST(QuiescentSteps, FindsSeed001sFixedPoint) {
+  QuiescentBox quiet;
+  ASSERT_TRUE(quiet.skips(GrayScott9Params{}));
+  // The background's float fixed point: A just above 1 (1 + 3 ulp), B exactly 0.
+  EXPECT_EQ(quiet.fixed_a(), 1.0f + 3.0f * 0x1p-23f);
+  EXPECT_EQ(std::bit_cast<uint32_t>(quiet.fixed_b()), 0u);
+  // An update that runs away from (1, 0) has none, and nothing is skipped.
+  GrayScott9Params unstable;
+  unstable.dt = 1e30f;
+  EXPECT_FALSE(quiet.skips(unstable));
+}
+
+}  // namespace
+}  // namespace ardcell
