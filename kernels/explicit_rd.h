@@ -61,12 +61,13 @@ void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<fl
 // - a QuiescentBox keeps a box of the cells of each pair that may differ from the fixed point:
 // the state's from the cells the last step wrote (differing()), the other pair's from the state
 // before. The ring around the cells (the boundary fill's or the halo exchange's) is scanned
-// every step. Who steps (host/engine/device.h explicit_rd) asks region() before a step and
+// every step. One box: a wall whose value is not the fixed point (Dirichlet A = 1) puts every
+// cell in it, so the gain is on periodic grids and blocks (and Neumann walls). Who steps (host/engine/device.h explicit_rd) asks region() before a step and
 // reports stepped() after it; who writes the fields otherwise calls restart().
 class QuiescentBox {
  public:
-  // The fields were written other than by the steps (a new state, painting, advection, a halo
-  // of another depth): the next step computes every cell and finds both boxes again.
+  // The fields were written other than by the steps (a new state, painting, advection): the
+  // next step computes every cell and finds both boxes again.
   void restart() { known_ = false; }
   // Whether steps of p can skip: p's update maps a uniform state reached from (1, 0) to itself.
   // Finds that state again when p changed (then restart()s); allocates nothing.

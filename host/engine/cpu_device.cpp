@@ -122,8 +122,10 @@ int CpuDevice::workers() const { return ex_->workers(); }
 
 void CpuDevice::reserve(Int2 grid) {
   ex_->reserve_rows(grid.y + 1);  // the faces of a grid have one more row
+  // A block's explicit steps may also compute its halo's columns (explicit_rd's grow).
+  const int wide = grid.x + (block_.halo ? 2 * block_.halo->width() : 0);
   const std::size_t floats =
-      std::max(2 * std::size_t(grid.x + 2) + 16, generalized_rd_scratch_floats(grid.x));
+      std::max(2 * std::size_t(wide + 2) + 16, generalized_rd_scratch_floats(grid.x));
   const std::size_t stride = (floats + 15) / 16 * 16;
   if (stride > row_scratch_stride_) {
     row_scratch_stride_ = stride;
@@ -376,55 +378,71 @@ SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& 
 }
 
 void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                            ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet) {
-  switch (scheme) {
-    case ExplicitScheme::kGrayScott9: {
-      ARDCELL_CHECK(row_scratch_stride_ >= 2 * std::size_t(a.nx() + 2) &&
-                        band_boxes_.size() >= 2 * std::size_t(workers()),
-                    "explicit_rd: reserve() the grid first");
-      const GrayScott9Params gs{p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b};
-      if (!quiet || !quiet->skips(gs)) {
-        for_bands(a.interior(), [&](Box2 rows, int worker) {
+                            ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet,
+                            int grow) {
+  const Box2 inner = a.interior(), cells = inner.grown(grow);
+  ARDCELL_CHECK(grow >= 0 && std::min(a.halo(), b.halo()) > grow &&
+                    std::min(a_out.halo(), b_out.halo()) >= grow,
+                "explicit_rd: the fields' halo holds the cells it steps and one more");
+  ARDCELL_CHECK(row_scratch_stride_ >= 2 * std::size_t(cells.width() + 2) &&
+                    band_boxes_.size() >= 2 * std::size_t(workers()),
+                "explicit_rd: reserve() the grid first");
+  const GrayScott9Params gs{p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b};
+  // Every cell of `box`.
+  const auto step = [&](Box2 box) {
+    switch (scheme) {
+      case ExplicitScheme::kGrayScott9:
+        for_bands(box, [&](Box2 rows, int worker) {
           gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
                                     row_scratch(worker));
         });
         break;
-      }
-      // Only the cells that can change; each band notes where its output (and, on a run's
-      // first step, its input) differs from the fixed point, while the rows are in cache.
-      const Box2 region = quiet->region(a.view(), b.view(), a.interior());
-      const bool first = !quiet->known();
-      std::fill(band_boxes_.begin(), band_boxes_.end(), Box2{});
-      if (!region.empty())
-        for_bands(region, [&](Box2 rows, int worker) {
-          gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
-                                    row_scratch(worker));
-          Box2& out = band_boxes_[std::size_t(worker)];
-          out = out.united(quiet->differing(a_out.view(), b_out.view(), rows));
-          if (first) {
-            Box2& in = band_boxes_[std::size_t(workers() + worker)];
-            in = in.united(quiet->differing(a.view(), b.view(), rows));
-          }
+      case ExplicitScheme::k9:
+        for_bands(box, [&](Box2 rows) {
+          explicit_rd9_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
         });
-      Box2 written{}, input{};
-      for (int w = 0; w < workers(); ++w) {
-        written = written.united(band_boxes_[std::size_t(w)]);
-        input = input.united(band_boxes_[std::size_t(workers() + w)]);
-      }
-      quiet->stepped(written, input);
-      break;
+        break;
+      case ExplicitScheme::k5:
+        for_bands(box, [&](Box2 rows) {
+          explicit_rd5_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
+        });
+        break;
     }
-    case ExplicitScheme::k9:
-      for_bands(a.interior(), [&](Box2 rows) {
-        explicit_rd9_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
-      });
-      break;
-    case ExplicitScheme::k5:
-      for_bands(a.interior(), [&](Box2 rows) {
-        explicit_rd5_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
-      });
-      break;
+  };
+  if (scheme != ExplicitScheme::kGrayScott9 || !quiet || !quiet->skips(gs)) {
+    step(cells);
+    return;
   }
+  // The halo cells, all of them (a thin frame; the box covers the interior only): the strips
+  // above and below, then left and right of the interior.
+  if (grow > 0) {
+    step({cells.min, {cells.max.x, inner.min.y}});
+    step({{cells.min.x, inner.max.y}, cells.max});
+    step({{cells.min.x, inner.min.y}, {inner.min.x, inner.max.y}});
+    step({{inner.max.x, inner.min.y}, {cells.max.x, inner.max.y}});
+  }
+  // Of the interior, only the cells that can change; each band notes where its output (and, on
+  // a run's first step, its input) differs from the fixed point, while the rows are in cache.
+  const Box2 region = quiet->region(a.view(), b.view(), inner);
+  const bool first = !quiet->known();
+  std::fill(band_boxes_.begin(), band_boxes_.end(), Box2{});
+  if (!region.empty())
+    for_bands(region, [&](Box2 rows, int worker) {
+      gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
+                                row_scratch(worker));
+      Box2& out = band_boxes_[std::size_t(worker)];
+      out = out.united(quiet->differing(a_out.view(), b_out.view(), rows));
+      if (first) {
+        Box2& in = band_boxes_[std::size_t(workers() + worker)];
+        in = in.united(quiet->differing(a.view(), b.view(), rows));
+      }
+    });
+  Box2 written{}, input{};
+  for (int w = 0; w < workers(); ++w) {
+    written = written.united(band_boxes_[std::size_t(w)]);
+    input = input.united(band_boxes_[std::size_t(workers() + w)]);
+  }
+  quiet->stepped(written, input);
 }
 
 void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,

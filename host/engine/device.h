@@ -203,14 +203,15 @@ class Device {
   // a conductivity).
   virtual SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                          const FieldF* conductivity, const DiffusionStep& s) = 0;
-  // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b. With `quiet`
-  // (seed 001's scheme; the caller's, restart()ed whenever the four fields are written other
-  // than by these steps), a device may compute only the cells it says can change
-  // (kernels/explicit_rd.h QuiescentBox): the same bits.
+  // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b over the interior
+  // grown by `grow` cells (a block's halo cells that a deeper exchange lets it step on its own;
+  // the fields' halo holds grow + 1). With `quiet` (seed 001's scheme; the caller's, restart()ed
+  // whenever the four fields are written other than by these steps), a device may compute only
+  // the interior cells it says can change (kernels/explicit_rd.h QuiescentBox): the same bits.
   enum class ExplicitScheme : uint8_t { k5, k9, kGrayScott9 };
   virtual void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                           ExplicitScheme scheme, const ExplicitRdParams& p,
-                           QuiescentBox* quiet) = 0;
+                           ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet,
+                           int grow) = 0;
   // Seed 001's scheme (explicit 9-point Gray-Scott, periodic): `steps` steps of a and b in place,
   // temporally blocked (kernels/gray_scott9.h; `blocked` made for the grid on the device's
   // executor). A and B should have GrayScott9Blocked::kHalo; others are given it (an allocation).
@@ -327,7 +328,8 @@ class CpuDevice final : public Device {
                                  const FieldF* conductivity, const DiffusionStep& s) override;
   // Skips seed 001's quiescent cells with `quiet`.
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                   ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet) override;
+                   ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet,
+                   int grow) override;
   void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
                          const GrayScott9Params& p) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,

@@ -124,6 +124,7 @@ BlockSupport block_support(const SceneConfig& scene) {
     return b;
   }
   b.problem = rd_block_problem(scene);
+  b.halo = rd_block_halo(scene);
   b.periodic_x = b.periodic_y = scene.rd.boundary == BoundaryKind::kPeriodic;
   return b;
 }

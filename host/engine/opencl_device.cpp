@@ -625,7 +625,9 @@ SolveReport OpenClDevice::implicit_diffusion(ImplicitDiffusion& diffusion, Field
 }
 
 void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                               ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox*) {
+                               ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox*,
+                               int grow) {
+  ARDCELL_CHECK(grow == 0, "explicit_rd: the OpenCL device steps the whole grid (grow 0)");
   const DeviceField& da = in(a);
   const DeviceField& db = in(b);
   DeviceField& da_out = out(a_out);

@@ -100,9 +100,10 @@ class OpenClDevice final : public Device {
   SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                  const FieldF* conductivity, const DiffusionStep& s) override;
   // Computes every cell (no QuiescentBox: one launch over the fields is cheaper than finding
-  // the box on the device).
+  // the box on the device); the whole grid only (grow 0).
   void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
-                   ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox*) override;
+                   ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox*,
+                   int grow) override;
   // On the CPU (the engine steps seed 001 with the 9-point twin here instead), with one line.
   void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
                          const GrayScott9Params& p) override;

@@ -210,6 +210,10 @@ std::string rd_block_problem(const SceneConfig& scene) {
   return "";
 }
 
+int rd_block_halo(const SceneConfig& scene) {
+  return scene.rd.boundary == BoundaryKind::kPeriodic ? kExplicitBlockSteps : 1;
+}
+
 RdStepper::RdStepper(const SceneConfig& scene, Device& device)
     : scene_(scene),
       dev_(&device),
@@ -217,8 +221,10 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
       cells_(device.on_block() ? device.block().block : box_of_size(scene.size)) {
   RowExecutor& ex = device.executor();
   if (std::string why = rd_config_problem(scene); !why.empty()) throw std::invalid_argument(why);
-  if (device.on_block())
+  if (device.on_block()) {
     if (std::string why = rd_block_problem(scene); !why.empty()) throw std::invalid_argument(why);
+    block_steps_ = std::min(rd_block_halo(scene), device.block().halo->width());
+  }
   const double scene_h = scene.domain_width / scene.size.x;
   dt_ = rd_.dt > 0 ? rd_.dt : scene.dt;
   h_ = rd_.cell_size > 0 ? rd_.cell_size : scene_h;
@@ -491,11 +497,16 @@ void RdStepper::sbdf2_step(SimState& s) {
   history_ = true;
 }
 
-void RdStepper::explicit_step(SimState& s) {
-  fill_chemical_ghosts(s);
-  // The 5- and 9-point stencils read one cell across the block's edges.
-  FieldF* const chemicals[] = {&s.A, &s.B};
-  dev_->exchange_halos(chemicals, 1);
+void RdStepper::explicit_step(SimState& s, int steps_left) {
+  if (halo_left_ == 0) {
+    // The 5- and 9-point stencils read one cell across the block's edges: an exchange as deep
+    // as the steps it serves, each of which steps the halo cells the next one reads.
+    fill_chemical_ghosts(s);
+    halo_left_ = std::min(block_steps_, steps_left);
+    FieldF* const chemicals[] = {&s.A, &s.B};
+    dev_->exchange_halos(chemicals, halo_left_);
+  }
+  --halo_left_;
   const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
   const float da = rd_.diffuse ? float(rd_.diffusion_a * base) : 0.0f;
   const float db = rd_.diffuse ? float(rd_.diffusion_b * base) : 0.0f;
@@ -506,7 +517,7 @@ void RdStepper::explicit_step(SimState& s) {
                             ? Scheme::kGrayScott9
                             : Scheme::k9;
   dev_->explicit_rd(s.A, s.B, scratch_a_, scratch_b_, scheme, p,
-                    scheme == Scheme::kGrayScott9 ? &quiescent_ : nullptr);
+                    scheme == Scheme::kGrayScott9 ? &quiescent_ : nullptr, halo_left_);
   dev_->swap(s.A, scratch_a_);
   dev_->swap(s.B, scratch_b_);
 }
@@ -607,6 +618,7 @@ void RdStepper::append_stages(FramePlan& plan, SimState& s) {
 }
 
 void RdStepper::react_diffuse(SimState& s) {
+  halo_left_ = 0;  // the fields may have been written since the last frame
   if (gray_scott9_) {
     dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params());
   } else {
@@ -632,7 +644,7 @@ void RdStepper::react_diffuse(SimState& s) {
       } else if (rd_.scheme == RdScheme::kEtdrk4) {
         dev_->etdrk4_step(*etdrk4_, s.A, s.B, rd_.react ? &rd_.reaction : nullptr);
       } else {
-        explicit_step(s);
+        explicit_step(s, rd_.steps_per_frame - k);
       }
     }
   }

@@ -31,8 +31,9 @@
 // Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps as one op where the
 // device has it (Device::gray_scott9_steps: the CPU's temporally blocked kernels/gray_scott9.h,
 // whose A and B have halo GrayScott9Blocked::kHalo); the other explicit cases, and seed 001's
-// on OpenCL or on a block, step whole fields one step at a time - seed 001's skipping, on the
-// CPU, the cells that cannot change (kernels/explicit_rd.h QuiescentBox). Every stage is an op of
+// scheme on OpenCL, on a block or with walls, step whole fields one step at a time - seed 001's
+// skipping, on the CPU, the cells that cannot change (kernels/explicit_rd.h QuiescentBox). On a
+// periodic grid a block steps kExplicitBlockSteps steps per halo exchange. Every stage is an op of
 // the engine's Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of
 // workers, or OpenCL). The frame is the stages append_stages() adds to the scene's FramePlan
 // (host/engine/frame_plan.h): the RD steps of the frame, then the advection. Nothing is
@@ -58,8 +59,17 @@ std::string rd_config_problem(const SceneConfig& scene);
 
 // One line saying why the scene's RD cannot run as one block of a decomposed grid (a Device on a
 // block, host/engine/device.h), "" when it can: the explicit 5- and 9-point schemes without a
-// fluid, whose steps exchange a halo of one cell (Device::exchange_halos) before each step.
+// fluid, whose steps read a halo of one cell (Device::exchange_halos).
 std::string rd_block_problem(const SceneConfig& scene);
+// On a periodic grid, where every edge of a block is a neighbour's, a block runs up to this many
+// explicit steps between exchanges: the exchange is that many cells deep, and each step also
+// steps the halo cells the steps after it read (seed 001's frame of 10 steps: two exchanges,
+// not ten). Walls are filled a cell deep each step, so a block of a walled grid exchanges
+// before every step.
+inline constexpr int kExplicitBlockSteps = 5;
+// The halo a block of the scene's RD exchanges (block_support): kExplicitBlockSteps on a
+// periodic grid, else 1.
+int rd_block_halo(const SceneConfig& scene);
 
 // For the generalized operator, one line a run prints before it starts: the explicit update's
 // spectral radius rho(I + dt D K) for A and B (seed 003, Eqn 27), with a warning when it
@@ -115,8 +125,8 @@ class RdStepper {
 
  private:
   // The halo init_state() gives A and B, and the fields they swap with: GrayScott9Blocked::kHalo
-  // for seed 001's blocked steps, else 1 (theta0's).
-  int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : 1; }
+  // for seed 001's blocked steps, a block's steps between exchanges, else 1 (theta0's).
+  int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : block_steps_; }
   // The scene's initial A and B, laid out over the whole grid, into A and B's cells (the grid or
   // a block; the same interior).
   void write_initial_pattern(FieldF& A, FieldF& B) const;
@@ -127,7 +137,8 @@ class RdStepper {
   // The implicit diffusion of A and B over `fraction` of dt (Eqns 13, 19; Crank-Nicolson with
   // `crank_nicolson`), with conductivity k (null: isotropic).
   void diffuse(SimState& s, const FieldF* k, double fraction, bool crank_nicolson);
-  void explicit_step(SimState& s);
+  // One explicit step, `steps_left` of the frame's steps left (this one included).
+  void explicit_step(SimState& s, int steps_left);
   // The stats of a step's A and B solves.
   void record_solves(const SolveReport& a, const SolveReport& b);
   void crank_nicolson_am2_step(SimState& s);
@@ -165,6 +176,10 @@ class RdStepper {
   // Seed 001's quiescent cells on the per-step schedule (explicit_step): A, B and the scratch
   // pair they swap with; advection and restart() restart it.
   QuiescentBox quiescent_;
+  // A block's explicit steps between halo exchanges (rd_block_halo; 1 on the whole grid), and
+  // how many more the halo A and B hold now serves.
+  int block_steps_ = 1;
+  int halo_left_ = 0;
   RdStepStats stats_;
 };
 

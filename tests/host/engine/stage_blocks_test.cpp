@@ -15,6 +15,7 @@
 
 #include "host/engine/device.h"
 #include "host/engine/engine.h"
+#include "host/engine/rd_step.h"
 #include "host/paint/paint.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
@@ -122,6 +123,20 @@ TEST(StageBlocks, PeriodicSeed001EqualsOneEngineBitwise) {
     serial.step();
   }
   EXPECT_TRUE(same_cells_in(blocked.state().A, serial.state().A, box_of_size({127, 93})));
+}
+
+TEST(StageBlocks, DeepHalosServeFramesOfAnyLength) {
+  // A block of a periodic grid steps kExplicitBlockSteps steps per exchange: 7 steps a frame
+  // are an exchange for 5 and one for 2; blocks 4 cells wide take their halo from several
+  // neighbours.
+  SceneConfig scene = periodic_scene();
+  scene.rd.steps_per_frame = 7;
+  ASSERT_EQ(block_support(scene).halo, kExplicitBlockSteps);
+  check_scene(scene, "seed001, 7 steps a frame");
+  Engine whole(scene, options(EngineOptions::Backend::kSerial, 1));
+  for (int i = 0; i < kFrames; ++i) whole.step();
+  expect_blocks_equal_whole(scene, {32, 1}, options(EngineOptions::Backend::kSerial, 1),
+                            whole.state(), "seed001, blocks 4 cells wide");
 }
 
 TEST(StageBlocks, DirichletFivePointEqualsOneEngineBitwise) {
