@@ -60,9 +60,10 @@ void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<fl
 // fields - the state (a, b) and the pair a step writes (a_out, b_out), which then become the state
 // - a QuiescentBox keeps a box of the cells of each pair that may differ from the fixed point:
 // the state's from the cells the last step wrote (differing()), the other pair's from the state
-// before. The ring around the cells (the boundary fill's or the halo exchange's) is scanned
-// every step. One box: a wall whose value is not the fixed point (Dirichlet A = 1) puts every
-// cell in it, so the gain is on periodic grids and blocks (and Neumann walls). Who steps (host/engine/device.h explicit_rd) asks region() before a step and
+// before. The ring around the cells (what the boundary fill, the halo exchange or the step
+// before wrote there) is scanned every step. One box: a wall whose value is not the fixed point
+// (Dirichlet A = 1) puts every cell in it, so the gain is on periodic grids and blocks (and
+// Neumann walls). Who steps (host/engine/device.h explicit_rd) asks region() before a step and
 // reports stepped() after it; who writes the fields otherwise calls restart().
 class QuiescentBox {
  public:

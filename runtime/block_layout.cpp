@@ -66,7 +66,8 @@ bool parse_block_parts(std::string_view text, Int2& out) {
   return true;
 }
 
-HaloExchange::HaloExchange(const BlockLayout& layout, int width) : width_(width) {
+HaloExchange::HaloExchange(const BlockLayout& layout, int width)
+    : width_(width), periodic_x_(layout.periodic_x()), periodic_y_(layout.periodic_y()) {
   const Int2 d = layout.domain();
   ARDCELL_CHECK(width >= 0, "HaloExchange: negative width");
   ARDCELL_CHECK((!layout.periodic_x() || width <= d.x) && (!layout.periodic_y() || width <= d.y),

@@ -70,6 +70,9 @@ class HaloExchange {
   HaloExchange(const BlockLayout& layout, int width);
 
   int width() const { return width_; }
+  // The layout's periodic axes: which domain edges the halos wrap across.
+  bool periodic_x() const { return periodic_x_; }
+  bool periodic_y() const { return periodic_y_; }
   const Box2& block(int b) const { return blocks_[std::size_t(b)]; }
   std::span<const HaloCopy> copies_into(int block) const;
   // copy's cells within `depth` of the receiving block (depth <= width).
@@ -87,6 +90,7 @@ class HaloExchange {
 
  private:
   int width_ = 0;
+  bool periodic_x_ = false, periodic_y_ = false;
   std::vector<Box2> blocks_;
   std::vector<HaloCopy> copies_;
   std::vector<std::size_t> first_;  // copies_into(b) = copies_[first_[b], first_[b + 1])
@@ -108,6 +112,9 @@ class HaloChannel {
   virtual int block() const = 0;
   // The halo width the channel fills.
   virtual int width() const = 0;
+  // Whether its layout wraps along x and y (BlockLayout::periodic_x, periodic_y).
+  virtual bool periodic_x() const = 0;
+  virtual bool periodic_y() const = 0;
   // Whether the exchange writes any cell of `box` (work that reads no such cell may run while
   // an exchange is in flight).
   virtual bool fills_any(const Box2& box) const = 0;
@@ -142,6 +149,8 @@ class LocalBlockGroup {
     Channel(LocalBlockGroup* group, int block) : group_(group), block_(block) {}
     int block() const override { return block_; }
     int width() const override { return group_->exchange_.width(); }
+    bool periodic_x() const override { return group_->exchange_.periodic_x(); }
+    bool periodic_y() const override { return group_->exchange_.periodic_y(); }
     bool fills_any(const Box2& box) const override {
       return group_->exchange_.fills_any(block_, box);
     }

@@ -38,6 +38,14 @@ DeviceBlock device_block(const SceneConfig& config, const EngineOptions& options
         "blocks: a block of a decomposed grid runs on the serial or threads back end (expected "
         "--backend serial or threads)");
   ARDCELL_CHECK(options.plan.halo != nullptr, "Engine: a block needs its halo channel");
+  // A layout cut for another scene (a split wall switching presets) must wrap as this one does.
+  const BlockSupport support = block_support(config);
+  if (support.periodic_x != options.plan.halo->periodic_x() ||
+      support.periodic_y != options.plan.halo->periodic_y())
+    throw std::invalid_argument(
+        std::string("blocks: rd.boundary: these blocks were cut for a grid that ") +
+        (options.plan.halo->periodic_x() ? "wraps" : "has walls") + " (expected a scene with " +
+        (options.plan.halo->periodic_x() ? "rd.boundary periodic" : "walls") + ")");
   return {config.size, options.plan.block, options.plan.halo};
 }
 

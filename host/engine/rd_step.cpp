@@ -289,6 +289,11 @@ void RdStepper::set_etdrk4_step() {
   etdrk4_->set_step(dt_, rd_.diffusion_a * base, rd_.diffusion_b * base);
 }
 
+int RdStepper::chemical_halo() const {
+  if (gray_scott9_) return GrayScott9Blocked::kHalo;
+  return dev_->on_block() ? std::max(block_steps_, dev_->block().halo->width()) : 1;
+}
+
 GrayScott9Params RdStepper::gray_scott9_params() const {
   const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;
   return {rd_.reaction.F, rd_.reaction.k, float(dt_), float(rd_.diffusion_a * base),

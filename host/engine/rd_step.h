@@ -125,8 +125,9 @@ class RdStepper {
 
  private:
   // The halo init_state() gives A and B, and the fields they swap with: GrayScott9Blocked::kHalo
-  // for seed 001's blocked steps, a block's steps between exchanges, else 1 (theta0's).
-  int chemical_halo() const { return gray_scott9_ ? GrayScott9Blocked::kHalo : block_steps_; }
+  // for seed 001's blocked steps, a block's channel width (which may exceed its steps between
+  // exchanges when the channel was made for another scene), else 1 (theta0's).
+  int chemical_halo() const;
   // The scene's initial A and B, laid out over the whole grid, into A and B's cells (the grid or
   // a block; the same interior).
   void write_initial_pattern(FieldF& A, FieldF& B) const;

@@ -62,6 +62,8 @@ class MpiHaloChannel final : public HaloChannel {
   ~MpiHaloChannel() override;
   int block() const override { return block_; }
   int width() const override { return exchange_.width(); }
+  bool periodic_x() const override { return exchange_.periodic_x(); }
+  bool periodic_y() const override { return exchange_.periodic_y(); }
   bool fills_any(const Box2& box) const override { return exchange_.fills_any(block_, box); }
   void begin(std::span<const HaloField> fields) override;
   void progress() override;

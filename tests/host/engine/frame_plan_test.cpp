@@ -134,6 +134,8 @@ class InFlightChannel final : public HaloChannel {
   explicit InFlightChannel(HaloChannel& inner) : inner_(inner) {}
   int block() const override { return inner_.block(); }
   int width() const override { return inner_.width(); }
+  bool periodic_x() const override { return inner_.periodic_x(); }
+  bool periodic_y() const override { return inner_.periodic_y(); }
   bool fills_any(const Box2& box) const override { return inner_.fills_any(box); }
   void begin(std::span<const HaloField> fields) override {
     fields_.assign(fields.begin(), fields.end());

@@ -1,8 +1,10 @@
 // Blocks of a scene built of stages: the explicit RD schemes' grid cut into blocks
 // (runtime/block_layout.h), each block an Engine whose Device computes its cells and exchanges a
-// halo of one cell before each step (Device::exchange_halos), gives the fields one Engine gives
-// over the whole grid, bit for bit: periodic (seed 001, whose whole-grid run takes the temporally
-// blocked kernel), Dirichlet and Neumann walls, on even and uneven layouts of a grid no block
+// halo (Device::exchange_halos: one cell before each step with walls; on a periodic grid
+// kExplicitBlockSteps cells every that many steps, each step also stepping the halo cells the
+// next reads), gives the fields one Engine gives over the whole grid, bit for bit: periodic (seed
+// 001, whose whole-grid run takes the temporally blocked kernel; a pattern that crosses the
+// periodic edges), Dirichlet and Neumann walls, on even and uneven layouts of a grid no block
 // divides, on the serial and threads back ends.
 #include <gtest/gtest.h>
 
@@ -97,11 +99,12 @@ void expect_blocks_equal_whole(const SceneConfig& scene, Int2 parts, const Engin
 void check_scene(const SceneConfig& scene, const std::string& what) {
   Engine whole(scene, options(EngineOptions::Backend::kSerial, 1));
   const SimState& initial = whole.state();
-  const float a0 = initial.A(63, 46), b0 = initial.B(63, 46);
+  const int cx = scene.size.x / 2, cy = scene.size.y / 2;
+  const float a0 = initial.A(cx, cy), b0 = initial.B(cx, cy);
   for (int i = 0; i < kFrames; ++i) whole.step();
   const SimState& s = whole.state();
   // The run is not trivial and stays finite: the chemicals moved where the pattern started.
-  EXPECT_TRUE(s.A(63, 46) != a0 || s.B(63, 46) != b0) << what;
+  EXPECT_TRUE(s.A(cx, cy) != a0 || s.B(cx, cy) != b0) << what;
   for (int y = 0; y < scene.size.y; ++y)
     for (int x = 0; x < scene.size.x; ++x)
       ASSERT_TRUE(std::isfinite(s.A(x, y)) && std::isfinite(s.B(x, y))) << what;
@@ -125,9 +128,24 @@ TEST(StageBlocks, PeriodicSeed001EqualsOneEngineBitwise) {
   EXPECT_TRUE(same_cells_in(blocked.state().A, serial.state().A, box_of_size({127, 93})));
 }
 
+TEST(StageBlocks, DeepHalosCrossThePeriodicEdges) {
+  // On 31 x 23 seed 001's square reaches every edge within the 12 frames: the halo cells a
+  // block steps come across the wrap, from its neighbours or from itself (1x1, and 2x1 along y).
+  SceneConfig scene = seed001_at({31, 23});
+  Engine probe(scene, options(EngineOptions::Backend::kSerial, 1));
+  for (int i = 0; i < kFrames; ++i) probe.step();
+  const SimState& s = probe.state();
+  const float background = s.B(0, 0);
+  int edge_cells_moved = 0;
+  for (int x = 0; x < 31; ++x) edge_cells_moved += s.B(x, 0) != background;
+  for (int y = 0; y < 23; ++y) edge_cells_moved += s.B(0, y) != background;
+  EXPECT_GT(edge_cells_moved, 10);
+  check_scene(scene, "seed001 31x23");
+}
+
 TEST(StageBlocks, DeepHalosServeFramesOfAnyLength) {
   // A block of a periodic grid steps kExplicitBlockSteps steps per exchange: 7 steps a frame
-  // are an exchange for 5 and one for 2; blocks 4 cells wide take their halo from several
+  // are an exchange for 5 and one for 2; blocks 3 and 4 cells wide take their halo from several
   // neighbours.
   SceneConfig scene = periodic_scene();
   scene.rd.steps_per_frame = 7;
@@ -247,6 +265,33 @@ TEST(StageBlocks, ScenesThatRunWholeSayWhy) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("blocks: rd.scheme"), std::string::npos) << e.what();
   }
+}
+
+// A split wall switching presets keeps its layout and channel: a scene whose grid wraps
+// otherwise is refused with one line; a walled scene on a channel wider than it needs gives its
+// fields the channel's halo.
+TEST(StageBlocks, BlocksCutForAnotherScenesGrid) {
+  const BlockLayout periodic = BlockLayout::split({127, 93}, {2, 1}, true, true);
+  LocalBlockGroup wide(periodic, kExplicitBlockSteps);
+  EngineOptions o;
+  o.plan.block = periodic.block(0);
+  o.plan.halo = &wide.channel(0);
+  try {
+    Engine e(dirichlet_scene(), o);
+    ADD_FAILURE() << "a walled scene ran on blocks of a grid that wraps";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("blocks: rd.boundary"), std::string::npos) << e.what();
+  }
+  const BlockLayout walled = BlockLayout::split({127, 93}, {2, 1});
+  LocalBlockGroup narrow(walled, 1);
+  o.plan.block = walled.block(0);
+  o.plan.halo = &narrow.channel(0);
+  EXPECT_THROW(Engine(periodic_scene(), o), std::invalid_argument);
+  LocalBlockGroup walled_wide(walled, kExplicitBlockSteps);
+  o.plan.halo = &walled_wide.channel(0);
+  Engine e(dirichlet_scene(), o);  // constructing steps nothing
+  EXPECT_GE(e.state().A.halo(), kExplicitBlockSteps);
+  EXPECT_GE(e.state().B.halo(), kExplicitBlockSteps);
 }
 
 }  // namespace
