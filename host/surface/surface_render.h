@@ -12,8 +12,21 @@
 // which cell each pixel shows.
 //
 // Evaluating the limit surface is the expensive part and does not depend on the view or the
-// field, so SurfaceRenderer does it once; a frame only projects, colours and fills, into buffers
-// sized on the first frame of a given size (no allocation after that).
+// field, so SurfaceRenderer does it once; a frame projects, colours and shades each corner once
+// (patch by patch on the executor's workers), then fills, into buffers sized on the first frame
+// of a given size (no allocation after that). The fill: corners snapped to 1/256 pixel; a
+// triangle covers the pixel centres where its three integer edge functions, stepped exactly from
+// pixel to pixel, are >= 0 (triangles sharing an edge leave no crack between them); depth (float,
+// larger is nearer) and colour interpolate the corners' with the barycentric weights. On a closed
+// piece of surface (no boundary edge) the triangles facing away are skipped: wherever one covers
+// a pixel, a triangle of the same piece facing the camera covers it nearer (which winding faces
+// the camera, an outward or an inward piece, comes from the sign of the piece's volume; a piece
+// is taken not to be folded inside out anywhere, where the nearest triangle would face away),
+// so the picture is the same, up to rounding along the outline, for about half the fill. An open
+// piece, or one enclosing next to no volume, draws every triangle. The image is filled in bands of
+// rows: a band clears only its rows (depth and pick only across the columns the last frame drew in
+// them) and skips the patches whose screen rows miss it, and a pixel sees the triangles in the same
+// order in any band, so any number of workers draws the same image.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -72,31 +85,39 @@ class SurfaceRenderer {
   long cell_at(int x, int y) const;
   // The kSphere fit's bounding sphere: the bounding box's centre to the farthest vertex.
   double radius() const { return radius_; }
-  // Where a render rasterises (bands of image rows; the serial executor by default): the same
-  // image for any number of workers. `executor` must outlive the renderer.
+  // Where a render runs (the corners patch by patch, then bands of image rows; the serial
+  // executor by default): the same image for any number of workers. `executor` must outlive the
+  // renderer.
   void set_executor(RowExecutor& executor) { executor_ = &executor; }
 
  private:
   struct Vertex {
     double x[3], n[3];  // limit position and unit normal
   };
-  // A projected corner: screen position (pixels), depth (larger is nearer), colour and shade.
+  // A projected corner: screen position in 1/256 pixel, depth (larger is nearer) and its shaded
+  // colour.
   struct Corner {
-    double x, y, depth;
-    float r, g, b;
+    int32_t x, y;
+    float depth, r, g, b;
   };
 
   const PatchGrid& grid_;
-  std::vector<Vertex> vertices_;     // patch by patch, (n + 1) x (n + 1) corners, row j major
-  double centre_[3] = {0, 0, 0};     // of the bounding box
-  double radius_ = 0;                // centre to the farthest vertex
-  PatchField field_;                 // the field with its ghosts refreshed
-  RowExecutor* executor_ = nullptr;  // null: the calling thread's serial executor
-  std::vector<Corner> corners_;      // vertices_ projected for the current frame
-  std::vector<std::array<double, 2>> patch_rows_;  // each patch's top and bottom y on screen
-  std::vector<double> depth_;                      // per pixel, of the nearest triangle so far
-  std::vector<long> pick_;                         // per pixel, its cell or -1
-  int width_ = 0, height_ = 0;                     // of depth_ and pick_
+  std::vector<Vertex> vertices_;  // patch by patch, (n + 1) x (n + 1) corners, row j major
+  // Per patch: the sign of the screen area of the triangles that face away on its closed piece
+  // (+1 or -1: skipped), or 0 on an open piece or one enclosing next to no volume (all drawn).
+  std::vector<int8_t> cull_sign_;
+  double centre_[3] = {0, 0, 0};                // of the bounding box
+  double radius_ = 0;                           // centre to the farthest vertex
+  PatchField field_;                            // the field with its ghosts refreshed
+  RowExecutor* executor_ = nullptr;             // null: the calling thread's serial executor
+  std::vector<Corner> corners_;                 // vertices_ projected for the current frame
+  std::vector<std::array<int, 2>> patch_rows_;  // each patch's first and last pixel row
+  std::vector<float> depth_;                    // per pixel, of the nearest triangle so far
+  std::vector<int32_t> pick_;                   // per pixel, its cell or -1
+  // Per row, the columns [x0, x1) holding depth and pick written since the row's last clear.
+  std::vector<std::array<int, 2>> drawn_;
+  std::vector<uint8_t> background_row_;  // a row of the background colour
+  int width_ = 0, height_ = 0;           // of depth_ and pick_
 };
 
 // The fixed-camera PNG: SurfaceRenderer(surface, grid).render(...) into a new image.

@@ -1,7 +1,9 @@
 // The fixed-camera render of a field on a surface (host/surface/surface_render.h): a constant
 // field draws its colour, shaded, inside the outline and the background outside; the depth buffer
 // shows the near side (a field that is 1 on the half facing the camera draws bright, turned away,
-// dark); a quarter turn of the camera around a symmetric surface covers as many pixels.
+// dark); a quarter turn of the camera around a symmetric surface covers as many pixels; skipping
+// the triangles that face away keeps the near side of a closed surface however it is wound, and
+// skips nothing on an open one.
 // SurfaceRenderer (the real-time loop's): a second frame of the same size allocates nothing;
 // cell_at names the cell drawn at a pixel; the kSphere fit keeps the scale as the view turns; the
 // caller's field, ghosts included, is left as it was.
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "host/surface/patch_metric.h"
 #include "host/surface/procedural_mesh.h"
@@ -110,6 +113,105 @@ TEST(SurfaceRender, AQuarterTurnAroundASymmetricSurfaceCoversAsMuch) {
   EXPECT_NEAR(ca, cb, 0.01 * ca);
 }
 
+// The faces of `mesh` wound the other way: the same surface, its normals inward.
+PolyMesh reversed(PolyMesh mesh) {
+  for (int f = 0; f < mesh.face_count(); ++f)
+    std::reverse(mesh.face_vertices.begin() + mesh.face_offsets[std::size_t(f)],
+                 mesh.face_vertices.begin() + mesh.face_offsets[std::size_t(f) + 1]);
+  return mesh;
+}
+
+// `b` moved by `dx` along x beside `a`, in one mesh of two pieces.
+PolyMesh joined(PolyMesh a, const PolyMesh& b, double dx) {
+  const int offset = int(a.points.size());
+  for (auto p : b.points) a.points.push_back({p[0] + dx, p[1], p[2]});
+  for (int f = 0; f < b.face_count(); ++f) {
+    for (int k = 0; k < b.face_size(f); ++k) a.face_vertices.push_back(b.face(f)[k] + offset);
+    a.face_offsets.push_back(int(a.face_vertices.size()));
+  }
+  return a;
+}
+
+Scene scene_of(PolyMesh mesh, int n) {
+  Scene s;
+  EXPECT_TRUE(LimitSurface::build(std::move(mesh), {}, s.surface));
+  s.grid = PatchGrid(s.surface.topology(), n, CornerGhosts::kDiagonalExtrapolate);
+  return s;
+}
+
+int covered_pixels(const Scene& s, const SurfaceView& view) {
+  const ImageRgb8 image = render_surface(s.surface, s.grid, s.grid.make_field(1.0), gray(), view);
+  int covered = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) covered += !is_background(image.row(y) + 3 * x, view);
+  return covered;
+}
+
+// On a closed surface the renderer skips the triangles facing away, which side that is coming
+// from the surface's own winding: wound inwards, the cube-sphere covers the same pixels and still
+// shows its near side; two pieces wound opposite ways each show theirs.
+TEST(SurfaceRender, AClosedSurfaceShowsItsNearSideWoundEitherWay) {
+  const Scene outward = cube_sphere(8), inward = scene_of(reversed(cube_mesh(2)), 8);
+  for (double azimuth : {0.0, 35.0, 120.0})
+    for (double elevation : {-50.0, 25.0}) {
+      SurfaceView view;
+      view.width = view.height = 200;
+      view.azimuth_deg = azimuth, view.elevation_deg = elevation;
+      // Reversed faces parametrise the patches otherwise (the cells' diagonals run the other
+      // way): a few pixels along the outline may differ by rounding.
+      EXPECT_NEAR(covered_pixels(inward, view), covered_pixels(outward, view), 20)
+          << azimuth << "," << elevation;
+    }
+  const auto x = cell_positions(inward.surface, inward.grid)[0];
+  PatchField field = inward.grid.make_field();
+  for (std::size_t k = 0; k < field.size(); ++k) field[k] = x[k] > 0 ? 1.0 : 0.0;
+  EXPECT_LT(dark_fraction(inward, field, 0), 0.02);
+  EXPECT_GT(dark_fraction(inward, field, 180), 0.98);
+
+  // An outward cube at the origin beside an inward one at x = 3, against both outward: seen along
+  // -y (azimuth 90) they cover the same pixels; seen along x, the near cube hides the far one.
+  const Scene mixed = scene_of(joined(cube_mesh(2), reversed(cube_mesh(2)), 3), 6);
+  const Scene same = scene_of(joined(cube_mesh(2), cube_mesh(2), 3), 6);
+  SurfaceView side;
+  side.width = 300, side.height = 150, side.azimuth_deg = 90, side.elevation_deg = 10;
+  EXPECT_NEAR(covered_pixels(mixed, side), covered_pixels(same, side), 20);
+  const auto mx = cell_positions(mixed.surface, mixed.grid)[0];
+  PatchField right = mixed.grid.make_field();
+  for (std::size_t k = 0; k < right.size(); ++k) right[k] = mx[k] > 1.5 ? 1.0 : 0.0;
+  EXPECT_LT(dark_fraction(mixed, right, 0), 0.02);    // the inward cube, in front
+  EXPECT_GT(dark_fraction(mixed, right, 180), 0.98);  // the outward one, in front
+}
+
+// An open surface skips nothing: a curved sheet of 3 x 3 quads (a trough, so that it has a side
+// facing each way and encloses some volume against its mean) covers the same pixels seen from
+// opposite directions (the same outline, mirrored), every one shaded no darker than the ambient.
+TEST(SurfaceRender, AnOpenSurfaceShowsBothSides) {
+  PolyMesh sheet;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 3; ++i)
+      sheet.points.push_back({double(i), double(j), 0.4 * (i - 1.5) * (i - 1.5)});
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      for (int v : {j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i})
+        sheet.face_vertices.push_back(v);
+      sheet.face_offsets.push_back(int(sheet.face_vertices.size()));
+    }
+  const Scene s = scene_of(sheet, 8);
+  SurfaceView above, below;
+  above.width = below.width = above.height = below.height = 160;
+  above.azimuth_deg = 20, above.elevation_deg = 60;
+  below.azimuth_deg = 200, below.elevation_deg = -60;
+  const int up = covered_pixels(s, above), down = covered_pixels(s, below);
+  EXPECT_GT(up, 160 * 160 / 10);
+  EXPECT_NEAR(up, down, 0.01 * up);
+  const ImageRgb8 image = render_surface(s.surface, s.grid, s.grid.make_field(1.0), gray(), below);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      if (!is_background(image.row(y) + 3 * x, below)) {
+        ASSERT_GE(image.row(y)[3 * x], 63);
+      }
+}
+
 Scene torus(int n) {
   Scene s;
   EXPECT_TRUE(LimitSurface::build(torus_mesh(8, 6, 2, 0.7), {}, s.surface));
@@ -140,9 +242,11 @@ TEST(SurfaceRenderer, ASecondFrameOfTheSameSizeAllocatesNothing) {
 }
 
 // Rasterised in bands of rows on a threads back end (the live window's), the image and the pick
-// buffer are the serial renderer's, pixel for pixel; a second frame allocates nothing there too.
+// buffer are the serial renderer's, pixel for pixel (the torus at N = 16: enough corners for the
+// corner pass to run on the workers too); a second frame, of another view, equals a new
+// renderer's first (what the last frame drew is cleared) and allocates nothing.
 TEST(SurfaceRenderer, BandsOnWorkersDrawTheSerialImage) {
-  const Scene s = torus(8);
+  const Scene s = torus(16);
   PatchField field = s.grid.make_field();
   for (std::size_t k = 0; k < field.size(); ++k) field[k] = std::sin(0.01 * double(k));
   SurfaceView view;
@@ -168,9 +272,48 @@ TEST(SurfaceRenderer, BandsOnWorkersDrawTheSerialImage) {
       picked += banded.cell_at(x, y) >= 0;
     }
   EXPECT_GT(picked, view.width * view.height / 10) << "the torus covers part of the image";
+  SurfaceView next = view;
+  next.azimuth_deg = 45, next.elevation_deg = 80, next.fit = SurfaceFit::kOutline;
+  SurfaceRenderer fresh(s.surface, s.grid);
+  fresh.render(field, gray(), next, expected);
   const long before = g_allocations.load();
-  banded.render(field, gray(), view, image);
+  banded.render(field, gray(), next, image);
   EXPECT_EQ(g_allocations.load() - before, 0);
+  ImageRgb8 serial_next;
+  serial.render(field, gray(), next, serial_next);
+  EXPECT_EQ(image.rgb, expected.rgb);
+  EXPECT_EQ(serial_next.rgb, expected.rgb);
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      ASSERT_EQ(banded.cell_at(x, y), fresh.cell_at(x, y)) << "pixel " << x << ", " << y;
+      ASSERT_EQ(serial.cell_at(x, y), fresh.cell_at(x, y)) << "pixel " << x << ", " << y;
+    }
+}
+
+// No cracks: the convex cube-sphere covers, in every row and every column of the image, one
+// unbroken run of pixels (a pixel centre between two triangles sharing an edge is filled, and
+// no triangle facing the camera is skipped).
+TEST(SurfaceRenderer, AConvexSurfaceHasNoCracks) {
+  const Scene s = cube_sphere(8);
+  PatchField field = s.grid.make_field();
+  SurfaceRenderer renderer(s.surface, s.grid);
+  ImageRgb8 image;
+  for (double azimuth : {35.0, 80.0, 200.0}) {
+    SurfaceView view;
+    view.width = 203, view.height = 151, view.azimuth_deg = azimuth;
+    renderer.render(field, gray(), view, image);
+    const auto runs = [&](int n, auto covered) {
+      int count = 0;
+      for (int i = 0; i < n; ++i) count += covered(i) && (i == 0 || !covered(i - 1));
+      return count;
+    };
+    for (int y = 0; y < view.height; ++y)
+      ASSERT_LE(runs(view.width, [&](int x) { return renderer.cell_at(x, y) >= 0; }), 1)
+          << "row " << y << ", azimuth " << azimuth;
+    for (int x = 0; x < view.width; ++x)
+      ASSERT_LE(runs(view.height, [&](int y) { return renderer.cell_at(x, y) >= 0; }), 1)
+          << "column " << x << ", azimuth " << azimuth;
+  }
 }
 
 TEST(SurfaceRenderer, CellAtNamesTheCellDrawnAtAPixel) {
