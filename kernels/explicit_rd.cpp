@@ -177,7 +177,76 @@ Box2 QuiescentBox::region(View<const float> a, View<const float> b, Box2 cells) 
   return grown_if_any(state_).united(other_).united(grown_if_any(ring)).intersected(cells);
 }
 
-void QuiescentBox::stepped(Box2 written, Box2 input) {
+namespace {
+
+constexpr Int2 kAllRows{-(1 << 30), 1 << 30};
+bool no_rows(Int2 r) { return r.y <= r.x; }
+// The smallest interval holding both (an empty one adds nothing).
+Int2 rows_united(Int2 a, Int2 b) {
+  if (no_rows(b)) return a;
+  if (no_rows(a)) return b;
+  return {std::min(a.x, b.x), std::max(a.y, b.y)};
+}
+
+}  // namespace
+
+void QuiescentBox::restart() {
+  known_ = false;
+  last_grow_ = 0;
+  for (int side = 0; side < 2; ++side)
+    for (int d = 0; d <= kMaxGrow + 1; ++d) side_state_[side][d] = side_other_[side][d] = kAllRows;
+}
+
+void QuiescentBox::begin_sides(View<const float> a, View<const float> b, Box2 inner, int grow) {
+  ARDCELL_CHECK(grow > 0 && grow <= kMaxGrow, "QuiescentBox: at most kMaxGrow halo columns");
+  if (grow < last_grow_) return;  // a later step of the same exchange
+  for (int side = 0; side < 2; ++side)
+    for (int d = 1; d <= grow + 1; ++d) {
+      const int x = side == 0 ? inner.min.x - d : inner.max.x - 1 + d;
+      const Box2 box = differing(a, b, {{x, inner.min.y}, {x + 1, inner.max.y}});
+      side_state_[side][d] = box.empty() ? Int2{} : Int2{box.min.y, box.max.y};
+    }
+}
+
+Int2 QuiescentBox::column_rows(int side, int d, Box2 inner) const {
+  if (d > 0) return side_state_[side][d];
+  // The interior's column next to the halo: the rows of the state's box, if it reaches it.
+  if (!known_) return kAllRows;
+  const bool reaches = side == 0 ? state_.min.x <= inner.min.x : state_.max.x >= inner.max.x;
+  return !state_.empty() && reaches ? Int2{state_.min.y, state_.max.y} : Int2{};
+}
+
+Int2 QuiescentBox::side_rows(View<const float> a, View<const float> b, int side, Box2 inner,
+                             int grow) const {
+  // A cell of column d reads columns d - 1 .. d + 1 a row either side; the other pair's rows
+  // that differ are overwritten; the first and last rows also read the state's halo rows above
+  // and below (stepped whole, not tracked: the cells they read there are scanned).
+  Int2 rows{};
+  const int x0 = side == 0 ? inner.min.x - grow - 1 : inner.max.x - 1;
+  const int x1 = side == 0 ? inner.min.x + 1 : inner.max.x + grow + 1;
+  if (!differing(a, b, {{x0, inner.min.y - 1}, {x1, inner.min.y}}).empty())
+    rows = {inner.min.y, inner.min.y + 1};
+  if (!differing(a, b, {{x0, inner.max.y}, {x1, inner.max.y + 1}}).empty())
+    rows = rows_united(rows, {inner.max.y - 1, inner.max.y});
+  for (int d = 1; d <= grow; ++d) {
+    Int2 read = rows_united(rows_united(column_rows(side, d - 1, inner), side_state_[side][d]),
+                            side_state_[side][d + 1]);
+    if (!no_rows(read)) read = {read.x - 1, read.y + 1};
+    rows = rows_united(rows_united(rows, read), side_other_[side][d]);
+  }
+  return {std::max(rows.x, inner.min.y), std::min(rows.y, inner.max.y)};
+}
+
+void QuiescentBox::stepped(Box2 written, Box2 input, int grow) {
+  // The pairs change roles: the columns the step wrote hold its output, the others what the
+  // other pair held there.
+  for (int side = 0; side < 2; ++side)
+    for (int d = 1; d <= kMaxGrow + 1; ++d) {
+      const Int2 now = d <= grow ? side_written_[side] : side_other_[side][d];
+      side_other_[side][d] = side_state_[side][d];
+      side_state_[side][d] = now;
+    }
+  last_grow_ = grow;
   other_ = known_ ? state_ : input;
   state_ = written;
   known_ = true;

@@ -65,11 +65,21 @@ void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<fl
 // (Dirichlet A = 1) puts every cell in it, so the gain is on periodic grids and blocks (and
 // Neumann walls). Who steps (host/engine/device.h explicit_rd) asks region() before a step and
 // reports stepped() after it; who writes the fields otherwise calls restart().
+// A block that steps halo cells too (explicit_rd's grow: the steps a deep exchange serves) steps
+// the rows of its halo above and below whole, and of the halo columns left and right of it only
+// the rows that can change: per side and per column d (1 next to the interior), the rows of each
+// pair that may differ, scanned in the state when an exchange wrote the column and kept as
+// steps write it.
 class QuiescentBox {
  public:
+  // Halo columns a step may step on either side (explicit_rd's grow), at most.
+  static constexpr int kMaxGrow = 15;
+
+  QuiescentBox() { restart(); }
+
   // The fields were written other than by the steps (a new state, painting, advection): the
   // next step computes every cell and finds both boxes again.
-  void restart() { known_ = false; }
+  void restart();
   // Whether steps of p can skip: p's update maps a uniform state reached from (1, 0) to itself.
   // Finds that state again when p changed (then restart()s); allocates nothing.
   bool skips(const GrayScott9Params& p);
@@ -79,17 +89,35 @@ class QuiescentBox {
   // The box of `rows` where a or b differs from the fixed point (empty when none does): the step's
   // output over the rows it wrote, and, on the step after restart(), its input over every cell.
   Box2 differing(View<const float> a, View<const float> b, Box2 rows) const;
+  // Before a step that also steps `grow` (> 0) halo columns on either side of the interior
+  // `inner`: when the step is the first an exchange serves (grow not below the last step's), the
+  // rows of the state's columns 1 .. grow + 1, which the exchange wrote, that differ.
+  void begin_sides(View<const float> a, View<const float> b, Box2 inner, int grow);
+  // The rows [x, y) of `inner` the step must step in the `grow` halo columns of side 0 (left) or
+  // 1 (right), the others' output already holding their new value; then side_stepped() with the
+  // rows of its output there that differ from the fixed point (none: y <= x).
+  // Reads the state's halo rows just above and below the interior next to the columns.
+  Int2 side_rows(View<const float> a, View<const float> b, int side, Box2 inner, int grow) const;
+  void side_stepped(int side, Int2 written) { side_written_[side] = written; }
   // The step wrote `region`, in which its output differs from the fixed point within `written`;
-  // `input` is differing() of its input over every cell when that step followed restart().
-  void stepped(Box2 written, Box2 input);
+  // `input` is differing() of its input over every cell when that step followed restart(); it
+  // stepped `grow` halo columns on either side.
+  void stepped(Box2 written, Box2 input, int grow = 0);
   bool known() const { return known_; }
   // The fixed point (valid while skips()).
   float fixed_a() const;
   float fixed_b() const;
 
  private:
+  // The rows [x, y) of side s's column d of the state that may differ (column 0 from state_).
+  Int2 column_rows(int side, int d, Box2 inner) const;
+
   bool known_ = false;
   Box2 state_{}, other_{};  // the cells of the state and of the other pair that may differ
+  // Per side and halo column d (index d; 0 unused), the rows of each pair that may differ.
+  Int2 side_state_[2][kMaxGrow + 2], side_other_[2][kMaxGrow + 2];
+  Int2 side_written_[2] = {};
+  int last_grow_ = 0;  // the last step's grow
   GrayScott9Params params_{};
   bool found_ = false;  // params_ is the p the fixed point was sought for
   bool skips_ = false;

@@ -413,13 +413,24 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
     step(cells);
     return;
   }
-  // The halo cells, all of them (a thin frame; the box covers the interior only): the strips
-  // above and below, then left and right of the interior.
+  // The halo cells: the rows above and below the interior whole (short rows of few cells), of
+  // the columns left and right only the rows that can change.
   if (grow > 0) {
     step({cells.min, {cells.max.x, inner.min.y}});
     step({{cells.min.x, inner.max.y}, cells.max});
-    step({{cells.min.x, inner.min.y}, {inner.min.x, inner.max.y}});
-    step({{inner.max.x, inner.min.y}, {cells.max.x, inner.max.y}});
+    quiet->begin_sides(a.view(), b.view(), inner, grow);
+    for (int side = 0; side < 2; ++side) {
+      const Int2 rows = quiet->side_rows(a.view(), b.view(), side, inner, grow);
+      Int2 written{};
+      if (rows.y > rows.x) {
+        const Box2 box = side == 0 ? Box2{{cells.min.x, rows.x}, {inner.min.x, rows.y}}
+                                   : Box2{{inner.max.x, rows.x}, {cells.max.x, rows.y}};
+        step(box);
+        const Box2 w = quiet->differing(a_out.view(), b_out.view(), box);
+        if (!w.empty()) written = {w.min.y, w.max.y};
+      }
+      quiet->side_stepped(side, written);
+    }
   }
   // Of the interior, only the cells that can change; each band notes where its output (and, on
   // a run's first step, its input) differs from the fixed point, while the rows are in cache.
@@ -442,7 +453,7 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
     written = written.united(band_boxes_[std::size_t(w)]);
     input = input.united(band_boxes_[std::size_t(workers() + w)]);
   }
-  quiet->stepped(written, input);
+  quiet->stepped(written, input, grow);
 }
 
 void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,

@@ -104,6 +104,35 @@ TEST(QuiescentSteps, SkippingGivesTheBitsOfEveryCellWithNeumannWalls) {
   expect_skipping_keeps_the_bits(RowExecutor::serial(), false);
 }
 
+// A block's halo columns (explicit_rd's grow): once the state and the other pair are known to
+// hold the fixed point there, no row of them is stepped, except next to a differing cell of the
+// halo row just above or below the interior that the columns' first or last row reads.
+TEST(QuiescentSteps, HaloColumnsStepOnlyRowsThatCanChange) {
+  QuiescentBox quiet;
+  ASSERT_TRUE(quiet.skips(GrayScott9Params{}));
+  const Box2 inner{{0, 0}, {32, 24}};
+  FieldF a = FieldF::over(inner, 5), b = FieldF::over(inner, 5);
+  a.fill(quiet.fixed_a());
+  b.fill(quiet.fixed_b());
+  // A step of 4 halo columns that found nothing differing, then the next one (3 columns).
+  quiet.begin_sides(a.view(), b.view(), inner, 4);
+  for (int side = 0; side < 2; ++side) quiet.side_stepped(side, {});
+  quiet.stepped({}, {}, 4);
+  for (int side = 0; side < 2; ++side) {
+    const Int2 rows = quiet.side_rows(a.view(), b.view(), side, inner, 3);
+    EXPECT_LE(rows.y, rows.x) << "side " << side;
+  }
+  a(-2, -1) = 0.5f;   // above the left columns
+  b(34, 24) = 0.25f;  // below the right ones
+  a(16, -1) = 0.5f;   // above the interior, next to neither
+  const Int2 left = quiet.side_rows(a.view(), b.view(), 0, inner, 3);
+  const Int2 right = quiet.side_rows(a.view(), b.view(), 1, inner, 3);
+  EXPECT_EQ(left.x, 0);
+  EXPECT_EQ(left.y, 1);
+  EXPECT_EQ(right.x, 23);
+  EXPECT_EQ(right.y, 24);
+}
+
 TEST(QuiescentSteps, FindsSeed001sFixedPoint) {
   QuiescentBox quiet;
   ASSERT_TRUE(quiet.skips(GrayScott9Params{}));

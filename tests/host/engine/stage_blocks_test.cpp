@@ -143,6 +143,14 @@ TEST(StageBlocks, DeepHalosCrossThePeriodicEdges) {
   check_scene(scene, "seed001 31x23");
 }
 
+TEST(StageBlocks, DeepHalosStepOnlyTheRowsOfTheirColumnsThatCanChange) {
+  // On a tall grid the pattern and its tail cover part of the rows of a cut through it, and none
+  // of the far edges but the rows next to the halo above and below: the halo columns a block
+  // steps are stepped only there, and the rows they held two steps before are overwritten when
+  // the background settles.
+  check_scene(seed001_at({160, 400}), "seed001 160x400");
+}
+
 TEST(StageBlocks, DeepHalosServeFramesOfAnyLength) {
   // A block of a periodic grid steps kExplicitBlockSteps steps per exchange: 7 steps a frame
   // are an exchange for 5 and one for 2; blocks 3 and 4 cells wide take their halo from several
