@@ -117,7 +117,7 @@ bool QuiescentBox::skips(const GrayScott9Params& p) {
   params_ = p;
   found_ = true;
   skips_ = false;
-  known_ = false;
+  restart();
   // The update of one cell in a uniform 3x3 neighbourhood, iterated from (1, 0): seed 001's
   // parameters reach their fixed point in 2 steps; a state still moving after 64 is not one.
   constexpr int kMaxIterations = 64;
@@ -191,15 +191,15 @@ Int2 rows_united(Int2 a, Int2 b) {
 }  // namespace
 
 void QuiescentBox::restart() {
-  known_ = false;
-  last_grow_ = 0;
+  known_ = false;  // (a pending halo_exchanged() stays: the state's halo is still the exchange's)
   for (int side = 0; side < 2; ++side)
     for (int d = 0; d <= kMaxGrow + 1; ++d) side_state_[side][d] = side_other_[side][d] = kAllRows;
 }
 
 void QuiescentBox::begin_sides(View<const float> a, View<const float> b, Box2 inner, int grow) {
-  ARDCELL_CHECK(grow > 0 && grow <= kMaxGrow, "QuiescentBox: at most kMaxGrow halo columns");
-  if (grow < last_grow_) return;  // a later step of the same exchange
+  ARDCELL_CHECK(grow >= 0 && grow <= kMaxGrow, "QuiescentBox: at most kMaxGrow halo columns");
+  if (!exchanged_) return;  // a later step of the same exchange
+  exchanged_ = false;
   for (int side = 0; side < 2; ++side)
     for (int d = 1; d <= grow + 1; ++d) {
       const int x = side == 0 ? inner.min.x - d : inner.max.x - 1 + d;
@@ -246,7 +246,6 @@ void QuiescentBox::stepped(Box2 written, Box2 input, int grow) {
       side_other_[side][d] = side_state_[side][d];
       side_state_[side][d] = now;
     }
-  last_grow_ = grow;
   other_ = known_ ? state_ : input;
   state_ = written;
   known_ = true;

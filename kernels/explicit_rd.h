@@ -68,7 +68,7 @@ void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<fl
 // A block that steps halo cells too (explicit_rd's grow: the steps a deep exchange serves) steps
 // the rows of its halo above and below whole, and of the halo columns left and right of it only
 // the rows that can change: per side and per column d (1 next to the interior), the rows of each
-// pair that may differ, scanned in the state when an exchange wrote the column and kept as
+// pair that may differ, scanned in the state after an exchange (halo_exchanged()) and kept as
 // steps write it.
 class QuiescentBox {
  public:
@@ -89,9 +89,12 @@ class QuiescentBox {
   // The box of `rows` where a or b differs from the fixed point (empty when none does): the step's
   // output over the rows it wrote, and, on the step after restart(), its input over every cell.
   Box2 differing(View<const float> a, View<const float> b, Box2 rows) const;
-  // Before a step that also steps `grow` (> 0) halo columns on either side of the interior
-  // `inner`: when the step is the first an exchange serves (grow not below the last step's), the
-  // rows of the state's columns 1 .. grow + 1, which the exchange wrote, that differ.
+  // The state's halo was just exchanged (or filled), as deep as the steps it serves: the next
+  // begin_sides() scans it.
+  void halo_exchanged() { exchanged_ = true; }
+  // Before a step that steps `grow` (>= 0) halo columns on either side of the interior `inner`:
+  // after halo_exchanged(), the rows of the state's columns 1 .. grow + 1, which the exchange
+  // wrote, that differ.
   void begin_sides(View<const float> a, View<const float> b, Box2 inner, int grow);
   // The rows [x, y) of `inner` the step must step in the `grow` halo columns of side 0 (left) or
   // 1 (right), the others' output already holding their new value; then side_stepped() with the
@@ -101,8 +104,8 @@ class QuiescentBox {
   void side_stepped(int side, Int2 written) { side_written_[side] = written; }
   // The step wrote `region`, in which its output differs from the fixed point within `written`;
   // `input` is differing() of its input over every cell when that step followed restart(); it
-  // stepped `grow` halo columns on either side.
-  void stepped(Box2 written, Box2 input, int grow = 0);
+  // stepped `grow` halo columns on either side (side_stepped() for both sides when grow > 0).
+  void stepped(Box2 written, Box2 input, int grow);
   bool known() const { return known_; }
   // The fixed point (valid while skips()).
   float fixed_a() const;
@@ -117,7 +120,7 @@ class QuiescentBox {
   // Per side and halo column d (index d; 0 unused), the rows of each pair that may differ.
   Int2 side_state_[2][kMaxGrow + 2], side_other_[2][kMaxGrow + 2];
   Int2 side_written_[2] = {};
-  int last_grow_ = 0;  // the last step's grow
+  bool exchanged_ = false;  // halo_exchanged() since the last begin_sides()
   GrayScott9Params params_{};
   bool found_ = false;  // params_ is the p the fixed point was sought for
   bool skips_ = false;

@@ -415,10 +415,10 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
   }
   // The halo cells: the rows above and below the interior whole (short rows of few cells), of
   // the columns left and right only the rows that can change.
+  quiet->begin_sides(a.view(), b.view(), inner, grow);
   if (grow > 0) {
     step({cells.min, {cells.max.x, inner.min.y}});
     step({{cells.min.x, inner.max.y}, cells.max});
-    quiet->begin_sides(a.view(), b.view(), inner, grow);
     for (int side = 0; side < 2; ++side) {
       const Int2 rows = quiet->side_rows(a.view(), b.view(), side, inner, grow);
       Int2 written{};

@@ -510,6 +510,7 @@ void RdStepper::explicit_step(SimState& s, int steps_left) {
     halo_left_ = std::min(block_steps_, steps_left);
     FieldF* const chemicals[] = {&s.A, &s.B};
     dev_->exchange_halos(chemicals, halo_left_);
+    quiescent_.halo_exchanged();
   }
   --halo_left_;
   const double base = dt_ / (h_ * h_) * rd_.anisotropy.isotropic_value;

@@ -104,9 +104,11 @@ TEST(QuiescentSteps, SkippingGivesTheBitsOfEveryCellWithNeumannWalls) {
   expect_skipping_keeps_the_bits(RowExecutor::serial(), false);
 }
 
-// A block's halo columns (explicit_rd's grow): once the state and the other pair are known to
-// hold the fixed point there, no row of them is stepped, except next to a differing cell of the
-// halo row just above or below the interior that the columns' first or last row reads.
+// A block's halo columns (explicit_rd's grow): once both pairs are known to hold the fixed point
+// there, no row of them is stepped, except rows within one of a differing cell of the state's
+// columns (the interior's edge column, the stepped ones and the one beyond), the rows the other
+// pair differs in (overwritten), and the first or last row next to a differing cell of the halo
+// row just above or below; a column not stepped keeps what the other pair held there.
 TEST(QuiescentSteps, HaloColumnsStepOnlyRowsThatCanChange) {
   QuiescentBox quiet;
   ASSERT_TRUE(quiet.skips(GrayScott9Params{}));
@@ -114,23 +116,51 @@ TEST(QuiescentSteps, HaloColumnsStepOnlyRowsThatCanChange) {
   FieldF a = FieldF::over(inner, 5), b = FieldF::over(inner, 5);
   a.fill(quiet.fixed_a());
   b.fill(quiet.fixed_b());
-  // A step of 4 halo columns that found nothing differing, then the next one (3 columns).
+  const auto rows = [&](int side, int grow) {
+    return quiet.side_rows(a.view(), b.view(), side, inner, grow);
+  };
+  const auto step = [&](int grow, Int2 left_written) {
+    quiet.begin_sides(a.view(), b.view(), inner, grow);
+    quiet.side_stepped(0, left_written);
+    quiet.side_stepped(1, {});
+    quiet.stepped({}, {}, grow);
+  };
+  // An exchange of 5 cells found nothing; its first step wrote rows 5..6 of the left columns.
+  quiet.halo_exchanged();
+  step(4, {5, 7});
+  EXPECT_EQ(rows(0, 3), (Int2{4, 8}));  // the state's rows, one row either side
+  EXPECT_LE(rows(1, 3).y, rows(1, 3).x);
+  step(3, {});
+  EXPECT_EQ(rows(0, 2), (Int2{5, 7}));  // the other pair's rows, which this step overwrites
+  step(2, {});
+  // Column 3 was not stepped: the state there is what the other pair held, rows 5..6.
+  EXPECT_EQ(rows(0, 2), (Int2{4, 8}));
+  step(2, {});  // and the pair that is the state now holds the fixed point there
+  EXPECT_LE(rows(0, 2).y, rows(0, 2).x);
+  // A new exchange wrote a differing cell in column 3 (read by column 2) and one in the halo row
+  // above the left columns; one above the interior, next to neither side, counts for none.
+  a(-3, 12) = 0.5f;
+  a(-2, -1) = 0.5f;
+  a(16, -1) = 0.5f;
+  b(34, 24) = 0.25f;  // below the right columns
+  quiet.halo_exchanged();
+  quiet.begin_sides(a.view(), b.view(), inner, 2);
+  EXPECT_EQ(rows(0, 2), (Int2{0, 14}));  // rows 0 and 11..13, as one interval
+  EXPECT_EQ(rows(1, 2), (Int2{23, 24}));
+  // An exchange one cell deep serves a step of no halo column (a frame's last, odd step); what it
+  // wrote into column 1 is that pair's when it next is the pair a step overwrites.
+  a.fill(quiet.fixed_a());
+  b.fill(quiet.fixed_b());
+  quiet.halo_exchanged();
+  step(2, {});
+  step(2, {});
+  a(-1, 18) = 0.5f;
+  quiet.halo_exchanged();
+  step(0, {});
+  a(-1, 18) = quiet.fixed_a();  // the next exchange's state: quiet again
+  quiet.halo_exchanged();
   quiet.begin_sides(a.view(), b.view(), inner, 4);
-  for (int side = 0; side < 2; ++side) quiet.side_stepped(side, {});
-  quiet.stepped({}, {}, 4);
-  for (int side = 0; side < 2; ++side) {
-    const Int2 rows = quiet.side_rows(a.view(), b.view(), side, inner, 3);
-    EXPECT_LE(rows.y, rows.x) << "side " << side;
-  }
-  a(-2, -1) = 0.5f;   // above the left columns
-  b(34, 24) = 0.25f;  // below the right ones
-  a(16, -1) = 0.5f;   // above the interior, next to neither
-  const Int2 left = quiet.side_rows(a.view(), b.view(), 0, inner, 3);
-  const Int2 right = quiet.side_rows(a.view(), b.view(), 1, inner, 3);
-  EXPECT_EQ(left.x, 0);
-  EXPECT_EQ(left.y, 1);
-  EXPECT_EQ(right.x, 23);
-  EXPECT_EQ(right.y, 24);
+  EXPECT_EQ(rows(0, 4), (Int2{18, 19}));
 }
 
 TEST(QuiescentSteps, FindsSeed001sFixedPoint) {

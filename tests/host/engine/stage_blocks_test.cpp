@@ -149,6 +149,11 @@ TEST(StageBlocks, DeepHalosStepOnlyTheRowsOfTheirColumnsThatCanChange) {
   // steps are stepped only there, and the rows they held two steps before are overwritten when
   // the background settles.
   check_scene(seed001_at({160, 400}), "seed001 160x400");
+  // 6 steps a frame: an exchange for 5, then one a cell deep for the last step, which steps no
+  // halo column but must still see what that exchange wrote into column 1.
+  SceneConfig six = seed001_at({160, 400});
+  six.rd.steps_per_frame = 6;
+  check_scene(six, "seed001 160x400, 6 steps a frame");
 }
 
 TEST(StageBlocks, DeepHalosServeFramesOfAnyLength) {
