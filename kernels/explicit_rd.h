@@ -64,7 +64,8 @@ void gray_scott9_explicit_tile(View<const float> a, View<const float> b, View<fl
 // before wrote there) is scanned every step. One box: a wall whose value is not the fixed point
 // (Dirichlet A = 1) puts every cell in it, so the gain is on periodic grids and blocks (and
 // Neumann walls). Who steps (host/engine/device.h explicit_rd) asks region() before a step and
-// reports stepped() after it; who writes the fields otherwise calls restart().
+// reports stepped() after it; who writes the fields otherwise calls restart(), and who exchanges
+// or fills the state's halo calls halo_exchanged().
 // A block that steps halo cells too (explicit_rd's grow: the steps a deep exchange serves) steps
 // the rows of its halo above and below whole, and of the halo columns left and right of it only
 // the rows that can change: per side and per column d (1 next to the interior), the rows of each

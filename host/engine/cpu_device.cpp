@@ -415,7 +415,8 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
   }
   // The halo cells: the rows above and below the interior whole (short rows of few cells), of
   // the columns left and right only the rows that can change.
-  quiet->begin_sides(a.view(), b.view(), inner, grow);
+  // (Fields of halo 1 never step halo columns: nothing to scan.)
+  if (a.halo() > 1) quiet->begin_sides(a.view(), b.view(), inner, grow);
   if (grow > 0) {
     step({cells.min, {cells.max.x, inner.min.y}});
     step({{cells.min.x, inner.max.y}, cells.max});

@@ -206,8 +206,9 @@ class Device {
   // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b over the interior
   // grown by `grow` cells (a block's halo cells that a deeper exchange lets it step on its own;
   // the fields' halo holds grow + 1). With `quiet` (seed 001's scheme; the caller's, restart()ed
-  // whenever the four fields are written other than by these steps), a device may compute only
-  // the interior cells it says can change (kernels/explicit_rd.h QuiescentBox): the same bits.
+  // whenever the four fields are written other than by these steps, and told halo_exchanged()
+  // whenever a's and b's halo was exchanged or filled), a device may compute only the cells it
+  // says can change (kernels/explicit_rd.h QuiescentBox): the same bits.
   enum class ExplicitScheme : uint8_t { k5, k9, kGrayScott9 };
   virtual void explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                            ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet,

@@ -148,7 +148,12 @@ void SurfaceRenderer::render(const PatchField& field, const SurfaceColours& colo
   // assign reuses field_'s storage: it was sized for the grid in the constructor.
   field_.assign(field.begin(), field.end());
   const int n = grid_.n(), patches = grid_.patches();
-  const auto [right, up, eye] = camera_axes(view);
+  // Named, not a structured binding: the corner pass's lambda captures them (clang 14 cannot
+  // capture a binding).
+  const CameraAxes axes = camera_axes(view);
+  const Vec3& right = axes.right;
+  const Vec3& up = axes.up;
+  const Vec3& eye = axes.eye;
   const std::size_t per_patch = std::size_t(n + 1) * std::size_t(n + 1);
   RowExecutor& executor = executor_ ? *executor_ : RowExecutor::serial();
 

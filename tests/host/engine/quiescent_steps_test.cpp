@@ -161,6 +161,20 @@ TEST(QuiescentSteps, HaloColumnsStepOnlyRowsThatCanChange) {
   quiet.halo_exchanged();
   quiet.begin_sides(a.view(), b.view(), inner, 4);
   EXPECT_EQ(rows(0, 4), (Int2{18, 19}));
+
+  // The interior's column next to the halo: the rows of the interior's box where it reaches the
+  // side; before anything is known, every row.
+  QuiescentBox fresh;
+  ASSERT_TRUE(fresh.skips(GrayScott9Params{}));
+  fresh.halo_exchanged();
+  fresh.begin_sides(a.view(), b.view(), inner, 4);
+  for (int side = 0; side < 2; ++side) fresh.side_stepped(side, {});
+  fresh.stepped({{0, 3}, {4, 9}}, {}, 4);
+  EXPECT_EQ(fresh.side_rows(a.view(), b.view(), 0, inner, 3), (Int2{2, 10}));
+  EXPECT_LE(fresh.side_rows(a.view(), b.view(), 1, inner, 3).y,
+            fresh.side_rows(a.view(), b.view(), 1, inner, 3).x);
+  fresh.restart();
+  EXPECT_EQ(fresh.side_rows(a.view(), b.view(), 1, inner, 3), (Int2{0, 24}));
 }
 
 TEST(QuiescentSteps, FindsSeed001sFixedPoint) {
