@@ -2,9 +2,9 @@
 // MPI rank, as `mpirun -np R ardcell run SCENE --ranks WxH` runs it (table1-ard: the blocked
 // schedule, the plan's halo exchange; seed001: its stages, a halo of kExplicitBlockSteps cells
 // exchanged every that many steps; one rank's workers pinned, several ranks' left to mpirun's
-// binding; the exchange through MpiHaloChannel). One rank runs the whole grid, as `ardcell run SCENE` does. Run under
-// mpirun by `ardcell bench scale` (drivers/cli_bench_scale.cpp), one configuration a process
-// group:
+// binding; the exchange through MpiHaloChannel). One rank runs the whole grid, as `ardcell run
+// SCENE` does. Run under mpirun by `ardcell bench scale` (drivers/cli_bench_scale.cpp), one
+// configuration a process group:
 //   ARDCELL_BENCH_SCENE    a built-in scene that runs as blocks (default table1-ard);
 //   ARDCELL_BENCH_GRID     the whole grid, "WxH" (default 2048x2048);
 //   ARDCELL_BENCH_RANKS    the layout, "2x1" (must match mpirun -np; default 1x1);

@@ -382,7 +382,7 @@ void EngineSimulation::paint(std::span<const StrokeSample> samples, const InputM
         c.A(x, y) = l->a_tmp(x, y);
         c.B(x, y) = l->b_tmp(x, y);
       }
-  l->rd->restart();  // A and B were painted: no multistep history, no quiescent box
+  l->rd->restart();                  // A and B were painted: no multistep history, no quiescent box
   sync_coarse_from_fine(*l, false);  // hands c's A, B, theta0 to the device
 }
 
