@@ -140,4 +140,15 @@ void LocalBlockGroup::Channel::begin(std::span<const HaloField> fields) {
   }
 }
 
+void LocalBlockGroup::Channel::gather_all(const FieldF& field, FieldF& whole) {
+  LocalBlockGroup& g = *group_;
+  const HaloExchange& e = g.exchange_;
+  // Read only, like every block's cells while the others copy them.
+  g.posted_[std::size_t(block_)] = const_cast<FieldF*>(&field);
+  g.barrier_.arrive_and_wait();
+  for (int b = 0; b < e.count(); ++b)
+    copy_box<float>(g.posted_[std::size_t(b)]->view(), whole.view(), e.block(b));
+  g.barrier_.arrive_and_wait();  // no block writes its cells before every copy is made
+}
+
 }  // namespace ardcell

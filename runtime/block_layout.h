@@ -70,6 +70,7 @@ class HaloExchange {
   HaloExchange(const BlockLayout& layout, int width);
 
   int width() const { return width_; }
+  int count() const { return int(blocks_.size()); }
   // The layout's periodic axes: which domain edges the halos wrap across.
   bool periodic_x() const { return periodic_x_; }
   bool periodic_y() const { return periodic_y_; }
@@ -127,6 +128,11 @@ class HaloChannel {
   virtual void progress() {}
   // Returns when the halos begin() started are filled.
   virtual void finish() = 0;
+  // Copies every block's own cells (its box) of `field`, this block's copy of one field, into
+  // `whole` (a field whose interior is the whole domain), on every block: a step that needs the
+  // whole grid (a global solve) runs on the gathered grid. Collective, like begin and finish, and
+  // not while an exchange is in flight.
+  virtual void gather_all(const FieldF& field, FieldF& whole) = 0;
   // begin and finish of one field.
   void exchange(FieldF& field, int depth) {
     const HaloField f{&field, depth};
@@ -156,6 +162,7 @@ class LocalBlockGroup {
     }
     void begin(std::span<const HaloField> fields) override;
     void finish() override {}
+    void gather_all(const FieldF& field, FieldF& whole) override;
 
    private:
     LocalBlockGroup* group_;

@@ -68,6 +68,8 @@ class MpiHaloChannel final : public HaloChannel {
   void begin(std::span<const HaloField> fields) override;
   void progress() override;
   void finish() override;
+  // MPI_Allgatherv of the blocks' cells; its buffer (the whole grid) is made at the first call.
+  void gather_all(const FieldF& field, FieldF& whole) override;
   // Halo cells this rank receives per exchanged field.
   std::size_t cells_in() const { return exchange_.cells_into(block_); }
   // Since construction or reset_stats: the bytes this rank sent, and the seconds its host thread
@@ -94,6 +96,8 @@ class MpiHaloChannel final : public HaloChannel {
   std::vector<Peer> peers_;
   std::vector<HaloField> fields_;  // of the exchange in flight
   std::unique_ptr<Requests> requests_;
+  std::vector<int> gather_counts_, gather_offsets_;  // floats of each rank's block, in rank order
+  std::vector<float> gathered_;
   double bytes_sent_ = 0;
   long long ns_ = 0;
 };
