@@ -119,10 +119,19 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
   const bool erasing = eraser || c.mode == PaintMode::kErase;
   const bool erase_all = c.mode == PaintMode::kErase;
 
-  const int xa = std::max(cells_.min.x, int(std::floor(std::min(x0, x1) - r)));
-  const int xb = std::min(cells_.max.x - 1, int(std::ceil(std::max(x0, x1) + r)));
-  const int ya = std::max(cells_.min.y, int(std::floor(std::min(y0, y1) - r)));
-  const int yb = std::min(cells_.max.y - 1, int(std::ceil(std::max(y0, y1) + r)));
+  // Clip boxes: the state's A, B, dye, u, v hold only cells_ (a block's box), while the
+  // orientation sources and the obstacle mask cover the whole grid on every block, so that each
+  // block records the same whole-grid strokes (an implicit anisotropic solve gathers them).
+  const Box2 grid = box_of_size(grid_);
+  const bool whole_grid = mode == PaintMode::kOrient || mode == PaintMode::kObstacle || erase_all;
+  const Box2 clip = whole_grid ? grid : cells_;
+  const int xa = std::max(clip.min.x, int(std::floor(std::min(x0, x1) - r)));
+  const int xb = std::min(clip.max.x - 1, int(std::ceil(std::max(x0, x1) + r)));
+  const int ya = std::max(clip.min.y, int(std::floor(std::min(y0, y1) - r)));
+  const int yb = std::min(clip.max.y - 1, int(std::ceil(std::max(y0, y1) + r)));
+  // True on the whole grid (cells_ is the grid) and in the modes that write only the state:
+  // then no per-cell test is needed.
+  const bool all_in_cells = cells_.contains(Box2{{xa, ya}, {xb + 1, yb + 1}});
   for (int y = ya; y <= yb; ++y) {
     for (int x = xa; x <= xb; ++x) {
       const double px = x + 0.5, py = y + 0.5;
@@ -131,8 +140,9 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
       const double d = std::hypot(px - (x0 + t * dx), py - (y0 + t * dy));
       if (d > r) continue;
       const float k = float(k_base * brush_falloff(d, r));
+      const bool in_cells = all_in_cells || cells_.contains(Int2{x, y});
       if (erasing) {
-        if (erase_all || mode == PaintMode::kDeposit) {
+        if ((erase_all || mode == PaintMode::kDeposit) && in_cells) {
           if (!s.A.empty()) s.A(x, y) = c.background_a;
           if (!s.B.empty()) s.B(x, y) = c.background_b;
           if (!s.dye.empty()) s.dye(x, y) = 0;
@@ -143,7 +153,7 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
         }
         if ((erase_all || mode == PaintMode::kObstacle) && !s.obstacle.empty())
           s.obstacle(x, y) = 0;
-        if (mode == PaintMode::kPush && !s.u.empty()) {
+        if (mode == PaintMode::kPush && !s.u.empty() && in_cells) {
           s.u(x, y) *= 1 - k;
           s.v(x, y) *= 1 - k;
         }
@@ -155,7 +165,8 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
           if (!s.dye.empty()) s.dye(x, y) += k * (c.deposit_dye - s.dye(x, y));
           break;
         case PaintMode::kOrient:
-          if (c.orient_deposits && !(c.orient_dab_spacing > 0)) deposit_chemicals(x, y, k, s);
+          if (c.orient_deposits && !(c.orient_dab_spacing > 0) && in_cells)
+            deposit_chemicals(x, y, k, s);
           if (len > 0) {  // a dot has no direction
             weight_(x, y) = 1;
             dir_cos_(x, y) = float(ux);
@@ -173,8 +184,8 @@ void Painter::segment(double x0, double y0, double x1, double y1, float pressure
         case PaintMode::kObstacle:
           if (s.obstacle.empty()) s.obstacle = Field<uint8_t>(grid_, 1);  // first use only
           s.obstacle(x, y) = 1;
-          if (!s.u.empty()) s.u(x, y) = 0;
-          if (!s.v.empty()) s.v(x, y) = 0;
+          if (in_cells && !s.u.empty()) s.u(x, y) = 0;
+          if (in_cells && !s.v.empty()) s.v(x, y) = 0;
           break;
         case PaintMode::kErase:
           break;
@@ -213,11 +224,18 @@ bool Painter::update_theta0(SimState& s) {
   if (!orientation_dirty_) return false;
   orientation_dirty_ = false;
   if (s.theta0.empty()) s.theta0 = FieldF(grid_, 1);
-  // A block's theta0 (a split wall's screen, host/engine/engine.h block_support): the extension
-  // fills the whole grid, and the scenes that run as blocks are isotropic: theta0 is left alone.
-  if (s.theta0.interior() != box_of_size(grid_)) return false;
-  return extender_.extend(weight_.view(), dir_cos_.view(), dir_sin_.view(), s.theta0.view(),
-                          config_.theta_scale, config_.theta_offset);
+  if (s.theta0.interior() == box_of_size(grid_))
+    return extender_.extend(weight_.view(), dir_cos_.view(), dir_sin_.view(), s.theta0.view(),
+                            config_.theta_scale, config_.theta_offset);
+  // A block's theta0 (a rank, a split wall's screen): the extension fills the whole grid, and
+  // every block must hold the whole grid's theta0 on its cells (an implicit anisotropic solve
+  // gathers the blocks), so extend into a whole-grid scratch and keep the block's cells.
+  if (block_theta0_.empty()) block_theta0_ = FieldF(grid_, 1);  // first block call only
+  if (!extender_.extend(weight_.view(), dir_cos_.view(), dir_sin_.view(), block_theta0_.view(),
+                        config_.theta_scale, config_.theta_offset))
+    return false;  // no source: theta0 left as it is, as on the whole grid
+  copy_box<float>(block_theta0_.view(), s.theta0.view(), s.theta0.interior());
+  return true;
 }
 
 }  // namespace ardcell

@@ -85,15 +85,18 @@ class Painter {
   void set_mode(PaintMode mode) { config_.mode = mode; }
   PaintMode mode() const { return config_.mode; }
 
-  // Paints samples into state (whose size must be the painter's grid). No allocation. A state
-  // whose fields cover one block of the grid (a rank of `ardcell run --ranks`) gets the cells
-  // of its block: every block painted by the same samples gives the whole grid's painting.
+  // Paints samples into state (whose size must be the painter's grid). No allocation but the
+  // obstacle mask's on its first stroke. A state whose fields cover one block of the grid (a
+  // rank of `ardcell run --ranks`) gets the chemicals, dye and velocity of its block's cells;
+  // the orientation sources and the obstacle mask are whole-grid and painted over the whole
+  // grid on every block. Every block painted by the same samples gives the whole grid's painting.
   void apply(std::span<const StrokeSample> samples, SimState& state);
   void apply(const StrokeSample& sample, SimState& state) { apply({&sample, 1}, state); }
 
   // When orientation sources changed since the last call: theta0 over the whole grid from
   // them (fast marching extension); returns true if theta0 was written. A theta0 over a block
-  // (a split wall's screen) is left alone.
+  // (a rank, a split wall's screen) gets the whole grid's theta0 on its cells (extended into a
+  // whole-grid scratch, allocated on the first such call).
   bool update_theta0(SimState& state);
   // Forgets every orientation source (theta0 itself is left as it is).
   void clear_orientation();
@@ -132,7 +135,8 @@ class Painter {
   Int2 grid_;
   Box2 cells_;  // the cells the painted state holds (its block; the grid otherwise)
   PaintConfig config_;
-  FieldF weight_, dir_cos_, dir_sin_;
+  FieldF weight_, dir_cos_, dir_sin_;  // whole grid, on a block too
+  FieldF block_theta0_;                // update_theta0's whole-grid scratch on a block
   OrientationExtender extender_;
   bool orientation_dirty_ = false;
   bool down_ = false;

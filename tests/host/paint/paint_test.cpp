@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 namespace ardcell {
@@ -249,6 +251,139 @@ TEST(Painter, OrientDabsAreSpacedAlongTheStroke) {
   EXPECT_FLOAT_EQ(s2.B(30, 60), c.deposit_b);
   EXPECT_FLOAT_EQ(s2.B(42, 60), c.deposit_b);
   EXPECT_EQ(s2.B(36, 60), 0.f);
+}
+
+// Blocks of one grid (MPI ranks, a video wall's screens): every block runs a Painter over the
+// whole grid with the same samples.
+constexpr Int2 kWallGrid{80, 64};
+constexpr Box2 kWallBlocks[2] = {{{0, 0}, {40, 64}}, {{40, 0}, {80, 64}}};
+constexpr float kOutside = -7.f;  // what a block's storage holds outside its cells
+
+// A state over `box` of kWallGrid (the whole grid when box is), with a velocity when asked.
+// Outside the box (halo and padding) A, B, u and v hold kOutside, so a write past the block
+// shows.
+SimState make_block_state(Box2 box, bool velocity = false) {
+  SimState s;
+  s.size = kWallGrid;
+  s.h = 1.0 / kWallGrid.x;
+  s.dt = 0.01;
+  s.A = FieldF::over(box, 1);
+  s.B = FieldF::over(box, 1);
+  s.theta0 = FieldF::over(box, 1);
+  if (velocity) {
+    s.u = FieldF::over(box, 1);
+    s.v = FieldF::over(box, 1);
+  }
+  for (FieldF* f : {&s.A, &s.B, &s.u, &s.v})
+    if (!f->empty()) f->fill(kOutside);
+  for (int y = box.min.y; y < box.max.y; ++y)
+    for (int x = box.min.x; x < box.max.x; ++x) {
+      s.A(x, y) = 1;
+      s.B(x, y) = 0;
+      if (velocity) s.u(x, y) = s.v(x, y) = 0.25f;
+    }
+  return s;
+}
+
+// A sample at grid cell coordinates (gx, gy) of kWallGrid.
+StrokeSample wall_at(double gx, double gy, bool tip, bool eraser = false) {
+  StrokeSample s = at(kWallGrid.x, gx, 0, tip);
+  s.y = float(1.0 - gy / kWallGrid.y);
+  s.eraser = eraser;
+  return s;
+}
+
+// Cells of the block's box equal (bit for bit) the whole grid's, and nothing outside the box
+// was written.
+void expect_block_matches(const FieldF& block, const FieldF& whole, const char* what) {
+  const Box2 box = block.interior();
+  int differ = 0;
+  for (int y = box.min.y; y < box.max.y; ++y)
+    for (int x = box.min.x; x < box.max.x; ++x)
+      differ += std::memcmp(&block(x, y), &whole(x, y), sizeof(float)) != 0;
+  EXPECT_EQ(differ, 0) << what << " over " << box;
+  const auto outside = std::count(block.raw(), block.raw() + block.raw_size(), kOutside);
+  EXPECT_EQ(int64_t(outside), int64_t(block.raw_size()) - box.area()) << what << " over " << box;
+}
+
+TEST(Painter, BlocksRecordTheWholeGridsOrientation) {
+  const Box2 grid = box_of_size(kWallGrid);
+  SimState whole = make_block_state(grid);
+  SimState blocks[2] = {make_block_state(kWallBlocks[0]), make_block_state(kWallBlocks[1])};
+  PaintConfig c = orient_config(3);  // continuous deposit along the stroke too
+  Painter pw(kWallGrid, c);
+  Painter pb[2] = {Painter(kWallGrid, c), Painter(kWallGrid, c)};
+  // A bent stroke across x = 40, both ways.
+  const StrokeSample stroke[] = {wall_at(12, 14, true), wall_at(30, 22, true),
+                                 wall_at(58, 30, true), wall_at(66, 46, true),
+                                 wall_at(34, 52, true), wall_at(34, 52, false)};
+  pw.apply(stroke, whole);
+  ASSERT_TRUE(pw.update_theta0(whole));
+  ASSERT_GT(whole.B(20, 18), 0.f);  // deposited on both sides of x = 40
+  ASSERT_GT(whole.B(60, 34), 0.f);
+  for (int i = 0; i < 2; ++i) {
+    pb[i].apply(stroke, blocks[i]);
+    EXPECT_TRUE(pb[i].update_theta0(blocks[i])) << i;
+    // The orientation sources of every block are the whole grid's.
+    int differ = 0;
+    for (int y = 0; y < kWallGrid.y; ++y)
+      for (int x = 0; x < kWallGrid.x; ++x)
+        differ += pb[i].orientation_weight()(x, y) != pw.orientation_weight()(x, y) ||
+                  pb[i].orientation_cos()(x, y) != pw.orientation_cos()(x, y) ||
+                  pb[i].orientation_sin()(x, y) != pw.orientation_sin()(x, y);
+    EXPECT_EQ(differ, 0) << i;
+    int theta_differ = 0;
+    for (int y = kWallBlocks[i].min.y; y < kWallBlocks[i].max.y; ++y)
+      for (int x = kWallBlocks[i].min.x; x < kWallBlocks[i].max.x; ++x)
+        theta_differ +=
+            std::memcmp(&blocks[i].theta0(x, y), &whole.theta0(x, y), sizeof(float)) != 0;
+    EXPECT_EQ(theta_differ, 0) << i;
+    expect_block_matches(blocks[i].A, whole.A, "A");
+    expect_block_matches(blocks[i].B, whole.B, "B");
+  }
+}
+
+TEST(Painter, BlocksRecordTheWholeGridsObstacles) {
+  const Box2 grid = box_of_size(kWallGrid);
+  SimState whole = make_block_state(grid, true);
+  SimState blocks[2] = {make_block_state(kWallBlocks[0], true),
+                        make_block_state(kWallBlocks[1], true)};
+  PaintConfig c;
+  c.mode = PaintMode::kObstacle;
+  c.radius = c.min_radius = 3;
+  Painter pw(kWallGrid, c);
+  Painter pb[2] = {Painter(kWallGrid, c), Painter(kWallGrid, c)};
+  const StrokeSample stroke[] = {wall_at(10, 20, true), wall_at(70, 40, true),
+                                 wall_at(70, 40, false)};
+  // The eraser end over part of it, across x = 40 again.
+  const StrokeSample erase[] = {wall_at(30, 16, true, true), wall_at(52, 40, true, true),
+                                wall_at(52, 40, false, true)};
+  auto expect_same_masks = [&](const char* when) {
+    for (int i = 0; i < 2; ++i) {
+      ASSERT_FALSE(blocks[i].obstacle.empty()) << when;
+      int differ = 0;
+      for (int y = 0; y < kWallGrid.y; ++y)
+        for (int x = 0; x < kWallGrid.x; ++x)
+          differ += blocks[i].obstacle(x, y) != whole.obstacle(x, y);
+      EXPECT_EQ(differ, 0) << when << ", block " << i;
+      // Solid cells stop the flow on the block's cells only.
+      expect_block_matches(blocks[i].u, whole.u, when);
+      expect_block_matches(blocks[i].v, whole.v, when);
+    }
+  };
+  pw.apply(stroke, whole);
+  ASSERT_EQ(whole.obstacle(20, 23), 1);  // solid on both sides of x = 40
+  ASSERT_EQ(whole.obstacle(60, 37), 1);
+  ASSERT_EQ(whole.obstacle(44, 31), 1);  // where the eraser crosses it
+  ASSERT_EQ(whole.u(44, 31), 0.f);
+  for (int i = 0; i < 2; ++i) pb[i].apply(stroke, blocks[i]);
+  expect_same_masks("painted");
+  pw.apply(erase, whole);
+  ASSERT_EQ(whole.obstacle(44, 31), 0);  // erased where it crosses, kept at both ends
+  ASSERT_EQ(whole.obstacle(12, 20), 1);
+  ASSERT_EQ(whole.obstacle(68, 39), 1);
+  for (int i = 0; i < 2; ++i) pb[i].apply(erase, blocks[i]);
+  expect_same_masks("erased");
 }
 
 TEST(Painter, SceneDefaultsOrientWithDabsForASingleLobe) {
