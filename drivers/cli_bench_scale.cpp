@@ -67,7 +67,7 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
   if (const SceneEntry* entry = builtin_scenes().find(o.scene); !entry)
     return usage("--scene " + o.scene +
                  ": not a built-in scene (expected one that runs as blocks: table1, table1-ard, "
-                 "seed001)");
+                 "or an RD scene without a fluid such as seed001)");
   else if (std::string why = block_support(entry->make()).problem; !why.empty())
     return usage("--scene " + o.scene + ": runs on one process's whole grid: " + why);
   const std::string binary =

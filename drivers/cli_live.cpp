@@ -341,10 +341,13 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
 #if defined(ARDCELL_WITH_MPI)
   std::unique_ptr<RankWall> wall;
   if (walled) {
-    // A scene that runs as blocks (block_support) splits its grid between the screens, unless
-    // the wall switches presets (--playlist) or steps on OpenCL; every other scene, and those,
-    // run whole on every screen (host/live/live_wall.h).
-    const bool split = block_support(preset.scene).problem.empty() &&
+    // A scene whose blocks compute only their cells (block_support, not gathering) splits its
+    // grid between the screens, unless the wall switches presets (--playlist) or steps on
+    // OpenCL; every other scene, and those, run whole on every screen (host/live/live_wall.h): a
+    // block that gathers the grid would compute it whole anyway, and mirrored walls switch
+    // presets.
+    const BlockSupport support = block_support(preset.scene);
+    const bool split = support.problem.empty() && !support.gathers &&
                        backend != BackendKind::kOpenCl && a.playlist_opt->count() == 0;
     if (split) {
       if (std::string why = split_rank_job("--wall", a.wall, preset.scene, job, engine_options);

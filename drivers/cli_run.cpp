@@ -452,14 +452,8 @@ int do_run(RunArgs& a, CliContext& ctx) {
   // Stroke playback (--strokes / --replay): files are read before any output is created.
   std::unique_ptr<StrokePlayback> playback;
   if (std::string error; !a.paint.make(scene, playback, error)) return usage(error);
-  // Every rank reads the same strokes and paints its block's cells; orientation sources and
-  // obstacles are whole-grid fields of one process.
-  if (ranked && playback &&
-      (playback->painter().mode() == PaintMode::kOrient ||
-       playback->painter().mode() == PaintMode::kObstacle))
-    return usage(
-        "--paint-mode orient and obstacle paint one process's grid (expected deposit, "
-        "push or erase with --ranks)");
+  // Every rank reads the same strokes: it paints its block's cells of the chemicals, dye and
+  // velocity, and the whole grid's orientation sources and obstacle mask (host/paint/paint.h).
   if (ranked && !a.probe_csv.empty())
     return usage("--probe-csv records one process's grid (expected no --ranks)");
 
@@ -583,7 +577,7 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
   a.ranks_opt = run->add_option(
       "--ranks", a.ranks,
       "under mpirun: the grid cut into WxH blocks, one per process (mpirun -np W*H): the table1 "
-      "scenes and the explicit RD schemes without a fluid (seed001)");
+      "scenes and every RD scene without a fluid (seed001, space-cookie-5)");
   a.store_kib_opt = run->add_option(
       "--store-kib", a.store_kib,
       "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2 "

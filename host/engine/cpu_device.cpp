@@ -101,7 +101,17 @@ bool CpuDevice::supports(DeviceOp op) const {
     case DeviceOp::kInflowStripes:
     case DeviceOp::kReactionImplicit:
     case DeviceOp::kReactionTable:
+    case DeviceOp::kReactionTrapezoidal:
+    case DeviceOp::kSbdfRhs:
+    case DeviceOp::kConductivity:
     case DeviceOp::kExplicitRd:
+    // On the grid gathered from every block (CpuDevice::gathers).
+    case DeviceOp::kImplicitDiffusion:
+    case DeviceOp::kGeneralizedRd:
+    case DeviceOp::kTensorFieldRd:
+    case DeviceOp::kPeriodicSolve:
+    case DeviceOp::kTensorFieldSolve:
+    case DeviceOp::kEtdrk4:
       return true;
     default:
       return false;
@@ -132,17 +142,6 @@ void CpuDevice::reserve(Int2 grid) {
     row_scratch_.assign(row_scratch_stride_ * std::size_t(ex_->workers()), 0.0f);
   }
   band_boxes_.resize(2 * std::size_t(ex_->workers()));
-}
-
-template <class F>
-void CpuDevice::for_bands(Box2 cells, const F& f) {
-  ex_->for_rows(cells.height(), cells.width(), [&](int y0, int y1, int worker) {
-    const Box2 rows{{cells.min.x, cells.min.y + y0}, {cells.max.x, cells.min.y + y1}};
-    if constexpr (std::is_invocable_v<const F&, Box2, int>)
-      f(rows, worker);
-    else
-      f(rows);
-  });
 }
 
 void CpuDevice::copy(const FieldF& from, FieldF& to) {
@@ -371,10 +370,36 @@ void CpuDevice::conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
             [&](Box2 rows) { conductivity_tile(a.view(), theta0.view(), k.view(), rows, p); });
 }
 
+bool CpuDevice::gathers(const FieldF& f) const {
+  return block_.halo && f.interior() != box_of_size(block_.grid);
+}
+
+FieldF& CpuDevice::gather(const FieldF& f, int slot) {
+  FieldF& whole = whole_[std::size_t(slot)];
+  if (whole.empty()) whole = FieldF(block_.grid, 1);  // the first frame only
+  block_.halo->gather_all(f, whole);
+  return whole;
+}
+
+FieldF& CpuDevice::whole_scratch(int slot) {
+  FieldF& whole = whole_[std::size_t(slot)];
+  if (whole.empty()) whole = FieldF(block_.grid, 1);
+  return whole;
+}
+
+void CpuDevice::take(const FieldF& whole, FieldF& f) {
+  for_bands(f.interior(), [&](Box2 rows) { copy_box<float>(whole.view(), f.view(), rows); });
+}
+
 SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                           const FieldF* conductivity, const DiffusionStep& s) {
   require(DeviceOp::kImplicitDiffusion);
-  return diffusion.step(field, conductivity, s);
+  if (!gathers(field)) return diffusion.step(field, conductivity, s);
+  FieldF& x = gather(field, 0);
+  const SolveReport report =
+      diffusion.step(x, conductivity ? &gather(*conductivity, 1) : nullptr, s);
+  take(x, field);
+  return report;
 }
 
 void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
@@ -468,6 +493,12 @@ void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF&
 void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                const GeneralizedTaps& k, const GeneralizedRdParams& p) {
   require(DeviceOp::kGeneralizedRd);
+  if (gathers(a)) {
+    generalized_rd(gather(a, 0), gather(b, 1), whole_scratch(2), whole_scratch(3), k, p);
+    take(whole_[2], a_out);
+    take(whole_[3], b_out);
+    return;
+  }
   ARDCELL_CHECK(row_scratch_stride_ >= generalized_rd_scratch_floats(a.nx()),
                 "generalized_rd: reserve() the grid first");
   for_bands(a.interior(), [&](Box2 rows, int worker) {
@@ -480,6 +511,14 @@ void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF
                                      const GeneralizedTaps& k, const GeneralizedRdParams& p,
                                      int steps) {
   require(DeviceOp::kGeneralizedRd);
+  if (gathers(a)) {
+    // The steps swap the whole fields among themselves: slots 2 and 3 end with a_out's, b_out's.
+    generalized_rd_steps(gather(a, 0), gather(b, 1), whole_scratch(2), whole_scratch(3), k, p,
+                         steps);
+    take(whole_[2], a_out);
+    take(whole_[3], b_out);
+    return;
+  }
   // Nothing to fuse without a diffusion (no neighbour is read). Up to 512^2 the fields stay in
   // the caches between steps and fusing does not pay (bench/RESULTS_SEED003.md); and each band
   // computes S (S - 1) rows twice at each edge, so bands (up to 4 per worker) under 64 rows
@@ -501,6 +540,12 @@ void CpuDevice::generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF
 void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                 const Rank2FaceField& d, const GeneralizedRdParams& p) {
   require(DeviceOp::kTensorFieldRd);
+  if (gathers(a)) {
+    tensor_field_rd(gather(a, 0), gather(b, 1), whole_scratch(2), whole_scratch(3), d, p);
+    take(whole_[2], a_out);
+    take(whole_[3], b_out);
+    return;
+  }
   for_bands(a.interior(), [&](Box2 rows, int) {
     tensor_field_rd_rows(d, a.view(), b.view(), a_out.view(), b_out.view(), a.size(), rows.min.y,
                          rows.max.y, p);
@@ -509,12 +554,17 @@ void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
 
 void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
   require(DeviceOp::kPeriodicSolve);
-  solve.solve(x);
+  if (!gathers(x)) return solve.solve(x);
+  solve.solve(gather(x, 0));
+  take(whole_[0], x);
 }
 
 SolveReport CpuDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {
   require(DeviceOp::kTensorFieldSolve);
-  return solve.solve(x, s);
+  if (!gathers(x)) return solve.solve(x, s);
+  const SolveReport report = solve.solve(gather(x, 0), s);
+  take(whole_[0], x);
+  return report;
 }
 
 }  // namespace ardcell

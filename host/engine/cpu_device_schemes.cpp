@@ -9,26 +9,26 @@ namespace ardcell {
 
 void CpuDevice::reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) {
   require(DeviceOp::kReactionTrapezoidal);
-  const Int2 n = a.size();
-  ex_->for_rows(n.y, n.x, [&](int y0, int y1) {
-    reaction_trapezoidal_tile(a.view(), b.view(), a.view(), b.view(), Box2{{0, y0}, {n.x, y1}}, p,
-                              dt);
+  for_bands(a.interior(), [&](Box2 rows) {
+    reaction_trapezoidal_tile(a.view(), b.view(), a.view(), b.view(), rows, p, dt);
   });
 }
 
 void CpuDevice::sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,
                          const SbdfRhsParams& p) {
   require(DeviceOp::kSbdfRhs);
-  const Int2 n = a.size();
-  ex_->for_rows(n.y, n.x, [&](int y0, int y1) {
-    sbdf_rhs_tile(a.view(), b.view(), a_prev.view(), b_prev.view(), Box2{{0, y0}, {n.x, y1}}, p);
+  for_bands(a.interior(), [&](Box2 rows) {
+    sbdf_rhs_tile(a.view(), b.view(), a_prev.view(), b_prev.view(), rows, p);
   });
 }
 
 void CpuDevice::etdrk4_step(PeriodicEtdrk4& etdrk4, FieldF& a, FieldF& b,
                             const ReactionParams* reaction) {
   require(DeviceOp::kEtdrk4);
-  etdrk4.step(a, b, reaction);
+  if (!gathers(a)) return etdrk4.step(a, b, reaction);
+  etdrk4.step(gather(a, 0), gather(b, 1), reaction);
+  take(whole_[0], a);
+  take(whole_[1], b);
 }
 
 }  // namespace ardcell

@@ -17,8 +17,10 @@
 // a step the stages call before an op that reads across the block's edges - fills the rest from
 // the other blocks. Which scenes' stages run so: host/engine/engine.h block_support(); which ops
 // a block runs: supports().
+#include <array>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "kernels/advect.h"
@@ -36,6 +38,7 @@
 #include "runtime/block_layout.h"
 #include "runtime/boundary.h"
 #include "runtime/field.h"
+#include "runtime/row_executor.h"
 
 namespace ardcell {
 
@@ -43,7 +46,6 @@ class PeriodicEtdrk4;
 class GrayScott9Blocked;
 class PeriodicStencilSolve;
 class TensorFieldSolve;
-class RowExecutor;
 
 // The ops a device may or may not run natively (Device::supports). An op a device does not run
 // falls back to the CPU for that op (its fields move to the host and back), with one line.
@@ -367,6 +369,28 @@ class CpuDevice final : public Device {
   // Per worker, the boxes of a step's cells that differ from seed 001's fixed point: its output
   // [w] and its input [workers() + w] (explicit_rd with a QuiescentBox).
   std::vector<Box2> band_boxes_;
+  // On a block, the ops whose kernels read the whole grid (a global solve, an FFT, a stencil
+  // that wraps its indices) run on the grid gathered from every block (HaloChannel::gather_all),
+  // as every other block does: the same bits as one process, at one process's speed
+  // (docs/scale-out.md); the block takes its cells back. gathers(f): f covers a block that is
+  // not the whole grid. gather(f, slot) fills whole-grid scratch `slot` (made at the first use)
+  // from every block's f; take(whole, f) copies f's cells from it.
+  bool gathers(const FieldF& f) const;
+  FieldF& gather(const FieldF& f, int slot);
+  FieldF& whole_scratch(int slot);
+  void take(const FieldF& whole, FieldF& f);
+  std::array<FieldF, 4> whole_;
 };
+
+template <class F>
+void CpuDevice::for_bands(Box2 cells, const F& f) {
+  ex_->for_rows(cells.height(), cells.width(), [&](int y0, int y1, int worker) {
+    const Box2 rows{{cells.min.x, cells.min.y + y0}, {cells.max.x, cells.min.y + y1}};
+    if constexpr (std::is_invocable_v<const F&, Box2, int>)
+      f(rows, worker);
+    else
+      f(rows);
+  });
+}
 
 }  // namespace ardcell

@@ -133,6 +133,7 @@ BlockSupport block_support(const SceneConfig& scene) {
   }
   b.problem = rd_block_problem(scene);
   b.halo = rd_block_halo(scene);
+  b.gathers = rd_block_gathers(scene);
   b.periodic_x = b.periodic_y = scene.rd.boundary == BoundaryKind::kPeriodic;
   return b;
 }

@@ -57,12 +57,15 @@ struct EngineOptions {
 // ("" when it can), `halo` the width its blocks' halos exchange (HaloExchange, HaloChannel),
 // and the axes along which its grid wraps (BlockLayout::split's periodic axes). Blocks run the
 // scenes of tile passes (table1: their passes exchange, host/engine/frame_plan.h) and the
-// scenes whose stages' ops exchange a block's halos themselves (rd_block_problem,
-// host/engine/rd_step.h: the explicit RD schemes without a fluid).
+// scenes whose stages' ops exchange a block's halos themselves or gather the grid
+// (rd_block_problem, host/engine/rd_step.h: every RD scheme without a fluid).
 struct BlockSupport {
   std::string problem;
   int halo = 1;
   bool periodic_x = false, periodic_y = false;
+  // Whether its blocks run ops on the gathered grid (rd_block_gathers): every block then computes
+  // those over the whole grid, so the blocks are for one process's bits, not for speed.
+  bool gathers = false;
 };
 BlockSupport block_support(const SceneConfig& scene);
 

@@ -198,20 +198,23 @@ std::string rd_config_problem(const SceneConfig& scene) {
 }
 
 std::string rd_block_problem(const SceneConfig& scene) {
-  const RdConfig& rd = scene.rd;
   if (scene.fluid.kind != FluidSceneKind::kNone)
-    return "fluid.scene: this fluid runs on the whole grid only (blocks of a decomposed grid "
-           "run the table1 scenes and RD scenes without a fluid)";
-  if (!rd.enabled) return "rd.enabled: a scene without RD has nothing to run as blocks";
-  if (rd.diffusion_operator != RdOperator::kLaplacian ||
-      (rd.scheme != RdScheme::kExplicit5 && rd.scheme != RdScheme::kExplicit9))
-    return "rd.scheme: this scheme runs on the whole grid only (blocks of a decomposed grid run "
-           "rd.scheme explicit5 or explicit9 with rd.operator laplacian)";
+    return "fluid.scene: this fluid runs on the whole grid only (blocks of a decomposed grid run "
+           "the table1 scenes and RD scenes without a fluid)";
+  if (!scene.rd.enabled) return "rd.enabled: a scene without RD has nothing to run as blocks";
   return "";
 }
 
+bool rd_block_gathers(const SceneConfig& scene) {
+  const RdConfig& rd = scene.rd;
+  return rd.diffusion_operator != RdOperator::kLaplacian ||
+         (rd.scheme != RdScheme::kExplicit5 && rd.scheme != RdScheme::kExplicit9);
+}
+
 int rd_block_halo(const SceneConfig& scene) {
-  return scene.rd.boundary == BoundaryKind::kPeriodic ? kExplicitBlockSteps : 1;
+  const bool explicit_steps =
+      scene.rd.scheme == RdScheme::kExplicit5 || scene.rd.scheme == RdScheme::kExplicit9;
+  return explicit_steps && scene.rd.boundary == BoundaryKind::kPeriodic ? kExplicitBlockSteps : 1;
 }
 
 RdStepper::RdStepper(const SceneConfig& scene, Device& device)
@@ -461,6 +464,8 @@ void RdStepper::react(SimState& s) {
 const FieldF* RdStepper::conductivity(SimState& s) {
   if (rd_.anisotropy.kind == AnisotropyKind::kIsotropic) return nullptr;
   fill_chemical_ghosts(s);
+  FieldF* const a[] = {&s.A};
+  dev_->exchange_halos(a, 1);  // the gradient of A reads across a block's edges
   dev_->conductivity(s.A, s.theta0, conductivity_, rd_.anisotropy);
   return &conductivity_;
 }

@@ -58,8 +58,10 @@ namespace ardcell {
 std::string rd_config_problem(const SceneConfig& scene);
 
 // One line saying why the scene's RD cannot run as one block of a decomposed grid (a Device on a
-// block, host/engine/device.h), "" when it can: the explicit 5- and 9-point schemes without a
-// fluid, whose steps read a halo of one cell (Device::exchange_halos).
+// block, host/engine/device.h), "" when it can: every RD scheme without a fluid. The explicit 5-
+// and 9-point steps read a halo (Device::exchange_halos), the reactions are per cell, the
+// conductivity reads a halo of A one cell deep, and the ops that read the whole grid (diffusion
+// solves, seed 003's wrapping stencils and FFTs, ETDRK4) run on the gathered grid (CpuDevice).
 std::string rd_block_problem(const SceneConfig& scene);
 // On a periodic grid, where every edge of a block is a neighbour's, a block runs up to this many
 // explicit steps between exchanges: the exchange is that many cells deep, and each step also
@@ -67,9 +69,12 @@ std::string rd_block_problem(const SceneConfig& scene);
 // not ten). Walls are filled a cell deep each step, so a block of a walled grid exchanges
 // before every step.
 inline constexpr int kExplicitBlockSteps = 5;
-// The halo a block of the scene's RD exchanges (block_support): kExplicitBlockSteps on a
-// periodic grid, else 1.
+// The halo a block of the scene's RD exchanges (block_support): kExplicitBlockSteps for the
+// explicit schemes on a periodic grid, else 1.
 int rd_block_halo(const SceneConfig& scene);
+// Whether a block of the scene's RD runs ops on the gathered grid: every scheme but the explicit
+// 5- and 9-point ones with the Laplacian.
+bool rd_block_gathers(const SceneConfig& scene);
 
 // For the generalized operator, one line a run prints before it starts: the explicit update's
 // spectral radius rho(I + dt D K) for A and B (seed 003, Eqn 27), with a warning when it

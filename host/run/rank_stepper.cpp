@@ -36,6 +36,8 @@ void RankStepper::gather() {
   s.for_each_field([&](std::string_view name, const FieldF& f) {
     gather_.gather(f, world_.rank() == 0 ? whole_.field(name) : nullptr);
   });
+  // Every rank paints the whole grid's obstacle mask (host/paint/paint.h): rank 0's is the grid's.
+  if (world_.rank() == 0) whole_.obstacle = s.obstacle;
   whole_.time = s.time;
   whole_.rd_time = s.rd_time;
   whole_.step = s.step;

@@ -5,9 +5,10 @@
 // of one process's window at one pixel a cell after the same frames, for 2 and 4 screens (2x1,
 // 1x2, 2x2); with a bezel the hidden cells are black and every other pixel is one process's. A
 // mirrored wall (cavity-gray-scott: every screen steps the whole grid) shows one process's frame
-// too, and so does a split wall of a scene of stages (seed 001: each screen steps its block), and
-// screens on different back ends (PoCL and the CPU) are brought back in step. A signal to one
-// screen ends every screen; bad wall settings exit 2 with one line.
+// too (also space-cookie-5, whose blocks would gather the grid), and so does a split wall of a
+// scene of stages (seed 001: each screen steps its block), and screens on different back ends
+// (PoCL and the CPU) are brought back in step. A signal to one screen ends every screen; bad wall
+// settings exit 2 with one line.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -33,6 +34,8 @@ class LiveWallCliTest : public BinaryRunTest {
     write_resized("cavity-gray-scott", "size = [256, 256]", "size = [48, 32]", "mirrored.toml");
     // seed001 (explicit 9-point Gray-Scott as stages, halos of one cell) on 96 x 64 cells.
     write_resized("seed001", "size = [400, 400]", "size = [96, 64]", "seed001.toml");
+    // space-cookie-5 (implicit anisotropic RD, whose blocks gather the grid) on 96 x 64 cells.
+    write_resized("space-cookie-5", "size = [128, 128]", "size = [96, 64]", "cookie.toml");
   }
   // The built-in preset `name` with its grid line `size` replaced by `resized`, as work()/out.
   void write_resized(const std::string& name, const std::string& size, const std::string& resized,
@@ -123,6 +126,12 @@ TEST_F(LiveWallCliTest, AMirroredWallShowsOneProcesssFrame) {
     EXPECT_NE(r.err.find("every screen steps the whole grid (mirrored)"), std::string::npos)
         << r.err;
     EXPECT_EQ(r.err.find("drifted"), std::string::npos) << r.err;
+  });
+  // A scene whose blocks would gather the grid for their solves (space-cookie-5, which `run
+  // --ranks` cuts) is mirrored: every screen would compute the whole solve anyway.
+  walls_show_one_frame("cookie.toml", 10, {"2x1"}, [](const BinaryRunResult& r) {
+    EXPECT_NE(r.err.find("every screen steps the whole grid (mirrored)"), std::string::npos)
+        << r.err;
   });
 }
 

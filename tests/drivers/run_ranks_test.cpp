@@ -4,11 +4,14 @@
 //   - 2, 3 and 4 ranks (2x1, 1x2, 3x1, 2x2; uneven blocks of 127 x 93) save the bytes one
 //     process saves, on the blocked schedule, and some of them on serial and stream;
 //   - PNG frames gathered on rank 0 are the bytes one process writes;
-//   - strokes (deposit, push) paint 4 ranks' blocks as they paint one grid;
+//   - strokes (deposit, push; orient and obstacle on space-cookie-5) paint 4 ranks' blocks as
+//     they paint one grid;
 //   - a state saved by 4 ranks resumes in one process, and one process's in 2 ranks, bit for bit;
 //   - a rank killed mid-run ends the job (no hang), mpirun naming the rank;
 //   - seed 001 (a scene of stages, explicit 9-point Gray-Scott on a periodic grid: its halos
-//     exchanged by the stage's ops) saves the bytes one process saves on 2, 3 and 4 ranks;
+//     exchanged by the stage's ops) saves the bytes one process saves on 2, 3 and 4 ranks, and
+//     so do space-cookie-5, turing-spots (implicit RD) and mcgraw-gray-scott-map (seed 003),
+//     whose solves and wrapping stencils run on the grid gathered from every rank;
 //   - a layout that does not match the processes, a malformed one, a scene that cannot run as
 //     blocks and blocks narrower than their halo exit 2 with one line.
 #include <gtest/gtest.h>
@@ -97,6 +100,32 @@ TEST_F(RunRanksTest, Seed001RanksSaveTheFieldsOfOneProcess) {
   }
 }
 
+// Seed 000's implicit scheme: reactions per cell, the conductivity from A's gradient across the
+// blocks' edges, and each diffusion solve (ICCG) on the grid gathered from every rank; seed
+// 003's generalized stencil and FFT solve on the gathered grid too.
+TEST_F(RunRanksTest, GatheringRdRanksSaveTheFieldsOfOneProcess) {
+  struct Case {
+    const char* scene;
+    int ranks;
+    const char* parts;
+  };
+  for (const Case c : {Case{"space-cookie-5", 2, "2x1"}, Case{"space-cookie-5", 4, "2x2"},
+                       Case{"turing-spots", 3, "1x3"}, Case{"mcgraw-gray-scott-map", 2, "1x2"}}) {
+    const std::string scene =
+        std::string("run ") + c.scene + " --size 127x93 --quiet --every 0 --steps 5 ";
+    const std::string one = std::string(c.scene) + "-one",
+                      dir = std::string(c.scene) + "-" + c.parts;
+    if (!fs::exists(work() / one)) {
+      ASSERT_EQ(run(scene + "--save-state " + one).code, 0);
+    }
+    const BinaryRunResult r =
+        run_ranks(c.ranks, scene + "--ranks " + c.parts + " --save-state " + dir);
+    ASSERT_EQ(r.code, 0) << c.scene << " " << c.parts << ": " << r.err;
+    EXPECT_EQ(r.out.find("frames=5 "), 0u) << r.out;
+    expect_same_state(one.c_str(), dir.c_str(), {"A.npy", "B.npy", "theta0.npy", "meta.json"});
+  }
+}
+
 // Every rank reads the strokes and paints its block: the painting of one process.
 TEST_F(RunRanksTest, StrokesPaintEveryBlockAsOneGrid) {
   const std::string strokes = std::string(" --strokes '") + ARDCELL_SOURCE_DIR +
@@ -114,12 +143,34 @@ TEST_F(RunRanksTest, StrokesPaintEveryBlockAsOneGrid) {
   ASSERT_EQ(run(std::string(kScene) + "--steps 30 --save-state plain").code, 0);
   EXPECT_NE(slurp(work() / "plain" / "B.npy"), slurp(work() / "one-deposit" / "B.npy"))
       << "the strokes left no trace";
-  const BinaryRunResult r =
-      run_ranks(2, std::string(kScene) + strokes + "--paint-mode orient --ranks 2x1");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--paint-mode orient and obstacle paint one process's grid"),
-            std::string::npos)
-      << r.err;
+  // Orientation strokes and obstacles: every rank records them over the whole grid, and the
+  // blocks' theta0 and diffusion solves are one process's.
+  // The frames written show the obstacle as one process draws it (rank 0 holds the mask).
+  const std::string cookie =
+      "run space-cookie-5 --size 127x93 --quiet --every 30 --show A" + strokes;
+  for (const char* mode : {"orient", "obstacle"}) {
+    const std::string one = std::string("cookie-one-") + mode,
+                      four = std::string("cookie-four-") + mode;
+    ASSERT_EQ(
+        run(cookie + "--paint-mode " + mode + " --save-state " + one + " --out " + one + "-frames")
+            .code,
+        0);
+    const BinaryRunResult r =
+        run_ranks(4, cookie + "--paint-mode " + mode + " --ranks 2x2 --save-state " + four +
+                         " --out " + four + "-frames");
+    ASSERT_EQ(r.code, 0) << mode << ": " << r.err;
+    expect_same_state(one.c_str(), four.c_str(), {"A.npy", "B.npy", "theta0.npy", "meta.json"});
+    const std::string png = slurp(work() / (one + "-frames") / "A_00000030.png");
+    ASSERT_FALSE(png.empty()) << mode;
+    EXPECT_EQ(png, slurp(work() / (four + "-frames") / "A_00000030.png")) << mode;
+  }
+  ASSERT_EQ(run(cookie + "--save-state cookie-plain --out cookie-plain-frames").code, 0);
+  EXPECT_NE(slurp(work() / "cookie-plain" / "theta0.npy"),
+            slurp(work() / "cookie-one-orient" / "theta0.npy"))
+      << "the orientation strokes left no trace";
+  EXPECT_NE(slurp(work() / "cookie-plain" / "A.npy"),
+            slurp(work() / "cookie-one-obstacle" / "A.npy"))
+      << "the obstacle strokes left no trace";
 }
 
 TEST_F(RunRanksTest, FramesAreGatheredOnRankZero) {

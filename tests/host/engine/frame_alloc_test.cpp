@@ -75,41 +75,44 @@ TEST(FrameAlloc, EveryPresetOnEveryBackendSteps0Allocations) {
   }
 }
 
-// Blocks of a scene of stages (seed 001 as 2x1 blocks on threads, one engine each): the halo
-// exchange of every step allocates nothing either.
+// Blocks of a scene of stages (seed 001, and space-cookie-5 whose solves gather the grid, as 2x1
+// blocks on threads, one engine each): the halo exchanges and gathers of every frame allocate
+// nothing either.
 TEST(FrameAlloc, StageBlocksStep0Allocations) {
-  SceneConfig scene = builtin_scenes().find("seed001")->make();
-  scene.size = {127, 93};
-  const BlockSupport support = block_support(scene);
-  ASSERT_EQ(support.problem, "");
-  const BlockLayout layout =
-      BlockLayout::split(scene.size, {2, 1}, support.periodic_x, support.periodic_y);
-  LocalBlockGroup group(layout, support.halo);
-  std::vector<std::unique_ptr<Engine>> blocks;
-  for (int b = 0; b < 2; ++b) {
-    EngineOptions o{EngineOptions::Backend::kThreads, 2};
-    o.plan.block = layout.block(b);
-    o.plan.halo = &group.channel(b);
-    blocks.push_back(std::make_unique<Engine>(scene, o));
-  }
-  // Both blocks step together (their exchanges meet); the count covers both threads' frames.
-  std::barrier<> sync(2);
-  std::thread other([&] {
-    blocks[1]->step();
-    sync.arrive_and_wait();  // the first frames are done
-    sync.arrive_and_wait();  // counting
-    for (int i = 0; i < 3; ++i) blocks[1]->step();
+  for (const char* name : {"seed001", "space-cookie-5"}) {
+    SceneConfig scene = builtin_scenes().find(name)->make();
+    scene.size = {127, 93};
+    const BlockSupport support = block_support(scene);
+    ASSERT_EQ(support.problem, "") << name;
+    const BlockLayout layout =
+        BlockLayout::split(scene.size, {2, 1}, support.periodic_x, support.periodic_y);
+    LocalBlockGroup group(layout, support.halo);
+    std::vector<std::unique_ptr<Engine>> blocks;
+    for (int b = 0; b < 2; ++b) {
+      EngineOptions o{EngineOptions::Backend::kThreads, 2};
+      o.plan.block = layout.block(b);
+      o.plan.halo = &group.channel(b);
+      blocks.push_back(std::make_unique<Engine>(scene, o));
+    }
+    // Both blocks step together (their exchanges meet); the count covers both threads' frames.
+    std::barrier<> sync(2);
+    std::thread other([&] {
+      blocks[1]->step();
+      sync.arrive_and_wait();  // the first frames are done
+      sync.arrive_and_wait();  // counting
+      for (int i = 0; i < 3; ++i) blocks[1]->step();
+      sync.arrive_and_wait();
+    });
+    blocks[0]->step();
     sync.arrive_and_wait();
-  });
-  blocks[0]->step();
-  sync.arrive_and_wait();
-  const long before = g_allocations.load();
-  sync.arrive_and_wait();
-  for (int i = 0; i < 3; ++i) blocks[0]->step();
-  sync.arrive_and_wait();
-  const long after = g_allocations.load();
-  other.join();
-  EXPECT_EQ(after - before, 0);
+    const long before = g_allocations.load();
+    sync.arrive_and_wait();
+    for (int i = 0; i < 3; ++i) blocks[0]->step();
+    sync.arrive_and_wait();
+    const long after = g_allocations.load();
+    other.join();
+    EXPECT_EQ(after - before, 0) << name;
+  }
 }
 
 // The FFT steps on the OpenCL device (the test above runs them on the CPU: 127 and 31 are prime

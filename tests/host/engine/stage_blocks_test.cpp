@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -66,7 +68,8 @@ EngineOptions options(EngineOptions::Backend backend, int workers) {
 // Runs `scene` as parts.x by parts.y blocks, one thread each, and compares every cell each block
 // owns with the whole-grid run.
 void expect_blocks_equal_whole(const SceneConfig& scene, Int2 parts, const EngineOptions& o,
-                               const SimState& whole, const std::string& what) {
+                               const SimState& whole, const std::string& what,
+                               const std::function<void(SimState&)>& paint = {}) {
   const BlockSupport support = block_support(scene);
   ASSERT_EQ(support.problem, "") << what;
   const BlockLayout layout =
@@ -78,6 +81,7 @@ void expect_blocks_equal_whole(const SceneConfig& scene, Int2 parts, const Engin
     bo.plan.block = layout.block(b);
     bo.plan.halo = &group.channel(b);
     blocks.push_back(std::make_unique<Engine>(scene, bo));
+    if (paint) paint(blocks.back()->state());
   }
   std::vector<std::thread> threads;
   for (auto& e : blocks)
@@ -96,7 +100,10 @@ void expect_blocks_equal_whole(const SceneConfig& scene, Int2 parts, const Engin
   }
 }
 
-void check_scene(const SceneConfig& scene, const std::string& what) {
+constexpr Int2 kEveryLayout[] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}, {3, 1}};
+
+void check_scene(const SceneConfig& scene, const std::string& what,
+                 std::span<const Int2> layouts = kEveryLayout) {
   Engine whole(scene, options(EngineOptions::Backend::kSerial, 1));
   const SimState& initial = whole.state();
   const int cx = scene.size.x / 2, cy = scene.size.y / 2;
@@ -108,7 +115,7 @@ void check_scene(const SceneConfig& scene, const std::string& what) {
   for (int y = 0; y < scene.size.y; ++y)
     for (int x = 0; x < scene.size.x; ++x)
       ASSERT_TRUE(std::isfinite(s.A(x, y)) && std::isfinite(s.B(x, y))) << what;
-  for (Int2 parts : {Int2{1, 1}, Int2{2, 1}, Int2{1, 2}, Int2{2, 2}, Int2{3, 1}})
+  for (Int2 parts : layouts)
     expect_blocks_equal_whole(scene, parts, options(EngineOptions::Backend::kSerial, 1), s,
                               what + ", serial");
   expect_blocks_equal_whole(scene, {2, 2}, options(EngineOptions::Backend::kThreads, 2), s,
@@ -170,6 +177,110 @@ TEST(StageBlocks, DeepHalosServeFramesOfAnyLength) {
                             whole.state(), "seed001, blocks 4 cells wide");
 }
 
+SceneConfig builtin_at(const char* name, Int2 size) {
+  SceneConfig scene = builtin_scenes().find(name)->make();
+  scene.size = size;
+  return scene;
+}
+
+// Seed 000's implicit scheme: per-cell reactions, the conductivity from A's gradient across the
+// blocks' edges, and the diffusion solved on the gathered grid (ICCG's triangular solves).
+TEST(StageBlocks, ImplicitAnisotropicDirichletEqualsOneEngineBitwise) {
+  const SceneConfig scene = builtin_at("space-cookie-5", {127, 93});
+  ASSERT_NE(scene.rd.anisotropy.kind, AnisotropyKind::kIsotropic);
+  ASSERT_EQ(scene.rd.boundary, BoundaryKind::kDirichlet);
+  check_scene(scene, "space-cookie-5");
+}
+
+TEST(StageBlocks, ImplicitPeriodicEqualsOneEngineBitwise) {
+  const SceneConfig scene = builtin_at("turing-spots", {127, 93});
+  ASSERT_EQ(scene.rd.boundary, BoundaryKind::kPeriodic);
+  ASSERT_EQ(block_support(scene).halo, 1);
+  check_scene(scene, "turing-spots");
+  // Anisotropic: A's gradient across the periodic edges comes from the exchange.
+  SceneConfig lobes = builtin_at("space-cookie-5", {127, 93});
+  lobes.rd.boundary = BoundaryKind::kPeriodic;
+  check_scene(lobes, "space-cookie-5, periodic");
+}
+
+// Strokes painted into every block (a stroke reaches every rank): orientation sources and
+// obstacles are recorded over the whole grid, so each block's theta0 and the mask its gathered
+// solves cut out are the whole grid's.
+TEST(StageBlocks, OrientationAndObstacleStrokesOnBlocksEqualOneEngine) {
+  const SceneConfig scene = builtin_at("space-cookie-5", {127, 93});
+  std::vector<StrokeSample> stroke;
+  for (int k = 0; k <= 20; ++k) {  // across the middle of the grid, through every 2x2 block
+    StrokeSample p;
+    p.time = 0.01 * k;
+    p.x = float((20 + 4.0 * k) / scene.size.x);
+    p.y = float(1 - (15 + 3.0 * k) / scene.size.y);
+    p.pressure = 1;
+    p.buttons = kButtonTip;
+    p.in_range = true;
+    stroke.push_back(p);
+  }
+  const auto paint = [&](SimState& s) {
+    PaintConfig orient;
+    orient.mode = PaintMode::kOrient;
+    Painter orienter(scene.size, orient);
+    orienter.apply(stroke, s);
+    orienter.update_theta0(s);
+    PaintConfig obstacle;
+    obstacle.mode = PaintMode::kObstacle;
+    obstacle.radius = 2;
+    Painter wall(scene.size, obstacle);
+    for (StrokeSample& p : stroke) p.x += 0.05f;  // beside the orientation stroke
+    wall.apply(stroke, s);
+    for (StrokeSample& p : stroke) p.x -= 0.05f;
+  };
+  Engine whole(scene, options(EngineOptions::Backend::kSerial, 1));
+  paint(whole.state());
+  ASSERT_FALSE(whole.state().obstacle.empty());
+  Engine plain(scene, options(EngineOptions::Backend::kSerial, 1));
+  for (int i = 0; i < kFrames; ++i) {
+    whole.step();
+    plain.step();
+  }
+  EXPECT_FALSE(same_cells(whole.state().A, plain.state().A)) << "the strokes changed nothing";
+  for (Int2 parts : {Int2{2, 1}, Int2{2, 2}})
+    expect_blocks_equal_whole(scene, parts, options(EngineOptions::Backend::kSerial, 1),
+                              whole.state(), "space-cookie-5 painted", paint);
+}
+
+TEST(StageBlocks, SecondOrderSchemesAndEverySolverEqualOneEngineBitwise) {
+  SceneConfig sbdf = builtin_at("space-cookie-5", {127, 93});
+  sbdf.rd.scheme = RdScheme::kSbdf2;
+  sbdf.rd.diffusion_solver.kind = SolverKind::kRedBlackGaussSeidel;
+  check_scene(sbdf, "space-cookie-5, sbdf2, rbgs");
+  SceneConfig cn = builtin_at("turing-spots", {127, 93});
+  cn.rd.scheme = RdScheme::kCrankNicolsonAm2;
+  cn.rd.diffusion_solver.kind = SolverKind::kMultigrid;
+  check_scene(cn, "turing-spots, crank-nicolson-am2, mg");
+  SceneConfig jacobi = builtin_at("turing-spots", {127, 93});
+  jacobi.rd.diffusion_solver.kind = SolverKind::kJacobi;
+  jacobi.rd.diffusion_solver.tolerance = 0;
+  check_scene(jacobi, "turing-spots, jacobi");
+}
+
+// The schemes whose kernels read the whole grid (seed 003's generalized operators, which wrap
+// their indices; their FFT and BiCGSTAB solves; ETDRK4's FFT) run on the gathered grid.
+TEST(StageBlocks, GatheredSchemesEqualOneEngineBitwise) {
+  // Every block computes the whole grid: a smaller one, and the layouts along each axis.
+  const Int2 size{63, 45};
+  constexpr Int2 kLayouts[] = {{2, 1}, {1, 2}};
+  check_scene(builtin_at("pearson", size), "pearson (etdrk4)", kLayouts);
+  check_scene(builtin_at("mcgraw-gray-scott-map", size), "mcgraw-gray-scott-map (FFT, F/k map)",
+              kLayouts);
+  check_scene(builtin_at("mcgraw-turing-radial", size),
+              "mcgraw-turing-radial (tensor field, BiCGSTAB)", kLayouts);
+  SceneConfig vortex = builtin_at("mcgraw-turing-vortex", size);
+  ASSERT_EQ(vortex.rd.scheme, RdScheme::kExplicit);
+  vortex.rd.steps_per_frame = 10;  // of 100: each a gather on every block
+  check_scene(vortex, "mcgraw-turing-vortex (explicit tensor field)", kLayouts);
+  vortex.rd.generalized.field = TensorFieldKind::kUniform;
+  check_scene(vortex, "explicit generalized steps", kLayouts);
+}
+
 TEST(StageBlocks, DirichletFivePointEqualsOneEngineBitwise) {
   check_scene(dirichlet_scene(), "explicit5 dirichlet");
 }
@@ -199,16 +310,19 @@ struct LoneBlock {
 };
 
 // What a block's device runs (Device::supports, as an OpenCL device says what it runs): the
-// ops that compute a block's cells from its cells and halo; the whole grid's device runs all.
+// ops that compute a block's cells from its cells and halo, and those that run on the gathered
+// grid; the whole grid's device runs all.
 TEST(StageBlocks, ABlocksDeviceSaysWhichOpsItRuns) {
   LoneBlock block(periodic_scene(), 0);
   const Device& on_block = block.engine.device();
   ASSERT_TRUE(on_block.on_block());
-  for (DeviceOp op : {DeviceOp::kExplicitRd, DeviceOp::kFillBoundary, DeviceOp::kCopy,
-                      DeviceOp::kReactionImplicit, DeviceOp::kAddSplat})
+  for (DeviceOp op :
+       {DeviceOp::kExplicitRd, DeviceOp::kFillBoundary, DeviceOp::kCopy,
+        DeviceOp::kReactionImplicit, DeviceOp::kAddSplat, DeviceOp::kImplicitDiffusion,
+        DeviceOp::kGeneralizedRd, DeviceOp::kPeriodicSolve, DeviceOp::kEtdrk4})
     EXPECT_TRUE(on_block.supports(op)) << device_op_name(op);
   for (DeviceOp op : {DeviceOp::kRange, DeviceOp::kSolve, DeviceOp::kGrayScott9Steps,
-                      DeviceOp::kAdvectScalar, DeviceOp::kGeneralizedRd, DeviceOp::kPeriodicSolve})
+                      DeviceOp::kAdvectScalar, DeviceOp::kPressureRhs, DeviceOp::kRestoreMass})
     EXPECT_FALSE(on_block.supports(op)) << device_op_name(op);
   Engine whole(periodic_scene(), options(EngineOptions::Backend::kSerial, 1));
   for (int op = 0; op < int(DeviceOp::kCount); ++op)
@@ -225,13 +339,13 @@ TEST(StageBlocks, ABlockDoesNotDivideItsPattern) {
 }
 
 // A stroke painted into a block (a split wall's screen): deposits land in its cells, and an
-// orientation stroke leaves its theta0 alone (the extension fills a whole grid; the explicit
-// schemes are isotropic) instead of writing past the block.
+// orientation stroke gives its theta0 the whole grid's theta0 on its cells (each block's painter
+// extends the orientation over the whole grid) instead of writing past the block.
 TEST(StageBlocks, PaintingABlockStaysInIt) {
-  const SceneConfig scene = periodic_scene();
+  const SceneConfig scene = builtin_at("space-cookie-5", {127, 93});
   LoneBlock block(scene, 0);
+  Engine whole(scene, options(EngineOptions::Backend::kSerial, 1));
   SimState& s = block.engine.state();
-  const FieldF theta0 = s.theta0;
   std::vector<StrokeSample> stroke;
   for (int k = 0; k <= 20; ++k) {  // from (10, 10) across the block's corner to (100, 80)
     StrokeSample p;
@@ -250,22 +364,26 @@ TEST(StageBlocks, PaintingABlockStaysInIt) {
   EXPECT_LT(s.A(10, 10), 0.9f);  // blended towards deposit_a (0.5) from the background (1)
   PaintConfig orient;
   orient.mode = PaintMode::kOrient;
-  Painter orienter(scene.size, orient);
-  orienter.apply(stroke, s);
-  EXPECT_FALSE(orienter.update_theta0(s));
-  EXPECT_TRUE(same_cells(s.theta0, theta0));
+  orient.orient_deposits = false;
+  Painter block_orienter(scene.size, orient), whole_orienter(scene.size, orient);
+  const FieldF before = s.theta0;
+  block_orienter.apply(stroke, s);
+  whole_orienter.apply(stroke, whole.state());
+  EXPECT_TRUE(block_orienter.update_theta0(s));
+  EXPECT_TRUE(whole_orienter.update_theta0(whole.state()));
+  EXPECT_EQ(s.theta0.interior(), block.layout.block(0));
+  EXPECT_FALSE(same_cells(s.theta0, before));
+  EXPECT_TRUE(same_cells_in(s.theta0, whole.state().theta0, block.layout.block(0)));
 }
 
 TEST(StageBlocks, ScenesThatRunWholeSayWhy) {
-  const BlockSupport implicit = block_support(builtin_scenes().find("space-cookie-5")->make());
-  EXPECT_NE(implicit.problem.find("rd.scheme"), std::string::npos) << implicit.problem;
   const BlockSupport fluid = block_support(builtin_scenes().find("cavity-gray-scott")->make());
   EXPECT_NE(fluid.problem.find("fluid.scene"), std::string::npos) << fluid.problem;
-  EXPECT_EQ(block_support(builtin_scenes().find("table1-ard")->make()).problem, "");
-  EXPECT_EQ(block_support(builtin_scenes().find("seed001")->make()).problem, "");
+  for (const char* name : {"table1-ard", "seed001", "space-cookie-5", "pearson", "mcgraw-turing-a"})
+    EXPECT_EQ(block_support(builtin_scenes().find(name)->make()).problem, "") << name;
 
   // The Engine refuses a block of such a scene with the same line.
-  SceneConfig scene = builtin_scenes().find("space-cookie-5")->make();
+  SceneConfig scene = builtin_scenes().find("cavity-gray-scott")->make();
   scene.size = {64, 64};
   const BlockLayout layout = BlockLayout::split(scene.size, {2, 1});
   LocalBlockGroup group(layout, 1);
@@ -274,9 +392,9 @@ TEST(StageBlocks, ScenesThatRunWholeSayWhy) {
   o.plan.halo = &group.channel(0);
   try {
     Engine e(scene, o);
-    ADD_FAILURE() << "a block of an implicit scheme was accepted";
+    ADD_FAILURE() << "a block of a fluid scene was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("blocks: rd.scheme"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("blocks: fluid.scene"), std::string::npos) << e.what();
   }
 }
 
