@@ -179,7 +179,8 @@ void add_bench_scale_command(CLI::App& bench, CliContext& ctx) {
       "scale", "One scene's grid over MPI ranks against one process: strong and weak scaling");
   auto o = std::make_shared<ScaleOptions>();
   scale
-      ->add_option("--scene", o->scene, "A scene that runs as blocks (table1, table1-ard, seed001)")
+      ->add_option("--scene", o->scene,
+                   "A scene that runs as blocks (table1, table1-ard, an RD scene without a fluid)")
       ->capture_default_str();
   scale->add_option("--size", o->size, "Strong scaling: the grid side N (N x N)")
       ->capture_default_str();

@@ -275,8 +275,9 @@ class CpuDevice final : public Device {
   const char* name() const override;
   int workers() const override;
   // Every op on the whole grid; on a block, the ops that compute a block's cells from its own
-  // cells and halo (copies, boundary fills, per-cell kernels, the explicit stencils). An op it
-  // does not support aborts (require): block_support() keeps such scenes off blocks.
+  // cells and halo (copies, boundary fills, per-cell kernels, the explicit stencils) and those
+  // that run on the gathered grid (gathers()). An op it does not support aborts (require):
+  // block_support() keeps such scenes off blocks.
   bool supports(DeviceOp op) const override;
   RowExecutor& executor() override { return *ex_; }
   bool fields_on_host() const override { return true; }
@@ -354,8 +355,8 @@ class CpuDevice final : public Device {
   // The rows of `cells` (a field's interior) in bands: f(Box2 rows) or f(Box2 rows, worker).
   template <class F>
   void for_bands(Box2 cells, const F& f);
-  // Aborts, naming `op`, when this device does not support it: on a block, an op whose kernel
-  // wraps, reduces or sweeps over [0, n) with no exchange between (a gap in block_support()).
+  // Aborts, naming `op`, when this device does not support it: on a block, a fluid's op (its
+  // reductions, solves and back-traces; a gap in block_support()).
   void require(DeviceOp op) const;
   // The grid whose ghost ring the boundary fills write: the block's grid, or f's own size.
   Int2 domain_of(const FieldF& f) const { return block_.halo ? block_.grid : f.size(); }

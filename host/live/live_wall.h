@@ -4,8 +4,8 @@
 // computes what depends on the scene:
 //   split    - a scene that runs as blocks (host/engine/engine.h block_support: the table1
 //              scenes, the explicit RD schemes without a fluid; not those whose blocks gather
-//              the grid, BlockSupport::gathers): each screen runs
-//              its block of the grid (runtime/block_layout.h), the halo exchange between them;
+//              the grid, BlockSupport::gathers): each screen runs its block of the grid
+//              (runtime/block_layout.h), the halo exchange between them;
 //   mirrored - every other scene (its stages work on whole fields): every screen steps the
 //              whole grid in lockstep and shows its part. The screens' inputs are the same, so
 //              on the same binary and CPU they compute the same bits; on different CPUs or

@@ -34,7 +34,10 @@ void RankStepper::step() {
 void RankStepper::gather() {
   const SimState& s = std::as_const(engine_).state();
   s.for_each_field([&](std::string_view name, const FieldF& f) {
-    gather_.gather(f, world_.rank() == 0 ? whole_.field(name) : nullptr);
+    FieldF* whole = world_.rank() == 0 ? whole_.field(name) : nullptr;
+    // A field made since (theta0 by a table1 scene's first orientation stroke, on every rank).
+    if (whole && whole->empty()) *whole = FieldF(s.size, 1);
+    gather_.gather(f, whole);
   });
   // Every rank paints the whole grid's obstacle mask (host/paint/paint.h): rank 0's is the grid's.
   if (world_.rank() == 0) whole_.obstacle = s.obstacle;

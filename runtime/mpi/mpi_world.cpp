@@ -238,7 +238,7 @@ void MpiHaloChannel::finish() {
 void MpiHaloChannel::gather_all(const FieldF& field, FieldF& whole) {
   const auto start = std::chrono::steady_clock::now();
   ARDCELL_CHECK(requests_->count == 0, "MpiHaloChannel: gather_all while an exchange is in flight");
-  if (gathered_.empty()) {  // the first gather: MPI's counts are ints
+  if (gather_counts_.empty()) {  // the first gather: MPI's counts are ints
     long long total = 0;
     for (int b = 0; b < exchange_.count(); ++b) {
       gather_offsets_.push_back(int(std::min<long long>(total, INT_MAX)));

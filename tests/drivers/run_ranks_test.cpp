@@ -130,7 +130,8 @@ TEST_F(RunRanksTest, GatheringRdRanksSaveTheFieldsOfOneProcess) {
 TEST_F(RunRanksTest, StrokesPaintEveryBlockAsOneGrid) {
   const std::string strokes = std::string(" --strokes '") + ARDCELL_SOURCE_DIR +
                               "/presets/strokes/fig3_spiral.jsonl' --paint-radius 3 --steps 30 ";
-  for (const char* mode : {"deposit", "push"}) {
+  // Orientation: a table1 state has no theta0 until the first stroke makes one on every rank.
+  for (const char* mode : {"deposit", "push", "orient"}) {
     const std::string one = std::string("one-") + mode, two = std::string("two-") + mode;
     ASSERT_EQ(
         run(std::string(kScene) + strokes + "--paint-mode " + mode + " --save-state " + one).code,
@@ -139,6 +140,7 @@ TEST_F(RunRanksTest, StrokesPaintEveryBlockAsOneGrid) {
                                                " --ranks 2x2 --save-state " + two);
     ASSERT_EQ(r.code, 0) << mode << ": " << r.err;
     expect_same_state(one.c_str(), two.c_str());
+    if (std::string(mode) == "orient") expect_same_state(one.c_str(), two.c_str(), {"theta0.npy"});
   }
   ASSERT_EQ(run(std::string(kScene) + "--steps 30 --save-state plain").code, 0);
   EXPECT_NE(slurp(work() / "plain" / "B.npy"), slurp(work() / "one-deposit" / "B.npy"))
