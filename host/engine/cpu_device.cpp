@@ -413,29 +413,28 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
                     band_boxes_.size() >= 2 * std::size_t(workers()),
                 "explicit_rd: reserve() the grid first");
   const GrayScott9Params gs{p.reaction.F, p.reaction.k, p.dt, p.diffusion_a, p.diffusion_b};
-  // Every cell of `box`.
-  const auto step = [&](Box2 box) {
-    switch (scheme) {
-      case ExplicitScheme::kGrayScott9:
-        for_bands(box, [&](Box2 rows, int worker) {
+  // Every cell of `box`, each band then handing its rows to `stepped(rows, worker)` while they
+  // are in cache.
+  const auto step = [&](Box2 box, const auto& stepped) {
+    for_bands(box, [&](Box2 rows, int worker) {
+      switch (scheme) {
+        case ExplicitScheme::kGrayScott9:
           gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
                                     row_scratch(worker));
-        });
-        break;
-      case ExplicitScheme::k9:
-        for_bands(box, [&](Box2 rows) {
+          break;
+        case ExplicitScheme::k9:
           explicit_rd9_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
-        });
-        break;
-      case ExplicitScheme::k5:
-        for_bands(box, [&](Box2 rows) {
+          break;
+        case ExplicitScheme::k5:
           explicit_rd5_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, p);
-        });
-        break;
-    }
+          break;
+      }
+      stepped(rows, worker);
+    });
   };
+  const auto nothing = [](Box2, int) {};
   if (scheme != ExplicitScheme::kGrayScott9 || !quiet || !quiet->skips(gs)) {
-    step(cells);
+    step(cells, nothing);
     return;
   }
   // The halo cells: the rows above and below the interior whole (short rows of few cells), of
@@ -443,15 +442,15 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
   // (Fields of halo 1 never step halo columns: nothing to scan.)
   if (a.halo() > 1) quiet->begin_sides(a.view(), b.view(), inner, grow);
   if (grow > 0) {
-    step({cells.min, {cells.max.x, inner.min.y}});
-    step({{cells.min.x, inner.max.y}, cells.max});
+    step({cells.min, {cells.max.x, inner.min.y}}, nothing);
+    step({{cells.min.x, inner.max.y}, cells.max}, nothing);
     for (int side = 0; side < 2; ++side) {
       const Int2 rows = quiet->side_rows(a.view(), b.view(), side, inner, grow);
       Int2 written{};
       if (rows.y > rows.x) {
         const Box2 box = side == 0 ? Box2{{cells.min.x, rows.x}, {inner.min.x, rows.y}}
                                    : Box2{{inner.max.x, rows.x}, {cells.max.x, rows.y}};
-        step(box);
+        step(box, nothing);
         const Box2 w = quiet->differing(a_out.view(), b_out.view(), box);
         if (!w.empty()) written = {w.min.y, w.max.y};
       }
@@ -464,9 +463,7 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
   const bool first = !quiet->known();
   std::fill(band_boxes_.begin(), band_boxes_.end(), Box2{});
   if (!region.empty())
-    for_bands(region, [&](Box2 rows, int worker) {
-      gray_scott9_explicit_tile(a.view(), b.view(), a_out.view(), b_out.view(), rows, gs,
-                                row_scratch(worker));
+    step(region, [&](Box2 rows, int worker) {
       Box2& out = band_boxes_[std::size_t(worker)];
       out = out.united(quiet->differing(a_out.view(), b_out.view(), rows));
       if (first) {
