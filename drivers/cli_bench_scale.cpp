@@ -66,8 +66,8 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
     return usage("--size and --weak: expected 64 or more cells; --frames: 1 or more");
   if (const SceneEntry* entry = builtin_scenes().find(o.scene); !entry)
     return usage("--scene " + o.scene +
-                 ": not a built-in scene (expected one that runs as blocks: table1, table1-ard, "
-                 "or an RD scene without a fluid such as seed001)");
+                 ": not a built-in scene (expected one such as table1-ard, seed001 or "
+                 "cavity-gray-scott)");
   else if (std::string why = block_support(entry->make()).problem; !why.empty())
     return usage("--scene " + o.scene + ": runs on one process's whole grid: " + why);
   const std::string binary =
@@ -180,7 +180,7 @@ void add_bench_scale_command(CLI::App& bench, CliContext& ctx) {
   auto o = std::make_shared<ScaleOptions>();
   scale
       ->add_option("--scene", o->scene,
-                   "A scene that runs as blocks (table1, table1-ard, an RD scene without a fluid)")
+                   "A built-in scene (table1-ard, seed001, space-cookie-5, cavity-gray-scott, ...)")
       ->capture_default_str();
   scale->add_option("--size", o->size, "Strong scaling: the grid side N (N x N)")
       ->capture_default_str();

@@ -576,8 +576,8 @@ void add_run_command(CLI::App& app, CliContext& ctx) {
       run->add_option("--workers", a.workers, "threads back end workers (default: one per core)");
   a.ranks_opt = run->add_option(
       "--ranks", a.ranks,
-      "under mpirun: the grid cut into WxH blocks, one per process (mpirun -np W*H): the table1 "
-      "scenes and every RD scene without a fluid (seed001, space-cookie-5)");
+      "under mpirun: the grid cut into WxH blocks, one per process (mpirun -np W*H); a fluid, "
+      "the RD's solves and advection run on the grid gathered from every block");
   a.store_kib_opt = run->add_option(
       "--store-kib", a.store_kib,
       "table1 scenes: local store per worker in KiB, or spe (the Cell's 256; default: one L2 "

@@ -74,7 +74,10 @@ HaloExchange::HaloExchange(const BlockLayout& layout, int width)
                 "HaloExchange: the halo is wider than the periodic domain");
   // Images of the domain a halo can reach: itself, and one width away along a periodic axis.
   const int sx = layout.periodic_x() ? 1 : 0, sy = layout.periodic_y() ? 1 : 0;
-  for (int b = 0; b < layout.count(); ++b) blocks_.push_back(layout.block(b));
+  for (int b = 0; b < layout.count(); ++b) {
+    blocks_.push_back(layout.block(b));
+    owned_.push_back(layout.owned(b));
+  }
   for (int b = 0; b < layout.count(); ++b) {
     first_.push_back(copies_.size());
     const Box2 halo = layout.block(b).grown(width);
@@ -147,7 +150,7 @@ void LocalBlockGroup::Channel::gather_all(const FieldF& field, FieldF& whole) {
   g.posted_[std::size_t(block_)] = const_cast<FieldF*>(&field);
   g.barrier_.arrive_and_wait();
   for (int b = 0; b < e.count(); ++b)
-    copy_box<float>(g.posted_[std::size_t(b)]->view(), whole.view(), e.block(b));
+    copy_box<float>(g.posted_[std::size_t(b)]->view(), whole.view(), e.owned(b));
   g.barrier_.arrive_and_wait();  // no block writes its cells before every copy is made
 }
 

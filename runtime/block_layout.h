@@ -75,6 +75,8 @@ class HaloExchange {
   bool periodic_x() const { return periodic_x_; }
   bool periodic_y() const { return periodic_y_; }
   const Box2& block(int b) const { return blocks_[std::size_t(b)]; }
+  // Block b's cells and the domain's ghost ring along its walled edges (BlockLayout::owned).
+  const Box2& owned(int b) const { return owned_[std::size_t(b)]; }
   std::span<const HaloCopy> copies_into(int block) const;
   // copy's cells within `depth` of the receiving block (depth <= width).
   Box2 within(const HaloCopy& copy, int block, int depth) const {
@@ -92,7 +94,7 @@ class HaloExchange {
  private:
   int width_ = 0;
   bool periodic_x_ = false, periodic_y_ = false;
-  std::vector<Box2> blocks_;
+  std::vector<Box2> blocks_, owned_;
   std::vector<HaloCopy> copies_;
   std::vector<std::size_t> first_;  // copies_into(b) = copies_[first_[b], first_[b + 1])
 };
@@ -128,10 +130,11 @@ class HaloChannel {
   virtual void progress() {}
   // Returns when the halos begin() started are filled.
   virtual void finish() = 0;
-  // Copies every block's own cells (its box) of `field`, this block's copy of one field, into
-  // `whole` (a field whose interior is the whole domain), on every block: a step that needs the
-  // whole grid (a global solve) runs on the gathered grid. Collective, like begin and finish, and
-  // not while an exchange is in flight.
+  // Copies every block's owned cells (its box, and the domain's ghost ring along its walled
+  // edges: HaloExchange::owned) of `field`, this block's copy of one field, into `whole` (a field
+  // whose interior is the whole domain, halo >= 1), on every block: a step that needs the whole
+  // grid (a global solve, a back-trace) runs on the gathered grid, ghosts as the blocks filled
+  // them. Collective, like begin and finish, and not while an exchange is in flight.
   virtual void gather_all(const FieldF& field, FieldF& whole) = 0;
   // begin and finish of one field.
   void exchange(FieldF& field, int depth) {

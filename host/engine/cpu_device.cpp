@@ -112,6 +112,8 @@ bool CpuDevice::supports(DeviceOp op) const {
     case DeviceOp::kPeriodicSolve:
     case DeviceOp::kTensorFieldSolve:
     case DeviceOp::kEtdrk4:
+    case DeviceOp::kAdvectScalar:
+    case DeviceOp::kMacCormack:
       return true;
     default:
       return false;
@@ -262,15 +264,29 @@ void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& 
   require(DeviceOp::kAdvectScalar);
   ARDCELL_CHECK(q0.size() == q.size() && q.size() <= std::size_t(kMaxAdvectFields) && !q.empty(),
                 "advect_scalars: one output per input, 1 to kMaxAdvectFields");
+  const std::size_t n = q.size();
+  if (gathers(*q[0])) {  // a back-trace may leave the block
+    std::array<const FieldF*, kMaxAdvectFields> whole_in;
+    std::array<FieldF*, kMaxAdvectFields> whole_out;
+    int slot = 0;
+    for (std::size_t i = 0; i < n; ++i) whole_in[i] = &gather(*q0[i], slot++);
+    const FieldF& whole_u = gather(u, slot++);
+    const FieldF& whole_v = gather(v, slot++);
+    for (std::size_t i = 0; i < n; ++i) whole_out[i] = &whole_scratch(slot++);
+    advect_scalars(std::span(whole_in.data(), n), whole_u, whole_v, std::span(whole_out.data(), n),
+                   p);
+    for (std::size_t i = 0; i < n; ++i) take(*whole_out[i], *q[i]);
+    return;
+  }
   std::array<View<const float>, kMaxAdvectFields> in;
   std::array<View<float>, kMaxAdvectFields> out;
-  for (std::size_t i = 0; i < q.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     in[i] = q0[i]->view();
     out[i] = q[i]->view();
   }
   for_bands(q[0]->interior(), [&](Box2 rows) {
-    ardcell::advect_fields(u.view(), v.view(), std::span(in.data(), q.size()),
-                           std::span(out.data(), q.size()), rows, p);
+    ardcell::advect_fields(u.view(), v.view(), std::span(in.data(), n), std::span(out.data(), n),
+                           rows, p);
   });
 }
 
@@ -293,6 +309,26 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
                     (!mac || q.size() == 1),
                 "maccormack_correct: one q_hat, q_back and output per input, 1 to "
                 "kMaxAdvectFields (one with mac)");
+  const std::size_t n = q.size();
+  if (gathers(*q[0])) {  // the bounds are read at a departure point that may leave the block
+    ARDCELL_CHECK(!mac, "maccormack_correct: a block's face velocities are not gathered");
+    std::array<const FieldF*, kMaxAdvectFields> whole_in, whole_hat, whole_back;
+    std::array<FieldF*, kMaxAdvectFields> whole_out;
+    int slot = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      whole_in[i] = &gather(*q0[i], slot++);
+      whole_hat[i] = &gather(*q_hat[i], slot++);
+      whole_back[i] = &gather(*q_back[i], slot++);
+    }
+    const FieldF& whole_u = gather(u, slot++);
+    const FieldF& whole_v = gather(v, slot++);
+    for (std::size_t i = 0; i < n; ++i) whole_out[i] = &whole_scratch(slot++);
+    maccormack_correct(std::span(whole_in.data(), n), std::span(whole_hat.data(), n),
+                       std::span(whole_back.data(), n), whole_u, whole_v,
+                       std::span(whole_out.data(), n), p, false);
+    for (std::size_t i = 0; i < n; ++i) take(*whole_out[i], *q[i]);
+    return;
+  }
   if (mac) {
     for_bands(q[0]->interior(), [&](Box2 rows) {
       ardcell::maccormack_correct_mac(q0[0]->view(), q_hat[0]->view(), q_back[0]->view(), u.view(),
@@ -302,13 +338,12 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
   }
   std::array<View<const float>, kMaxAdvectFields> in, hat, back;
   std::array<View<float>, kMaxAdvectFields> out;
-  for (std::size_t i = 0; i < q.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     in[i] = q0[i]->view();
     hat[i] = q_hat[i]->view();
     back[i] = q_back[i]->view();
     out[i] = q[i]->view();
   }
-  const std::size_t n = q.size();
   for_bands(q[0]->interior(), [&](Box2 rows) {
     ardcell::maccormack_correct(u.view(), v.view(), std::span(in.data(), n),
                                 std::span(hat.data(), n), std::span(back.data(), n),

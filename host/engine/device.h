@@ -276,8 +276,9 @@ class CpuDevice final : public Device {
   int workers() const override;
   // Every op on the whole grid; on a block, the ops that compute a block's cells from its own
   // cells and halo (copies, boundary fills, per-cell kernels, the explicit stencils) and those
-  // that run on the gathered grid (gathers()). An op it does not support aborts (require):
-  // block_support() keeps such scenes off blocks.
+  // that run on the gathered grid (gathers(); MacCormack's cell-centred form). An op it does not
+  // support aborts (require): a fluid's own ops run on its gathered grid's device instead
+  // (host/engine/fluid_step.h).
   bool supports(DeviceOp op) const override;
   RowExecutor& executor() override { return *ex_; }
   bool fields_on_host() const override { return true; }
@@ -355,8 +356,8 @@ class CpuDevice final : public Device {
   // The rows of `cells` (a field's interior) in bands: f(Box2 rows) or f(Box2 rows, worker).
   template <class F>
   void for_bands(Box2 cells, const F& f);
-  // Aborts, naming `op`, when this device does not support it: on a block, a fluid's op (its
-  // reductions, solves and back-traces; a gap in block_support()).
+  // Aborts, naming `op`, when this device does not support it: on a block, a fluid's own op (its
+  // reductions, solves and face-velocity back-traces), which FluidStep runs on the gathered grid.
   void require(DeviceOp op) const;
   // The grid whose ghost ring the boundary fills write: the block's grid, or f's own size.
   Int2 domain_of(const FieldF& f) const { return block_.halo ? block_.grid : f.size(); }
@@ -371,16 +372,18 @@ class CpuDevice final : public Device {
   // [w] and its input [workers() + w] (explicit_rd with a QuiescentBox).
   std::vector<Box2> band_boxes_;
   // On a block, the ops whose kernels read the whole grid (a global solve, an FFT, a stencil
-  // that wraps its indices) run on the grid gathered from every block (HaloChannel::gather_all),
-  // as every other block does: the same bits as one process, at one process's speed
-  // (docs/scale-out.md); the block takes its cells back. gathers(f): f covers a block that is
-  // not the whole grid. gather(f, slot) fills whole-grid scratch `slot` (made at the first use)
-  // from every block's f; take(whole, f) copies f's cells from it.
+  // that wraps its indices, a back-trace) run on the grid gathered from every block
+  // (HaloChannel::gather_all), as every other block does: the same bits as one process, at one
+  // process's speed (docs/scale-out.md); the block takes its cells back. gathers(f): f covers a
+  // block that is not the whole grid. gather(f, slot) fills whole-grid scratch `slot` (made at
+  // the first use) from every block's f; take(whole, f) copies f's cells from it. MacCormack's
+  // correction of A and B uses the most slots: three inputs each, the velocity and two outputs.
   bool gathers(const FieldF& f) const;
   FieldF& gather(const FieldF& f, int slot);
   FieldF& whole_scratch(int slot);
   void take(const FieldF& whole, FieldF& f);
-  std::array<FieldF, 4> whole_;
+  static constexpr int kWholeSlots = 4 * kMaxAdvectFields + 2;
+  std::array<FieldF, kWholeSlots> whole_;
 };
 
 template <class F>

@@ -131,9 +131,17 @@ BlockSupport block_support(const SceneConfig& scene) {
     b.halo = table1_block_halo(scene);
     return b;
   }
-  b.problem = rd_block_problem(scene);
+  if (!scene.rd.enabled && scene.fluid.kind == FluidSceneKind::kNone)
+    b.problem = "rd.enabled: a scene without a fluid or RD has nothing to run as blocks";
+  // The gathered back-trace reads the ghosts of A and B, which wrap on one process's grid only.
+  else if (scene.fluid.kind != FluidSceneKind::kNone && scene.rd.enabled && scene.rd.advect &&
+           scene.rd.boundary == BoundaryKind::kPeriodic)
+    b.problem =
+        "rd.boundary: chemicals that wrap while a fluid advects them run on one process's grid "
+        "(expected rd.boundary dirichlet or neumann, or rd.advect false)";
   b.halo = rd_block_halo(scene);
-  b.gathers = rd_block_gathers(scene);
+  // A fluid runs on the gathered grid (host/engine/fluid_step.h).
+  b.gathers = scene.fluid.kind != FluidSceneKind::kNone || rd_block_gathers(scene);
   b.periodic_x = b.periodic_y = scene.rd.boundary == BoundaryKind::kPeriodic;
   return b;
 }

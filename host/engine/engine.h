@@ -55,10 +55,10 @@ struct EngineOptions {
 
 // How a scene runs as blocks of a decomposed grid: `problem` is one line saying why it cannot
 // ("" when it can), `halo` the width its blocks' halos exchange (HaloExchange, HaloChannel),
-// and the axes along which its grid wraps (BlockLayout::split's periodic axes). Blocks run the
-// scenes of tile passes (table1: their passes exchange, host/engine/frame_plan.h) and the
-// scenes whose stages' ops exchange a block's halos themselves or gather the grid
-// (rd_block_problem, host/engine/rd_step.h: every RD scheme without a fluid).
+// and the axes along which its grid wraps (BlockLayout::split's periodic axes). Blocks run every
+// scene: the scenes of tile passes (table1: their passes exchange, host/engine/frame_plan.h),
+// and the scenes of stages, whose ops exchange a block's halos themselves or gather the grid
+// (host/engine/rd_step.h; a fluid's stages run on the gathered grid, fluid_step.h).
 struct BlockSupport {
   std::string problem;
   int halo = 1;

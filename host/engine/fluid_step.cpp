@@ -133,7 +133,9 @@ struct FluidStep::Operators {
 
 FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, Device& device)
     : config_(config),
-      dev_(&device),
+      block_(device.on_block() ? device.block() : DeviceBlock{}),
+      whole_device_(block_.halo ? std::make_unique<CpuDevice>(device.executor()) : nullptr),
+      dev_(whole_device_ ? whole_device_.get() : &device),
       size_(size),
       h_(h),
       scratch_u_(size, 1),
@@ -192,7 +194,7 @@ FluidStep::FluidStep(const FluidConfig& config, Int2 size, double h, double dt, 
   ops_->solver_v = LinearSolver::make(config_.viscosity_solver, size, ex);
   ops_->solver_p = LinearSolver::make(config_.pressure_solver, size, ex);
   ops_->solver_dye = LinearSolver::make(config_.viscosity_solver, size, ex);
-  device.reserve(size);
+  dev_->reserve(size);
 
   // Pressure: 4 p - sum of neighbours = rhs, Neumann at walls and obstacle faces (cut cells:
   // each face weighed by its open fraction, and only the covered cells isolated).
@@ -267,7 +269,7 @@ void FluidStep::prepare(double dt) {
   setup(ops_->dye, *ops_->solver_dye, fill_dye_, dt * config_.dye_diffusion / (h_ * h_), false);
 }
 
-void FluidStep::allocate(SimState& state) const {
+void FluidStep::allocate_whole(SimState& state) const {
   state.size = size_;
   state.h = h_;
   for (FieldF* f : {&state.u, &state.v, &state.p, &state.dye})
@@ -275,8 +277,38 @@ void FluidStep::allocate(SimState& state) const {
   if (!solid_.empty()) state.obstacle = solid_;
 }
 
-void FluidStep::reset(SimState& state) const {
-  allocate(state);
+void FluidStep::allocate(SimState& state) {
+  allocate_whole(block_.halo ? whole_ : state);
+  if (!block_.halo) return;
+  state.size = size_;
+  state.h = h_;
+  for (FieldF* f : {&state.u, &state.v, &state.p, &state.dye})
+    if (f->empty() || f->interior() != block_.block || f->halo() < 1)
+      *f = FieldF::over(block_.block, 1);
+  // Like a painted one, the mask covers the grid on every block (host/paint/paint.h).
+  if (!solid_.empty()) state.obstacle = solid_;
+}
+
+void FluidStep::gather(const SimState& state) {
+  whole_.dt = state.dt;
+  whole_.time = state.time;
+  whole_.step = state.step;
+  for (auto [from, to] : {std::pair{&state.u, &whole_.u}, std::pair{&state.v, &whole_.v},
+                          std::pair{&state.p, &whole_.p}, std::pair{&state.dye, &whole_.dye}})
+    block_.halo->gather_all(*from, *to);
+}
+
+void FluidStep::take(SimState& state) const {
+  const Box2 allocated = box_of_size(size_).grown(1);
+  for (auto [from, to] : {std::pair{&whole_.u, &state.u}, std::pair{&whole_.v, &state.v},
+                          std::pair{&whole_.p, &state.p}, std::pair{&whole_.dye, &state.dye}})
+    copy_box<float>(from->view(), to->view(),
+                    to->interior().grown(to->halo()).intersected(allocated));
+}
+
+void FluidStep::reset(SimState& engine_state) {
+  allocate(engine_state);
+  SimState& state = stepped(engine_state);
   for (FieldF* f : {&state.u, &state.v, &state.p, &state.dye}) f->fill(0.0f);
   const Int2 n = size_;
   if (config_.kind == FluidSceneKind::kCavity) {
@@ -306,6 +338,7 @@ void FluidStep::reset(SimState& state) const {
     fill_velocity(state);
     dev_->fill_boundary(state.dye, fill_dye_);
   }
+  if (block_.halo) take(engine_state);
 }
 
 void FluidStep::fill_velocity(SimState& state) const {
@@ -415,8 +448,11 @@ void FluidStep::diffuse_dye(SimState& state) {
   report_.dye = dev_->solve(*ops_->solver_dye, ops_->dye, scratch_b_, state.dye);
 }
 
-void FluidStep::append_stages(FramePlan& plan, SimState& state) {
+void FluidStep::append_stages(FramePlan& plan, SimState& engine_state) {
   if (config_.kind == FluidSceneKind::kNone) return;
+  if (block_.halo)
+    plan.add_stage({"fluid: gather the blocks", [this, &engine_state] { gather(engine_state); }});
+  SimState& state = stepped(engine_state);
   plan.add_stage({"fluid: forces, sources", [this, &state] {
                     if (state.dt != prepared_dt_) prepare(state.dt);
                     add_forces_and_sources(state);
@@ -430,6 +466,8 @@ void FluidStep::append_stages(FramePlan& plan, SimState& state) {
   plan.add_stage(
       {"fluid: projection 2", [this, &state] { report_.pressure_second = project(state); }});
   plan.add_stage({"fluid: dye", [this, &state] { step_dye(state); }});
+  if (block_.halo)
+    plan.add_stage({"fluid: the block's cells", [this, &engine_state] { take(engine_state); }});
 }
 
 void FluidStep::step_dye(SimState& state) {
@@ -460,7 +498,8 @@ void FluidStep::record_pressure(bool on) {
   if (p_first_.empty()) p_first_ = FieldF(size_, 1);
 }
 
-void FluidStep::physical_pressure(const SimState& state, FieldF& out) const {
+void FluidStep::physical_pressure(const SimState& engine_state, FieldF& out) const {
+  const SimState& state = block_.halo ? whole_ : engine_state;
   ARDCELL_CHECK(!p_first_.empty(), "physical_pressure: record_pressure(true) first");
   ARDCELL_CHECK(out.size() == size_, "physical_pressure: out must have the grid's size");
   dev_->sync_to_host(p_first_);

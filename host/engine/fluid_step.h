@@ -10,6 +10,13 @@
 // OpenCL). The frame is the stages append_stages() adds to the scene's FramePlan
 // (host/engine/frame_plan.h). Everything is allocated in the constructor: a frame does no heap
 // allocation.
+// On a device that runs one block of a decomposed grid (Device::on_block), the fluid runs on the
+// gathered grid: the state's u, v, p and dye cover the block, every block gathers them into a
+// whole-grid state of the fluid's own (HaloChannel::gather_all, the domain's ghost ring
+// included), runs the frame's fluid stages there on a CpuDevice of the same executor, and takes
+// its block's cells and halo back: one process's bits, at one process's speed for the fluid.
+// Decomposing its ops (solves that exchange between sweeps, reductions whose bits do not depend
+// on the layout, back-traces within a CFL-wide halo) is what would make them scale.
 #include <memory>
 #include <string>
 
@@ -41,11 +48,12 @@ class FluidStep {
   FluidStep(const FluidStep&) = delete;
   FluidStep& operator=(const FluidStep&) = delete;
 
-  // Allocates the fluid fields of `state` (u, v, p, dye, and the obstacle mask when the scene has
-  // one), halo 1, when they are missing or of another size.
-  void allocate(SimState& state) const;
+  // Allocates the fluid fields of `state` (u, v, p, dye over the device's cells, and the
+  // obstacle mask over the grid when the scene has one), halo 1, when they are missing or of
+  // another size.
+  void allocate(SimState& state);
   // The scene's initial conditions (fluid at rest, the initial dye, the obstacle mask).
-  void reset(SimState& state) const;
+  void reset(SimState& state);
   // Appends the frame's stages to `plan`, in the order above, on `state` (kept by reference):
   // together they advance the fluid and the dye by state.dt (re-preparing the operators if dt
   // changed). None for a scene without a fluid.
@@ -56,14 +64,15 @@ class FluidStep {
   // structural changes (scene kind, walls, obstacle, solver kinds).
   void update_parameters(const FluidConfig& config);
   // The pressure projection alone (fills boundaries, solves, subtracts the gradient): exposed for
-  // tests and tools.
+  // tests and tools (on the whole grid).
   SolveReport project(SimState& state);
 
   // With `on`, each step keeps the first projection's pressure too (one copy a frame), so that
   // physical_pressure() can give the step's whole pressure. Allocates when turned on.
   void record_pressure(bool on);
   // The physical (kinematic) pressure of the last step, ghosts included: the two projections'
-  // potentials (each u -= grad p) over dt, P = (p_first + p) / dt, on the host.
+  // potentials (each u -= grad p) over dt, P = (p_first + p) / dt, on the host (on the whole
+  // grid).
   void physical_pressure(const SimState& state, FieldF& out) const;
   // The obstacle's solid cells (centre inside the disc; empty when none).
   const Field<uint8_t>& solid() const { return solid_; }
@@ -100,8 +109,19 @@ class FluidStep {
   // The cells the pressure equation leaves out: every solid cell, or with cut cells only the
   // covered ones.
   const Field<uint8_t>& pressure_solid() const { return covered_.empty() ? solid_ : covered_; }
+  // The state the stages step: the engine's, or on a block the gathered one (whole_).
+  SimState& stepped(SimState& state) { return block_.halo ? whole_ : state; }
+  void allocate_whole(SimState& state) const;
+  // On a block: the state's u, v, p, dye into whole_ (every block's cells), and back (the
+  // block's cells and halo).
+  void gather(const SimState& state);
+  void take(SimState& state) const;
 
   FluidConfig config_;
+  // On a block: the block, and the whole-grid device and state the stages run on.
+  DeviceBlock block_;
+  std::unique_ptr<CpuDevice> whole_device_;
+  SimState whole_;
   Device* dev_;
   Int2 size_;
   double h_;

@@ -197,18 +197,11 @@ std::string rd_config_problem(const SceneConfig& scene) {
   return "";
 }
 
-std::string rd_block_problem(const SceneConfig& scene) {
-  if (scene.fluid.kind != FluidSceneKind::kNone)
-    return "fluid.scene: this fluid runs on the whole grid only (blocks of a decomposed grid run "
-           "the table1 scenes and RD scenes without a fluid)";
-  if (!scene.rd.enabled) return "rd.enabled: a scene without RD has nothing to run as blocks";
-  return "";
-}
-
 bool rd_block_gathers(const SceneConfig& scene) {
   const RdConfig& rd = scene.rd;
   return rd.diffusion_operator != RdOperator::kLaplacian ||
-         (rd.scheme != RdScheme::kExplicit5 && rd.scheme != RdScheme::kExplicit9);
+         (rd.scheme != RdScheme::kExplicit5 && rd.scheme != RdScheme::kExplicit9) ||
+         (rd.advect && scene.fluid.kind != FluidSceneKind::kNone);
 }
 
 int rd_block_halo(const SceneConfig& scene) {
@@ -225,7 +218,6 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   RowExecutor& ex = device.executor();
   if (std::string why = rd_config_problem(scene); !why.empty()) throw std::invalid_argument(why);
   if (device.on_block()) {
-    if (std::string why = rd_block_problem(scene); !why.empty()) throw std::invalid_argument(why);
     block_steps_ = std::min(rd_block_halo(scene), device.block().halo->width());
   }
   const double scene_h = scene.domain_width / scene.size.x;
@@ -619,8 +611,8 @@ void RdStepper::append_stages(FramePlan& plan, SimState& s) {
   ARDCELL_CHECK(!s.A.empty() && s.A.interior() == cells_ && s.B.interior() == cells_,
                 "RD stages need A and B over the device's cells (RdStepper::init_state)");
   plan.add_stage({"rd: reaction-diffusion", [this, &s] { react_diffuse(s); }, true});
-  // The velocity is allocated by now when the scene has one.
-  if (!s.u.empty() && !s.v.empty() && s.u.size() == scene_.size)
+  // The velocity is allocated by now (over the same cells) when the scene has one.
+  if (!s.u.empty() && !s.v.empty() && s.u.interior() == cells_)
     plan.add_stage({"rd: advection",
                     [this, &s] {
                       if (rd_.advect) advect(s);

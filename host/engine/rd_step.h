@@ -57,12 +57,11 @@ namespace ardcell {
 // One line naming the first bad RD parameter of the scene, or "" when it can run.
 std::string rd_config_problem(const SceneConfig& scene);
 
-// One line saying why the scene's RD cannot run as one block of a decomposed grid (a Device on a
-// block, host/engine/device.h), "" when it can: every RD scheme without a fluid. The explicit 5-
-// and 9-point steps read a halo (Device::exchange_halos), the reactions are per cell, the
-// conductivity reads a halo of A one cell deep, and the ops that read the whole grid (diffusion
-// solves, seed 003's wrapping stencils and FFTs, ETDRK4) run on the gathered grid (CpuDevice).
-std::string rd_block_problem(const SceneConfig& scene);
+// Every RD scheme runs as one block of a decomposed grid (a Device on a block,
+// host/engine/device.h): the explicit 5- and 9-point steps read a halo (Device::exchange_halos),
+// the reactions are per cell, the conductivity reads a halo of A one cell deep, and the ops that
+// read the whole grid (diffusion solves, seed 003's wrapping stencils and FFTs, ETDRK4, the
+// advection's back-trace) run on the gathered grid (CpuDevice).
 // On a periodic grid, where every edge of a block is a neighbour's, a block runs up to this many
 // explicit steps between exchanges: the exchange is that many cells deep, and each step also
 // steps the halo cells the steps after it read (seed 001's frame of 10 steps: two exchanges,
@@ -73,7 +72,7 @@ inline constexpr int kExplicitBlockSteps = 5;
 // explicit schemes on a periodic grid, else 1.
 int rd_block_halo(const SceneConfig& scene);
 // Whether a block of the scene's RD runs ops on the gathered grid: every scheme but the explicit
-// 5- and 9-point ones with the Laplacian.
+// 5- and 9-point ones with the Laplacian, and advected RD.
 bool rd_block_gathers(const SceneConfig& scene);
 
 // For the generalized operator, one line a run prints before it starts: the explicit update's

@@ -6,7 +6,8 @@
 //              scenes, the explicit RD schemes without a fluid; not those whose blocks gather
 //              the grid, BlockSupport::gathers): each screen runs its block of the grid
 //              (runtime/block_layout.h), the halo exchange between them;
-//   mirrored - every other scene (its stages work on whole fields): every screen steps the
+//   mirrored - every other scene (its solves or its fluid run on the gathered grid, so a block
+//              would compute the whole grid anyway): every screen steps the
 //              whole grid in lockstep and shows its part. The screens' inputs are the same, so
 //              on the same binary and CPU they compute the same bits; on different CPUs or
 //              GPUs rounding may differ, so every kCheckFrames frames the screens compare a

@@ -242,18 +242,18 @@ void MpiHaloChannel::gather_all(const FieldF& field, FieldF& whole) {
     long long total = 0;
     for (int b = 0; b < exchange_.count(); ++b) {
       gather_offsets_.push_back(int(std::min<long long>(total, INT_MAX)));
-      gather_counts_.push_back(int(exchange_.block(b).area()));
-      total += exchange_.block(b).area();
+      gather_counts_.push_back(int(exchange_.owned(b).area()));
+      total += exchange_.owned(b).area();
     }
     ARDCELL_CHECK(total <= INT_MAX, "MpiHaloChannel: a grid too large to gather");
     gathered_.resize(std::size_t(total));
   }
   const std::size_t mine = std::size_t(block_);
-  pack(field, exchange_.block(block_), Int2{0, 0}, gathered_.data() + gather_offsets_[mine]);
+  pack(field, exchange_.owned(block_), Int2{0, 0}, gathered_.data() + gather_offsets_[mine]);
   MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, gathered_.data(), gather_counts_.data(),
                  gather_offsets_.data(), MPI_FLOAT, MPI_COMM_WORLD);
   for (int b = 0; b < exchange_.count(); ++b)
-    unpack(gathered_.data() + gather_offsets_[std::size_t(b)], exchange_.block(b), whole);
+    unpack(gathered_.data() + gather_offsets_[std::size_t(b)], exchange_.owned(b), whole);
   bytes_sent_ +=
       double(std::size_t(gather_counts_[mine]) * sizeof(float)) * double(exchange_.count() - 1);
   ns_ += elapsed_ns(start);

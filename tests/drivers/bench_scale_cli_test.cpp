@@ -2,8 +2,8 @@
 // 1 and 2 ranks, strong and weak, at a small size: the table and scale.md / scale.csv hold one
 // row per run with a positive rate; one rank sends no halo, two do; the 1-rank rows are the
 // efficiency's reference (1.000); the same for seed 001 (--scene seed001: a scene of stages whose
-// blocks exchange before every step). Bad --ranks and a scene that cannot run as blocks exit 2
-// with one line.
+// blocks exchange before every step) and cavity-gray-scott (a fluid on the gathered grid). Bad
+// --ranks and an unknown scene exit 2 with one line.
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -86,14 +86,21 @@ TEST_F(BenchScaleTest, BadRanksExitTwo) {
             "ardcell bench scale: --ranks '0,x': expected rank counts 1..256, comma-separated\n");
 }
 
-TEST_F(BenchScaleTest, AWholeGridSceneExitsTwo) {
-  const BinaryRunResult r = run_bench("--scene cavity --out res");
+// A scene with a fluid runs as blocks too (its fluid on the gathered grid).
+TEST_F(BenchScaleTest, AFluidSceneAsBlocks) {
+  const BinaryRunResult r =
+      run_bench("--scene cavity-gray-scott --size 96 --weak 64 --frames 2 --ranks 2 --out fluid");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.find("cavity-gray-scott over Open MPI ranks"), 0u) << r.out;
+  expect_scale_rows(r, work() / "fluid");
+}
+
+TEST_F(BenchScaleTest, AnUnknownSceneExitsTwo) {
+  const BinaryRunResult r = run_bench("--scene cavityy --out res");
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err.find("ardcell bench scale: --scene cavity: runs on one process's whole grid: "
-                       "fluid.scene: "),
-            0u)
-      << r.err;
-  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  EXPECT_EQ(r.err,
+            "ardcell bench scale: --scene cavityy: not a built-in scene (expected one such as "
+            "table1-ard, seed001 or cavity-gray-scott)\n");
 }
 
 }  // namespace

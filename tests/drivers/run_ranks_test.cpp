@@ -12,6 +12,9 @@
 //     exchanged by the stage's ops) saves the bytes one process saves on 2, 3 and 4 ranks, and
 //     so do space-cookie-5, turing-spots (implicit RD) and mcgraw-gray-scott-map (seed 003),
 //     whose solves and wrapping stencils run on the grid gathered from every rank;
+//   - scenes with a fluid (cavity-gray-scott, obstacle-ard-fhn, ink), whose fluid and advection
+//     run on the gathered grid: fields, dye frames, push and deposit strokes and a resumed state
+//     are one process's;
 //   - a layout that does not match the processes, a malformed one, a scene that cannot run as
 //     blocks and blocks narrower than their halo exit 2 with one line.
 #include <gtest/gtest.h>
@@ -126,6 +129,66 @@ TEST_F(RunRanksTest, GatheringRdRanksSaveTheFieldsOfOneProcess) {
   }
 }
 
+// Scenes with a fluid: every rank gathers the fluid and runs it on the whole grid
+// (host/engine/fluid_step.h), the RD's advection too; the reactions run on the blocks. The
+// fields, the frames (dye, with an obstacle) and strokes that push and deposit are one process's,
+// and a state saved by 2 ranks resumes in one process.
+TEST_F(RunRanksTest, FluidRanksSaveTheFieldsOfOneProcess) {
+  const auto same_fluid = [this](const std::string& a, const std::string& b) {
+    expect_same_state(a.c_str(), b.c_str(), {"u.npy", "v.npy", "p.npy", "dye.npy", "meta.json"});
+  };
+  struct Case {
+    const char* scene;
+    int ranks;
+    const char* parts;
+  };
+  for (const Case c : {Case{"cavity-gray-scott", 2, "2x1"}, Case{"obstacle-ard-fhn", 4, "2x2"},
+                       Case{"ink", 3, "1x3"}}) {
+    const std::string scene = std::string("run ") + c.scene +
+                              " --size 96x64 --quiet --every 4 --steps 4 --show dye --out ";
+    const std::string one = std::string(c.scene) + "-one",
+                      dir = std::string(c.scene) + "-" + c.parts;
+    ASSERT_EQ(run(scene + one + " --save-state " + one + "/state").code, 0);
+    const BinaryRunResult r =
+        run_ranks(c.ranks, scene + dir + " --ranks " + c.parts + " --save-state " + dir + "/state");
+    ASSERT_EQ(r.code, 0) << c.scene << " " << c.parts << ": " << r.err;
+    EXPECT_EQ(r.out.find("frames=4 "), 0u) << r.out;
+    same_fluid(one + "/state", dir + "/state");
+    if (std::string(c.scene) != "ink")
+      expect_same_state((one + "/state").c_str(), (dir + "/state").c_str(), {"A.npy", "B.npy"});
+    const std::string png = slurp(work() / one / "dye_00000004.png");
+    ASSERT_FALSE(png.empty()) << c.scene;
+    EXPECT_EQ(png, slurp(work() / dir / "dye_00000004.png")) << c.scene;
+  }
+  const std::string strokes = std::string(" --strokes '") + ARDCELL_SOURCE_DIR +
+                              "/presets/strokes/fig3_spiral.jsonl' --paint-radius 3 ";
+  const std::string cavity = "run cavity-gray-scott --size 96x64 --quiet --every 0 --steps 6";
+  for (const char* mode : {"push", "deposit"}) {
+    const std::string one = std::string("cavity-one-") + mode,
+                      four = std::string("cavity-four-") + mode;
+    ASSERT_EQ(run(cavity + strokes + "--paint-mode " + mode + " --save-state " + one).code, 0);
+    const BinaryRunResult r = run_ranks(
+        4, cavity + strokes + "--paint-mode " + mode + " --ranks 2x2 --save-state " + four);
+    ASSERT_EQ(r.code, 0) << mode << ": " << r.err;
+    same_fluid(one, four);
+    expect_same_state(one.c_str(), four.c_str(), {"A.npy", "B.npy"});
+  }
+  ASSERT_EQ(run(cavity + " --save-state cavity-plain").code, 0);
+  EXPECT_NE(slurp(work() / "cavity-plain" / "u.npy"), slurp(work() / "cavity-one-push" / "u.npy"))
+      << "the push left no trace";
+  EXPECT_NE(slurp(work() / "cavity-plain" / "B.npy"),
+            slurp(work() / "cavity-one-deposit" / "B.npy"))
+      << "the deposit left no trace";
+  // 2 ranks for 3 frames, then one process for 3: six frames of one process.
+  const std::string three = "run cavity-gray-scott --size 96x64 --quiet --every 0 --steps 3";
+  ASSERT_EQ(run_ranks(2, three + " --ranks 1x2 --save-state cavity-three").code, 0);
+  ASSERT_EQ(
+      run("run --load-state cavity-three --steps 3 --every 0 --quiet --save-state cavity-six").code,
+      0);
+  same_fluid("cavity-plain", "cavity-six");
+  expect_same_state("cavity-plain", "cavity-six", {"A.npy", "B.npy"});
+}
+
 // Every rank reads the strokes and paints its block: the painting of one process.
 TEST_F(RunRanksTest, StrokesPaintEveryBlockAsOneGrid) {
   const std::string strokes = std::string(" --strokes '") + ARDCELL_SOURCE_DIR +
@@ -237,12 +300,12 @@ TEST_F(RunRanksTest, BadLayoutsExitTwoWithOneLine) {
   EXPECT_EQ(r.err,
             "ardcell run: --ranks 'two': expected WxH, the ranks along x by along y (e.g. 2x1)\n");
   // Without mpirun: a singleton MPI job of one process.
-  r = run_command(mpi_env() + "exec '" ARDCELL_BINARY "' run cavity --steps 1 --quiet --ranks 1x1");
+  r = run_command(mpi_env() + "exec '" ARDCELL_BINARY
+                              "' run seed001 --set rd.enabled=false --steps 1 --quiet --ranks 1x1");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(first_line(r.err),
-            "ardcell run: --ranks: scene 'cavity' runs on one process's whole grid: fluid.scene: "
-            "this fluid runs on the whole grid only (blocks of a decomposed grid run the table1 "
-            "scenes and RD scenes without a fluid) (expected no --ranks)");
+            "ardcell run: --ranks: scene 'seed001' runs on one process's whole grid: rd.enabled: a "
+            "scene without a fluid or RD has nothing to run as blocks (expected no --ranks)");
   r = run_ranks(2, "run table1 --size 40 --steps 1 --quiet --ranks 2x1");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_EQ(first_line(r.err),

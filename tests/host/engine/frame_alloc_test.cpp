@@ -75,11 +75,12 @@ TEST(FrameAlloc, EveryPresetOnEveryBackendSteps0Allocations) {
   }
 }
 
-// Blocks of a scene of stages (seed 001, and space-cookie-5 whose solves gather the grid, as 2x1
-// blocks on threads, one engine each): the halo exchanges and gathers of every frame allocate
-// nothing either.
+// Blocks of a scene of stages (seed 001, space-cookie-5 whose solves gather the grid, and
+// obstacle-ard-gray-scott whose fluid and advection run on the gathered grid, as 2x1 blocks on
+// threads, one engine each): the halo exchanges and gathers of every frame allocate nothing
+// either.
 TEST(FrameAlloc, StageBlocksStep0Allocations) {
-  for (const char* name : {"seed001", "space-cookie-5"}) {
+  for (const char* name : {"seed001", "space-cookie-5", "obstacle-ard-gray-scott"}) {
     SceneConfig scene = builtin_scenes().find(name)->make();
     scene.size = {127, 93};
     const BlockSupport support = block_support(scene);

@@ -96,14 +96,22 @@ TEST(Table1Blocks, TheExchangeIsAStepOfThePlan) {
   EXPECT_EQ(plan.exchanges_before(1), 1);
 }
 
-TEST(Table1Blocks, OnlyAFramePlanSceneRunsAsABlock) {
+// A block of a scene with nothing to run (no fluid, no RD), and a block on OpenCL, are refused
+// with one line.
+TEST(Table1Blocks, ABlockOfNothingOrOnOpenClIsRefused) {
   SceneConfig scene = builtin_scenes().find("cavity")->make();
   const BlockLayout layout = BlockLayout::split(scene.size, {2, 1});
   LocalBlockGroup group(layout, 4);
   EngineOptions o;
   o.plan.block = layout.block(0);
   o.plan.halo = &group.channel(0);
+  o.backend = EngineOptions::Backend::kOpenCl;
   EXPECT_THROW(Engine(scene, o), std::invalid_argument);
+  SceneConfig nothing = builtin_scenes().find("seed001")->make();
+  nothing.size = scene.size;
+  nothing.rd.enabled = false;
+  o.backend = EngineOptions::Backend::kSerial;
+  EXPECT_THROW(Engine(nothing, o), std::invalid_argument);
 }
 
 }  // namespace
