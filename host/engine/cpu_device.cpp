@@ -265,28 +265,21 @@ void CpuDevice::advect_scalars(std::span<const FieldF* const> q0, const FieldF& 
   ARDCELL_CHECK(q0.size() == q.size() && q.size() <= std::size_t(kMaxAdvectFields) && !q.empty(),
                 "advect_scalars: one output per input, 1 to kMaxAdvectFields");
   const std::size_t n = q.size();
-  if (gathers(*q[0])) {  // a back-trace may leave the block
-    std::array<const FieldF*, kMaxAdvectFields> whole_in;
-    std::array<FieldF*, kMaxAdvectFields> whole_out;
-    int slot = 0;
-    for (std::size_t i = 0; i < n; ++i) whole_in[i] = &gather(*q0[i], slot++);
-    const FieldF& whole_u = gather(u, slot++);
-    const FieldF& whole_v = gather(v, slot++);
-    for (std::size_t i = 0; i < n; ++i) whole_out[i] = &whole_scratch(slot++);
-    advect_scalars(std::span(whole_in.data(), n), whole_u, whole_v, std::span(whole_out.data(), n),
-                   p);
-    for (std::size_t i = 0; i < n; ++i) take(*whole_out[i], *q[i]);
-    return;
-  }
+  // On a block the back-trace (and the velocity at its midpoint) may leave the block: it reads
+  // the grid gathered from every block, and the block computes its own cells.
+  const bool gathered = gathers(*q[0]);
+  int slot = 0;
   std::array<View<const float>, kMaxAdvectFields> in;
   std::array<View<float>, kMaxAdvectFields> out;
   for (std::size_t i = 0; i < n; ++i) {
-    in[i] = q0[i]->view();
+    in[i] = gathered ? gather(*q0[i], slot++).view() : q0[i]->view();
     out[i] = q[i]->view();
   }
+  const View<const float> uv[] = {gathered ? gather(u, slot++).view() : u.view(),
+                                  gathered ? gather(v, slot++).view() : v.view()};
   for_bands(q[0]->interior(), [&](Box2 rows) {
-    ardcell::advect_fields(u.view(), v.view(), std::span(in.data(), n), std::span(out.data(), n),
-                           rows, p);
+    ardcell::advect_fields(uv[0], uv[1], std::span(in.data(), n), std::span(out.data(), n), rows,
+                           p);
   });
 }
 
@@ -310,25 +303,11 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
                 "maccormack_correct: one q_hat, q_back and output per input, 1 to "
                 "kMaxAdvectFields (one with mac)");
   const std::size_t n = q.size();
-  if (gathers(*q[0])) {  // the bounds are read at a departure point that may leave the block
-    ARDCELL_CHECK(!mac, "maccormack_correct: a block's face velocities are not gathered");
-    std::array<const FieldF*, kMaxAdvectFields> whole_in, whole_hat, whole_back;
-    std::array<FieldF*, kMaxAdvectFields> whole_out;
-    int slot = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      whole_in[i] = &gather(*q0[i], slot++);
-      whole_hat[i] = &gather(*q_hat[i], slot++);
-      whole_back[i] = &gather(*q_back[i], slot++);
-    }
-    const FieldF& whole_u = gather(u, slot++);
-    const FieldF& whole_v = gather(v, slot++);
-    for (std::size_t i = 0; i < n; ++i) whole_out[i] = &whole_scratch(slot++);
-    maccormack_correct(std::span(whole_in.data(), n), std::span(whole_hat.data(), n),
-                       std::span(whole_back.data(), n), whole_u, whole_v,
-                       std::span(whole_out.data(), n), p, false);
-    for (std::size_t i = 0; i < n; ++i) take(*whole_out[i], *q[i]);
-    return;
-  }
+  // On a block the bounds are read at a departure point that may leave it: q0 and the velocity
+  // come from the grid gathered from every block, q_hat and q_back are read at each cell only.
+  const bool gathered = gathers(*q[0]);
+  ARDCELL_CHECK(!(gathered && mac),
+                "maccormack_correct: a block's face velocities are not gathered");
   if (mac) {
     for_bands(q[0]->interior(), [&](Box2 rows) {
       ardcell::maccormack_correct_mac(q0[0]->view(), q_hat[0]->view(), q_back[0]->view(), u.view(),
@@ -336,18 +315,20 @@ void CpuDevice::maccormack_correct(std::span<const FieldF* const> q0,
     });
     return;
   }
+  int slot = 0;
   std::array<View<const float>, kMaxAdvectFields> in, hat, back;
   std::array<View<float>, kMaxAdvectFields> out;
   for (std::size_t i = 0; i < n; ++i) {
-    in[i] = q0[i]->view();
+    in[i] = gathered ? gather(*q0[i], slot++).view() : q0[i]->view();
     hat[i] = q_hat[i]->view();
     back[i] = q_back[i]->view();
     out[i] = q[i]->view();
   }
+  const View<const float> uv[] = {gathered ? gather(u, slot++).view() : u.view(),
+                                  gathered ? gather(v, slot++).view() : v.view()};
   for_bands(q[0]->interior(), [&](Box2 rows) {
-    ardcell::maccormack_correct(u.view(), v.view(), std::span(in.data(), n),
-                                std::span(hat.data(), n), std::span(back.data(), n),
-                                std::span(out.data(), n), rows, p);
+    ardcell::maccormack_correct(uv[0], uv[1], std::span(in.data(), n), std::span(hat.data(), n),
+                                std::span(back.data(), n), std::span(out.data(), n), rows, p);
   });
 }
 

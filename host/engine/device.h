@@ -372,17 +372,18 @@ class CpuDevice final : public Device {
   // [w] and its input [workers() + w] (explicit_rd with a QuiescentBox).
   std::vector<Box2> band_boxes_;
   // On a block, the ops whose kernels read the whole grid (a global solve, an FFT, a stencil
-  // that wraps its indices, a back-trace) run on the grid gathered from every block
-  // (HaloChannel::gather_all), as every other block does: the same bits as one process, at one
-  // process's speed (docs/scale-out.md); the block takes its cells back. gathers(f): f covers a
-  // block that is not the whole grid. gather(f, slot) fills whole-grid scratch `slot` (made at
-  // the first use) from every block's f; take(whole, f) copies f's cells from it. MacCormack's
-  // correction of A and B uses the most slots: three inputs each, the velocity and two outputs.
+  // that wraps its indices) run on the grid gathered from every block (HaloChannel::gather_all),
+  // as every other block does: the same bits as one process, at one process's speed
+  // (docs/scale-out.md); the block takes its cells back. A back-trace reads its gathered inputs
+  // and computes only the block's cells. gathers(f): f covers a block that is not the whole
+  // grid. gather(f, slot) fills whole-grid scratch `slot` (made at the first use) from every
+  // block's f; take(whole, f) copies f's cells from it. The back-trace of kMaxAdvectFields
+  // fields and their velocity uses the most slots.
   bool gathers(const FieldF& f) const;
   FieldF& gather(const FieldF& f, int slot);
   FieldF& whole_scratch(int slot);
   void take(const FieldF& whole, FieldF& f);
-  static constexpr int kWholeSlots = 4 * kMaxAdvectFields + 2;
+  static constexpr int kWholeSlots = kMaxAdvectFields + 2;
   std::array<FieldF, kWholeSlots> whole_;
 };
 

@@ -447,8 +447,9 @@ TEST(StageBlocks, EveryBuiltinSceneRunsAsBlocks) {
     const BlockSupport support = block_support(scene);
     EXPECT_EQ(support.problem, "") << e.name;
     // A fluid's stages run on the gathered grid: every block computes the whole fluid.
-    if (scene.fluid.kind != FluidSceneKind::kNone && scene.fluid.kind != FluidSceneKind::kTable1)
+    if (scene.fluid.kind != FluidSceneKind::kNone && scene.fluid.kind != FluidSceneKind::kTable1) {
       EXPECT_TRUE(support.gathers) << e.name;
+    }
   }
   EXPECT_FALSE(block_support(builtin_scenes().find("seed001")->make()).gathers);
   // Chemicals that wrap while a fluid carries them: the gathered back-trace would read ghosts
