@@ -11,7 +11,9 @@
 //   ARDCELL_BENCH_WORKERS  threads back end workers per rank (default 1);
 //   ARDCELL_BENCH_FRAMES   frames timed (default 20): a fixed count, the same on every rank,
 //                          since ranks that chose their own iteration counts would wait on
-//                          each other's exchanges for ever.
+//                          each other's exchanges for ever;
+//   ARDCELL_BENCH_REALTIME 1: the scene's real-time settings (use_realtime_solvers, as
+//                          `--realtime-solvers`).
 // Benchmark Scale/<scene>/<ranks>/<grid>/workers:<n>, one iteration a frame. Counters: fps,
 // cells_per_s, halo_bytes_per_frame (sent by all ranks), mpi_ms_per_frame (rank 0's time in
 // exchanges, waiting for its neighbours included, while its other workers compute the inner
@@ -27,6 +29,7 @@
 
 #include "bench/bench_env.h"
 #include "host/engine/engine.h"
+#include "host/scenes/preset.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
 #include "runtime/mpi/mpi_world.h"
@@ -102,7 +105,9 @@ int main(int argc, char** argv) {
   const SceneEntry* entry = builtin_scenes().find(scene_name);
   SceneConfig scene;
   if (entry) {
-    scene = entry->make();
+    Preset preset = preset_from_entry(*entry);
+    if (bench_env_int("ARDCELL_BENCH_REALTIME", 0) == 1) use_realtime_solvers(preset);
+    scene = preset.scene;
     scene.size = grid;
   }
   if (!entry || !block_support(scene).problem.empty()) {

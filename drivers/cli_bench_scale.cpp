@@ -42,6 +42,7 @@ struct ScaleOptions {
   std::string out = "bench-results";
   std::string binary;
   std::string mpirun = ARDCELL_MPIEXEC;
+  bool realtime_solvers = false;
 };
 
 struct ScaleRow {
@@ -101,6 +102,7 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
           {"ARDCELL_BENCH_RANKS", std::to_string(r) + "x1"},
           {"ARDCELL_BENCH_WORKERS", std::to_string(row.workers)},
           {"ARDCELL_BENCH_FRAMES", std::to_string(o.frames)}};
+      if (o.realtime_solvers) env.emplace_back("ARDCELL_BENCH_REALTIME", "1");
       // Each rank bound to CPUs of its own, as many as its workers (Open MPI's default binds
       // each of up to 2 ranks to ONE core, whatever its workers); --use-hwthread-cpus makes
       // mpirun count CPUs as `cores` does (else physical cores, and PE=W fails on a machine with
@@ -140,6 +142,7 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
 
   std::ostringstream md, csv;
   md << o.scene << (o.scene == "table1-ard" ? " (blocked schedule)" : "")
+     << (o.realtime_solvers ? " on its real-time settings (--realtime-solvers)" : "")
      << " over Open MPI ranks on " << cores
      << " cores; efficiency = cells/s over the 1-rank row of the same kind\n\n"
      << "| scaling | ranks | workers/rank | grid | fps | cells/s | efficiency | halo KiB/frame "
@@ -193,6 +196,9 @@ void add_bench_scale_command(CLI::App& bench, CliContext& ctx) {
   scale->add_option("--bench-binary", o->binary,
                     "The scale_bench program (default: beside ardcell)");
   scale->add_option("--mpirun", o->mpirun, "Open MPI's launcher")->capture_default_str();
+  scale->add_flag("--realtime-solvers", o->realtime_solvers,
+                  "The scene's real-time settings (fixed Jacobi sweeps, the reaction's table), as "
+                  "ardcell run/live --realtime-solvers: a block's diffusion sweeps its own cells");
   scale->callback([o, &ctx] { ctx.exit_code = run_scale(*o, ctx); });
 }
 

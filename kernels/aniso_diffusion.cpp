@@ -1,5 +1,11 @@
 #include "kernels/aniso_diffusion.h"
 
+#include <cmath>
+#include <utility>
+
+#include "kernels/stencil_sweeps.h"
+#include "runtime/block_layout.h"
+
 namespace ardcell {
 
 ImplicitDiffusion::ImplicitDiffusion(Int2 size, BoundaryKind boundary, const SolverSettings& solver,
@@ -8,64 +14,120 @@ ImplicitDiffusion::ImplicitDiffusion(Int2 size, BoundaryKind boundary, const Sol
       ex_(&ex),
       boundary_(boundary),
       op_(assemble_stencil_operator(size, 1.0, 0.0, nullptr, boundary, boundary)),
+      settings_(solver),
       solver_(LinearSolver::make(solver, size, ex)),
       rhs_(size, 1),
       x_(size, 1),
       tmp_(size, 1) {}
 
+ImplicitDiffusion::ImplicitDiffusion(Int2 grid, Box2 cells, BoundaryKind boundary,
+                                     const SolverSettings& solver, RowExecutor& ex)
+    : size_(grid),
+      ex_(&ex),
+      boundary_(boundary),
+      op_(assemble_block_operator(grid, cells, boundary, boundary)),
+      settings_(solver),
+      rhs_(FieldF::over(cells, 1)),
+      x_(FieldF::over(cells, 1)),
+      tmp_(FieldF::over(cells, 1)) {
+  ARDCELL_CHECK(runs_on_block(solver) && cells != box_of_size(grid),
+                "ImplicitDiffusion: a solver whose sweeps run on a block, and a block");
+  ex.reserve_rows(cells.height());
+}
+
 ImplicitDiffusion::~ImplicitDiffusion() = default;
 
 void ImplicitDiffusion::copy_rows(const FieldF& from, FieldF& to) const {
-  ex_->for_rows(size_.y, size_.x, [&](int y0, int y1) {
-    copy_box<float>(from.view(), to.view(), Box2{{0, y0}, {size_.x, y1}});
+  const Box2 cells = op_.diag.interior();
+  ex_->for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
+    copy_box<float>(from.view(), to.view(),
+                    Box2{{cells.min.x, cells.min.y + y0}, {cells.max.x, cells.min.y + y1}});
   });
 }
 
-SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
-                                    const DiffusionStep& s) {
-  ARDCELL_CHECK(field.size() == size_, "diffusion: field size differs from the solver's");
-  const double scale = s.crank_nicolson ? 0.5 * s.rate_dt_over_h2 : s.rate_dt_over_h2;
-  const bool isotropic = conductivity == nullptr;
-  if (!isotropic || !last_isotropic_ || scale != last_scale_ || solid_) {
-    reassemble_stencil_operator(op_, 1.0, scale, conductivity, *ex_);
-    if (solid_) isolate_solid_cells(op_, *solid_, 0.0);
-    solver_->prepare(op_);
-    last_scale_ = scale;
-    last_isotropic_ = isotropic;
-  }
+void ImplicitDiffusion::make_rhs(FieldF& field, const FieldF* conductivity, const DiffusionStep& s,
+                                 HaloChannel* halo) {
+  const Box2 cells = op_.diag.interior();
   if (s.crank_nicolson) {
     // (1 + s/2 L) A = 2 A - (1 - s/2 L) A.
+    if (halo) halo->exchange(field, 1);  // L reads the neighbouring blocks' cells
     apply_stencil_operator(op_, field, tmp_);
-    ex_->for_rows(size_.y, size_.x, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y) {
+    ex_->for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
+      for (int y = cells.min.y + y0; y < cells.min.y + y1; ++y) {
         const float* f = field.row(y);
         const float* t = tmp_.row(y);
         float* r = rhs_.row(y);
-        for (int x = 0; x < size_.x; ++x) r[x] = 2.0f * f[x] - t[x];
+        for (int x = cells.min.x; x < cells.max.x; ++x) r[x] = 2.0f * f[x] - t[x];
       }
     });
   } else {
     copy_rows(field, rhs_);
   }
   if (boundary_ == BoundaryKind::kDirichlet && s.boundary_value != 0.0f) {
-    // The fixed ghost's flux s k g moves to the right-hand side (both halves of CN included).
+    // The fixed ghost's flux s k g moves to the right-hand side (both halves of CN included),
+    // on the cells of the domain's edges (a corner's two sides in the order left, right,
+    // bottom, top).
     const double g = s.boundary_value * s.rate_dt_over_h2;
     auto add = [&](int x, int y) {
+      if (!cells.contains(Int2{x, y})) return;
       if (solid_ && (*solid_)(x, y)) return;
       rhs_(x, y) += float(g * (conductivity ? double((*conductivity)(x, y)) : 1.0));
     };
-    for (int y = 0; y < size_.y; ++y) {
+    for (int y = cells.min.y; y < cells.max.y; ++y) {
       add(0, y);
       add(size_.x - 1, y);
     }
-    for (int x = 0; x < size_.x; ++x) {
+    for (int x = cells.min.x; x < cells.max.x; ++x) {
       add(x, 0);
       add(x, size_.y - 1);
     }
   }
+}
+
+SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
+                                    const DiffusionStep& s, HaloChannel* halo) {
+  ARDCELL_CHECK(field.interior() == op_.diag.interior(),
+                "diffusion: field covers other cells than the solver's");
+  ARDCELL_CHECK(on_block() == (halo != nullptr) && !(on_block() && solid_),
+                "diffusion: a block's step takes its channel (and no solid cells)");
+  const double scale = s.crank_nicolson ? 0.5 * s.rate_dt_over_h2 : s.rate_dt_over_h2;
+  const bool isotropic = conductivity == nullptr;
+  if (!isotropic || !last_isotropic_ || scale != last_scale_ || solid_) {
+    reassemble_stencil_operator(op_, 1.0, scale, conductivity, *ex_);
+    if (solid_) isolate_solid_cells(op_, *solid_, 0.0);
+    if (solver_) solver_->prepare(op_);
+    last_scale_ = scale;
+    last_isotropic_ = isotropic;
+  }
+  make_rhs(field, conductivity, s, halo);
   copy_rows(field, x_);
-  const SolveReport report = solver_->solve(op_, rhs_, x_);
+  const SolveReport report = halo ? sweep_block(*halo) : solver_->solve(op_, rhs_, x_);
   copy_rows(x_, field);
+  return report;
+}
+
+SolveReport ImplicitDiffusion::sweep_block(HaloChannel& halo) {
+  // The whole grid's Jacobi solve (kernels/jacobi_solver.cpp) sweep by sweep: the operator has
+  // the identity in it, so no null space to take out.
+  SolveReport report;
+  const auto relative_residual = [&](const FieldF& x) {
+    double norms[2] = {stencil::residual(op_, rhs_, x, nullptr, *ex_),
+                       stencil::norm2_squared(rhs_, *ex_)};
+    halo.sum(norms);
+    return norms[1] > 0.0 ? std::sqrt(norms[0] / norms[1]) : std::sqrt(norms[0]);
+  };
+  FieldF* from = &x_;
+  FieldF* to = &tmp_;
+  halo.exchange(*from, 1);
+  for (int k = 0; k < settings_.max_iterations; ++k) {
+    stencil::jacobi_sweep(op_, rhs_, *from, *to, *ex_);
+    halo.exchange(*to, 1);
+    std::swap(from, to);
+    ++report.iterations;
+    if (settings_.tolerance > 0.0 && relative_residual(*from) <= settings_.tolerance) break;
+  }
+  report.relative_residual = relative_residual(*from);  // reads its halo, exchanged
+  if (from != &x_) copy_rows(*from, x_);
   return report;
 }
 

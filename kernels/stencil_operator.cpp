@@ -1,5 +1,6 @@
 #include "kernels/stencil_operator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "kernels/stencil_sweeps.h"
@@ -15,44 +16,59 @@ inline double conductivity_at(const FieldF* k, int x, int y) {
 void fill_coefficients(StencilOperator& op, double identity, double scale, const FieldF* k,
                        RowExecutor& ex) {
   const int nx = op.size.x, ny = op.size.y;
+  // The operator's cells: the whole grid, or a block whose neighbours' conductivity is k's halo.
+  const Box2 c = op.diag.interior();
+  const bool block = c != box_of_size(op.size);
   if (k) {
-    ARDCELL_CHECK(k->size() == op.size, "conductivity must have the operator's size");
+    ARDCELL_CHECK(k->interior() == c && (!block || k->halo() >= 1),
+                  "conductivity must cover the operator's cells (a block's with a halo)");
   }
   op.identity = identity;
-  // Faces in x: wx(i, j) between cells (i-1, j) and (i, j).
-  ex.for_rows(ny, nx, [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
+  // The conductivity across the periodic edge of a row (x = -1 or nx) or column (y = -1 or ny):
+  // on the whole grid the cell on the other side, on a block k's halo, exchanged.
+  const auto kx = [&](int x, int y) {
+    return conductivity_at(k, block ? x : (x < 0 ? nx - 1 : (x >= nx ? 0 : x)), y);
+  };
+  const auto ky = [&](int x, int y) {
+    return conductivity_at(k, x, block ? y : (y < 0 ? ny - 1 : (y >= ny ? 0 : y)));
+  };
+  // Faces in x: wx(i, j) between cells (i-1, j) and (i, j); the domain's edge faces (i = 0 and
+  // i = nx) apart, so that the loop over the others has no branch.
+  const int inner_x0 = std::max(c.min.x, 1), inner_x1 = std::min(c.max.x, nx - 1);
+  ex.for_rows(c.height(), c.width(), [&](int y0, int y1) {
+    for (int j = c.min.y + y0; j < c.min.y + y1; ++j) {
       float* w = op.wx.row(j);
-      for (int i = 1; i < nx; ++i)
+      for (int i = inner_x0; i <= inner_x1; ++i)
         w[i] = float(scale * 0.5 * (conductivity_at(k, i - 1, j) + conductivity_at(k, i, j)));
-      float edge = 0.0f;
-      if (op.boundary_x == BoundaryKind::kPeriodic && nx > 0)
-        edge = float(scale * 0.5 * (conductivity_at(k, nx - 1, j) + conductivity_at(k, 0, j)));
-      w[0] = edge;
-      w[nx] = edge;
-    }
-  });
-  ex.for_rows(ny + 1, nx, [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
-      float* w = op.wy.row(j);
-      for (int i = 0; i < nx; ++i) {
-        if (j > 0 && j < ny) {
-          w[i] = float(scale * 0.5 * (conductivity_at(k, i, j - 1) + conductivity_at(k, i, j)));
-        } else if (op.boundary_y == BoundaryKind::kPeriodic && ny > 0) {
-          w[i] = float(scale * 0.5 * (conductivity_at(k, i, ny - 1) + conductivity_at(k, i, 0)));
-        } else {
-          w[i] = 0.0f;
-        }
+      for (int i : {0, nx}) {
+        if (i < c.min.x || i > c.max.x) continue;
+        w[i] = op.boundary_x == BoundaryKind::kPeriodic
+                   ? float(scale * 0.5 * (kx(i - 1, j) + kx(i, j)))
+                   : 0.0f;
       }
     }
   });
-  ex.for_rows(ny, nx, [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
+  ex.for_rows(c.height() + 1, c.width(), [&](int y0, int y1) {
+    for (int j = c.min.y + y0; j < c.min.y + y1; ++j) {
+      float* w = op.wy.row(j);
+      if (j > 0 && j < ny) {
+        for (int i = c.min.x; i < c.max.x; ++i)
+          w[i] = float(scale * 0.5 * (conductivity_at(k, i, j - 1) + conductivity_at(k, i, j)));
+      } else if (op.boundary_y == BoundaryKind::kPeriodic) {
+        for (int i = c.min.x; i < c.max.x; ++i)
+          w[i] = float(scale * 0.5 * (ky(i, j - 1) + ky(i, j)));
+      } else {
+        for (int i = c.min.x; i < c.max.x; ++i) w[i] = 0.0f;
+      }
+    }
+  });
+  ex.for_rows(c.height(), c.width(), [&](int y0, int y1) {
+    for (int j = c.min.y + y0; j < c.min.y + y1; ++j) {
       float* d = op.diag.row(j);
       const float* wx = op.wx.row(j);
       const float* wyb = op.wy.row(j);
       const float* wya = op.wy.row(j + 1);
-      for (int i = 0; i < nx; ++i) {
+      for (int i = c.min.x; i < c.max.x; ++i) {
         double sum = identity + double(wx[i]) + double(wx[i + 1]) + double(wyb[i]) + double(wya[i]);
         // Dirichlet: the ghost is fixed, so the boundary face keeps its weight on the diagonal
         // but couples to nothing (its value goes into b).
@@ -86,19 +102,38 @@ StencilOperator assemble_stencil_operator(Int2 size, double identity, double sca
   return op;
 }
 
+StencilOperator assemble_block_operator(Int2 grid, Box2 cells, BoundaryKind boundary_x,
+                                        BoundaryKind boundary_y) {
+  ARDCELL_CHECK(grid.x > 0 && grid.y > 0 && box_of_size(grid).contains(cells) && !cells.empty(),
+                "a block operator's cells lie inside its grid");
+  StencilOperator op{grid,
+                     FieldF::over(cells, 1),
+                     FieldF::over(Box2{cells.min, {cells.max.x + 1, cells.max.y}}, 1),
+                     FieldF::over(Box2{cells.min, {cells.max.x, cells.max.y + 1}}, 1),
+                     boundary_x,
+                     boundary_y};
+  fill_coefficients(op, 1.0, 0.0, nullptr, RowExecutor::serial());
+  return op;
+}
+
 void reassemble_stencil_operator(StencilOperator& op, double identity, double scale,
                                  const FieldF* conductivity, RowExecutor& ex) {
   fill_coefficients(op, identity, scale, conductivity, ex);
 }
 
 void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y) {
-  ARDCELL_CHECK(x.size() == op.size && y.size() == op.size, "apply: size mismatch");
+  const Box2 c = op.diag.interior();
+  ARDCELL_CHECK(x.interior() == c && y.interior() == c, "apply: size mismatch");
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
-  for (int j = 0; j < ny; ++j) {
-    const float* xb = x.row(j > 0 ? j - 1 : (py ? ny - 1 : j));
-    const float* xa = x.row(j < ny - 1 ? j + 1 : (py ? 0 : j));
+  // Across a periodic edge: the grid's other side, or on a block x's halo (exchanged).
+  const bool block = on_block(op);
+  const int wrap_left = block ? -1 : nx - 1, wrap_right = block ? nx : 0;
+  const int wrap_below = block ? -1 : ny - 1, wrap_above = block ? ny : 0;
+  for (int j = c.min.y; j < c.max.y; ++j) {
+    const float* xb = x.row(j > 0 ? j - 1 : (py ? wrap_below : j));
+    const float* xa = x.row(j < ny - 1 ? j + 1 : (py ? wrap_above : j));
     const float* x0 = x.row(j);
     const float* d = op.diag.row(j);
     const float* wx = op.wx.row(j);
@@ -109,12 +144,14 @@ void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& 
       return d[i] * x0[i] - (wx[i] * x0[il] + wx[i + 1] * x0[ir] + wyb[i] * xb[i] + wya[i] * xa[i]);
     };
     const int last = nx - 1;
-    const float first_value = cell(0, px ? last : 0, nx > 1 ? 1 : (px ? 0 : 0));
-    for (int i = 1; i < last; ++i)
+    const bool first = c.min.x == 0;
+    const float first_value =
+        first ? cell(0, px ? wrap_left : 0, nx > 1 ? 1 : (px ? wrap_right : 0)) : 0.0f;
+    for (int i = std::max(c.min.x, 1); i < std::min(c.max.x, last); ++i)
       out[i] = d[i] * x0[i] -
                (wx[i] * x0[i - 1] + wx[i + 1] * x0[i + 1] + wyb[i] * xb[i] + wya[i] * xa[i]);
-    if (last > 0) out[last] = cell(last, last - 1, px ? 0 : last);
-    out[0] = first_value;
+    if (last > 0 && c.max.x == nx) out[last] = cell(last, last - 1, px ? wrap_right : last);
+    if (first) out[0] = first_value;
   }
 }
 

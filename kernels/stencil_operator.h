@@ -27,11 +27,14 @@ enum class BoundaryKind : uint8_t {
   kDirichlet,  // fixed value (zero unless a value is given)
 };
 
+// The operator of a grid of `size` cells, over the cells diag covers: the whole grid, or a block
+// of it (assemble_block_operator: the same coefficients on the block's cells and faces, for
+// sweeps that read the neighbouring blocks' cells from x's halo).
 struct StencilOperator {
   Int2 size;
-  FieldF diag;  // [0,nx) x [0,ny), halo 1
-  FieldF wx;    // [0,nx] x [0,ny), halo 1 (field of size nx+1 by ny)
-  FieldF wy;    // [0,nx) x [0,ny], halo 1 (field of size nx by ny+1)
+  FieldF diag;  // [0,nx) x [0,ny), halo 1 (on a block: the block's cells)
+  FieldF wx;    // [0,nx] x [0,ny), halo 1 (field of size nx+1 by ny; on a block its faces)
+  FieldF wy;    // [0,nx) x [0,ny], halo 1 (field of size nx by ny+1; on a block its faces)
   BoundaryKind boundary_x = BoundaryKind::kNeumann;
   BoundaryKind boundary_y = BoundaryKind::kNeumann;
   // The identity term it was (re)assembled with. Boundary folds and solid cells only add to the
@@ -48,13 +51,24 @@ StencilOperator assemble_stencil_operator(Int2 size, double identity, double sca
                                           const FieldF* conductivity, BoundaryKind boundary_x,
                                           BoundaryKind boundary_y);
 
+// The operator of a grid of `grid` cells on the cells of `cells` (a block of it) and their faces,
+// assembled as identity 1, scale 0 until reassembled. Its sweeps (stencil_sweeps.h) read x's halo
+// where a neighbour lies in another block, or across a periodic edge.
+StencilOperator assemble_block_operator(Int2 grid, Box2 cells, BoundaryKind boundary_x,
+                                        BoundaryKind boundary_y);
+inline bool on_block(const StencilOperator& op) {
+  return op.diag.interior() != box_of_size(op.size);
+}
+
 // Re-assembles in place (same size and boundaries) without allocating: for operators whose
-// coefficients change every frame (anisotropic diffusion).
+// coefficients change every frame (anisotropic diffusion). On a block, the conductivity covers
+// the block with its halo exchanged (the faces on the block's edges read it).
 void reassemble_stencil_operator(StencilOperator& op, double identity, double scale,
                                  const FieldF* conductivity,
                                  RowExecutor& ex = RowExecutor::serial());
 
-// y = A x over the interior (x's halo is not read; boundaries are in A).
+// y = A x over the interior (x's halo is not read on the whole grid: boundaries are in A; on a
+// block, the neighbouring blocks' cells are x's halo).
 void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& y);
 
 // Adds `weight` to the diagonal of the cells along one side. Folds a per-side ghost rule into an

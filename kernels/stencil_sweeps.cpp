@@ -21,16 +21,46 @@ struct RowRefs {
   const float* wya;
 };
 
-inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j) {
+inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j, int wrap_below,
+                        int wrap_above) {
   const int ny = op.size.y;
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
-  return {x.row(j > 0 ? j - 1 : (py ? ny - 1 : j)),
+  return {x.row(j > 0 ? j - 1 : (py ? wrap_below : j)),
           x.row(j),
-          x.row(j < ny - 1 ? j + 1 : (py ? 0 : j)),
+          x.row(j < ny - 1 ? j + 1 : (py ? wrap_above : j)),
           op.diag.row(j),
           op.wx.row(j),
           op.wy.row(j),
           op.wy.row(j + 1)};
+}
+inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j) {
+  return row_refs(op, x, j, op.size.y - 1, 0);
+}
+
+// The columns a row of a sweep computes, [begin, end) of a grid nx wide, and where the cells on
+// the domain's left and right edges find their neighbour across a periodic edge: columns nx - 1
+// and 0 on the whole grid; on a block of a decomposed grid, x's halo columns -1 and nx
+// (exchanged from the block that owns them). The rows likewise (wrap_below, wrap_above).
+struct Cols {
+  int begin, end, nx;
+  bool periodic;
+  int wrap_left, wrap_right;
+  int wrap_below, wrap_above;
+};
+inline Cols whole_cols(const StencilOperator& op) {
+  const int nx = op.size.x;
+  return {0, nx, nx, op.boundary_x == BoundaryKind::kPeriodic, nx - 1, 0, op.size.y - 1, 0};
+}
+// The whole grid's columns, or a block operator's (on_block(op)).
+inline Cols cols_of(const StencilOperator& op) {
+  if (!on_block(op)) return whole_cols(op);
+  const Box2 c = op.diag.interior();
+  return {c.min.x, c.max.x,   op.size.x, op.boundary_x == BoundaryKind::kPeriodic,
+          -1,      op.size.x, -1,        op.size.y};
+}
+inline int left_of(int i, const Cols& c) { return i > 0 ? i - 1 : (c.periodic ? c.wrap_left : 0); }
+inline int right_of(int i, const Cols& c) {
+  return i < c.nx - 1 ? i + 1 : (c.periodic ? c.wrap_right : c.nx - 1);
 }
 
 // Sum of the weighted neighbours of cell i with left/right neighbour indices il/ir.
@@ -74,60 +104,71 @@ namespace {
 
 // Row j of a Jacobi sweep, out = D^-1 (b + (D - A) x), from x's rows as r gives them: the one
 // expression every sweep (plain or temporally blocked) evaluates, so both give the same bits.
-inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, int nx, bool px,
+inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, const Cols& c,
                        const UniformRows* uniform) {
+  const int nx = c.nx;
+  const int mid_begin = std::max(c.begin, 1), mid_end = std::min(c.end, nx - 1);
   if (uniform && uniform->uniform(j)) {
     const float w = uniform->weight(j), d = uniform->diag(j);
-    for (int i = 1; i < nx - 1; ++i)
+    for (int i = mid_begin; i < mid_end; ++i)
       out[i] = (bj[i] + w * r.x0[i - 1] + w * r.x0[i + 1] + w * r.xb[i] + w * r.xa[i]) / d;
   } else {
-    for (int i = 1; i < nx - 1; ++i)
+    for (int i = mid_begin; i < mid_end; ++i)
       out[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
                 r.wya[i] * r.xa[i]) /
                r.d[i];
   }
-  out[0] = (bj[0] + neighbours(r, 0, left_of(0, nx, px), right_of(0, nx, px))) / r.d[0];
-  if (nx > 1) {
+  if (c.begin == 0) out[0] = (bj[0] + neighbours(r, 0, left_of(0, c), right_of(0, c))) / r.d[0];
+  if (nx > 1 && c.end == nx) {
     const int i = nx - 1;
-    out[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+    out[i] = (bj[i] + neighbours(r, i, left_of(i, c), right_of(i, c))) / r.d[i];
   }
+}
+inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, int nx, bool px,
+                       const UniformRows* uniform) {
+  jacobi_row(r, bj, out, j, Cols{0, nx, nx, px, nx - 1, 0, 0, 0}, uniform);
 }
 
 // Row j's share of |b - A x|^2 (r = b - A x written to out when not null). The squares go to
 // four running sums, cell i to sum i % 4 (then (s0 + s1) + (s2 + s3)): a fixed order, so the
 // bits do not depend on the banding, and the middle of the row vectorises; the edge cells take
 // the (periodic or weight-0) neighbours separately.
-inline double residual_row(const RowRefs& r, const float* bj, float* out, int nx, bool px) {
+inline double residual_row(const RowRefs& r, const float* bj, float* out, const Cols& c) {
+  const int nx = c.nx;
   const auto cell = [&](int i, int il, int ir) { return residual_cell(r, bj, i, il, ir); };
   double sum[4] = {0.0, 0.0, 0.0, 0.0};
   const auto edge = [&](int i) {
-    const double ri = cell(i, left_of(i, nx, px), right_of(i, nx, px));
+    const double ri = cell(i, left_of(i, c), right_of(i, c));
     if (out) out[i] = float(ri);
     sum[i % 4] += ri * ri;
   };
-  edge(0);
-  int i = 1;
+  if (c.begin == 0) edge(0);
+  const int mid_end = std::min(c.end, nx - 1);
+  int i = std::max(c.begin, 1);
   if (out) {
-    for (; i + 4 <= nx - 1; i += 4)
+    for (; i + 4 <= mid_end; i += 4)
       for (int k = 0; k < 4; ++k) {
         const double ri = cell(i + k, i + k - 1, i + k + 1);
         out[i + k] = float(ri);
         sum[(i + k) % 4] += ri * ri;
       }
   } else {
-    for (; i + 4 <= nx - 1; i += 4)
+    for (; i + 4 <= mid_end; i += 4)
       for (int k = 0; k < 4; ++k) {
         const double ri = cell(i + k, i + k - 1, i + k + 1);
         sum[(i + k) % 4] += ri * ri;
       }
   }
-  for (; i < nx - 1; ++i) {
+  for (; i < mid_end; ++i) {
     const double ri = cell(i, i - 1, i + 1);
     if (out) out[i] = float(ri);
     sum[i % 4] += ri * ri;
   }
-  if (nx > 1) edge(nx - 1);
+  if (nx > 1 && c.end == nx) edge(nx - 1);
   return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+}
+inline double residual_row(const RowRefs& r, const float* bj, float* out, int nx, bool px) {
+  return residual_row(r, bj, out, Cols{0, nx, nx, px, nx - 1, 0, 0, 0});
 }
 
 // A row's share of |f|^2: four running sums, cell i to sum i % 4, as residual_row (one running
@@ -145,11 +186,13 @@ inline double norm2_row(const float* r, int nx) {
 
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
                   RowExecutor& ex, const UniformRows* uniform) {
-  const int nx = op.size.x, ny = op.size.y;
-  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
-  ex.for_rows(ny, nx, [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j)
-      jacobi_row(row_refs(op, x_in, j), b.row(j), x_out.row(j), j, nx, px, uniform);
+  const Cols c = cols_of(op);
+  const Box2 cells = op.diag.interior();
+  if (on_block(op)) uniform = nullptr;  // analysed for whole rows
+  ex.for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
+    for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j)
+      jacobi_row(row_refs(op, x_in, j, c.wrap_below, c.wrap_above), b.row(j), x_out.row(j), j, c,
+                 uniform);
   });
 }
 
@@ -291,11 +334,14 @@ void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, RowExecut
 
 double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* res,
                 RowExecutor& ex) {
-  const int nx = op.size.x, ny = op.size.y;
-  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
-  return ex.sum_rows(ny, nx, [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j)
-      partials[j] = residual_row(row_refs(op, x, j), b.row(j), res ? res->row(j) : nullptr, nx, px);
+  const Cols c = cols_of(op);
+  const Box2 cells = op.diag.interior();
+  return ex.sum_rows(cells.height(), cells.width(), [&](int y0, int y1, double* partials) {
+    for (int y = y0; y < y1; ++y) {
+      const int j = cells.min.y + y;
+      partials[y] = residual_row(row_refs(op, x, j, c.wrap_below, c.wrap_above), b.row(j),
+                                 res ? res->row(j) : nullptr, c);
+    }
   });
 }
 
@@ -318,8 +364,10 @@ void residual_field(const StencilOperator& op, const FieldF& b, const FieldF& x,
 }
 
 double norm2_squared(const FieldF& f, RowExecutor& ex) {
-  return ex.sum_rows(f.ny(), f.nx(), [&](int y0, int y1, double* partials) {
-    for (int j = y0; j < y1; ++j) partials[j] = norm2_row(f.row(j), f.nx());
+  const Box2 cells = f.interior();
+  return ex.sum_rows(cells.height(), cells.width(), [&](int y0, int y1, double* partials) {
+    for (int y = y0; y < y1; ++y)
+      partials[y] = norm2_row(f.row(cells.min.y + y) + cells.min.x, cells.width());
   });
 }
 

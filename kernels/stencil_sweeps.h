@@ -35,7 +35,9 @@ class UniformRows {
 };
 
 // x_out = D^-1 (b + (D - A) x_in) over the interior. x_in and x_out must differ. With `uniform`
-// (analysed for this operator), its uniform rows skip the coefficient arrays.
+// (analysed for this operator), its uniform rows skip the coefficient arrays. On a block
+// operator (assemble_block_operator) over the block's cells, reading x_in's halo (exchanged) for
+// the neighbouring blocks' cells: each cell the whole grid's sweep's bits.
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
                   RowExecutor& ex = RowExecutor::serial(), const UniformRows* uniform = nullptr);
 
@@ -79,14 +81,15 @@ void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x,
 void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
                      RowExecutor& ex = RowExecutor::serial());
 
-// r = b - A x (when r is not null); returns |b - A x|_2^2 accumulated in double.
+// r = b - A x (when r is not null); returns |b - A x|_2^2 accumulated in double. On a block
+// operator, over the block's cells (its rows' partials in row order).
 double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF* r,
                 RowExecutor& ex = RowExecutor::serial());
 // r = b - A x alone (a multigrid cycle's restriction needs no norm): residual()'s r, bit for bit.
 void residual_field(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF& r,
                     RowExecutor& ex = RowExecutor::serial());
 
-// Sum of squares over the interior, in double.
+// Sum of squares over the interior (a block's, on a block), in double.
 double norm2_squared(const FieldF& f, RowExecutor& ex = RowExecutor::serial());
 
 // The constant null space of singular operators (pure Neumann or periodic Poisson, possibly

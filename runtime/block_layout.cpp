@@ -1,5 +1,6 @@
 #include "runtime/block_layout.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <stdexcept>
@@ -129,6 +130,7 @@ bool HaloExchange::fills_any(int block, const Box2& box) const {
 LocalBlockGroup::LocalBlockGroup(const BlockLayout& layout, int width)
     : exchange_(layout, width),
       posted_(std::size_t(layout.count()), nullptr),
+      sums_(std::size_t(layout.count())),
       barrier_(layout.count()) {
   for (int b = 0; b < layout.count(); ++b) channels_.emplace_back(this, b);
 }
@@ -152,6 +154,19 @@ void LocalBlockGroup::Channel::gather_all(const FieldF& field, FieldF& whole) {
   for (int b = 0; b < e.count(); ++b)
     copy_box<float>(g.posted_[std::size_t(b)]->view(), whole.view(), e.owned(b));
   g.barrier_.arrive_and_wait();  // no block writes its cells before every copy is made
+}
+
+void LocalBlockGroup::Channel::sum(std::span<double> values) {
+  LocalBlockGroup& g = *group_;
+  ARDCELL_CHECK(values.size() <= kMaxSums, "HaloChannel::sum: at most kMaxSums values");
+  std::copy(values.begin(), values.end(), g.sums_[std::size_t(block_)].begin());
+  g.barrier_.arrive_and_wait();  // every block's values are posted
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    double total = 0.0;
+    for (const auto& posted : g.sums_) total += posted[i];
+    values[i] = total;
+  }
+  g.barrier_.arrive_and_wait();  // no block posts again before every block has read
 }
 
 }  // namespace ardcell

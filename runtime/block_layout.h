@@ -12,6 +12,7 @@
 // block are filled from their owners; along a periodic axis from the cell one domain width away
 // (the ring there is nobody's: it is the far side's cells). Halo cells beyond the ring of a
 // non-periodic edge are left alone: nobody reads them.
+#include <array>
 #include <barrier>
 #include <cstddef>
 #include <span>
@@ -136,6 +137,13 @@ class HaloChannel {
   // grid (a global solve, a back-trace) runs on the gathered grid, ghosts as the blocks filled
   // them. Collective, like begin and finish, and not while an exchange is in flight.
   virtual void gather_all(const FieldF& field, FieldF& whole) = 0;
+  // Adds every block's `values` (at most kMaxSums of them), block by block in block order, and
+  // leaves the totals in `values` on every block: the same bits on each, so that blocks which
+  // decide by a norm (a solve's stopping rule) decide alike. (Not the row-order sums of one
+  // process's grid, which a block holding part of a row cannot form: equal to rounding.)
+  // Collective, like begin and finish, and not while an exchange is in flight.
+  static constexpr std::size_t kMaxSums = 4;
+  virtual void sum(std::span<double> values) = 0;
   // begin and finish of one field.
   void exchange(FieldF& field, int depth) {
     const HaloField f{&field, depth};
@@ -166,6 +174,7 @@ class LocalBlockGroup {
     void begin(std::span<const HaloField> fields) override;
     void finish() override {}
     void gather_all(const FieldF& field, FieldF& whole) override;
+    void sum(std::span<double> values) override;
 
    private:
     LocalBlockGroup* group_;
@@ -173,6 +182,7 @@ class LocalBlockGroup {
   };
   HaloExchange exchange_;
   std::vector<FieldF*> posted_;
+  std::vector<std::array<double, HaloChannel::kMaxSums>> sums_;  // each block's, for sum()
   std::barrier<> barrier_;
   std::vector<Channel> channels_;
 };

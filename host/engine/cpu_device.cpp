@@ -410,6 +410,7 @@ void CpuDevice::take(const FieldF& whole, FieldF& f) {
 SolveReport CpuDevice::implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                           const FieldF* conductivity, const DiffusionStep& s) {
   require(DeviceOp::kImplicitDiffusion);
+  if (diffusion.on_block()) return diffusion.step(field, conductivity, s, block_.halo);
   if (!gathers(field)) return diffusion.step(field, conductivity, s);
   FieldF& x = gather(field, 0);
   const SolveReport report =

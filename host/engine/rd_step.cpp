@@ -197,10 +197,27 @@ std::string rd_config_problem(const SceneConfig& scene) {
   return "";
 }
 
+namespace {
+
+// The schemes whose diffusion is ImplicitDiffusion's solve (with the Laplacian).
+bool diffusion_solves(RdScheme scheme) {
+  return scheme == RdScheme::kImplicit || scheme == RdScheme::kCrankNicolsonAm2 ||
+         scheme == RdScheme::kSbdf2;
+}
+
+}  // namespace
+
+bool rd_block_sweeps(const SceneConfig& scene) {
+  return ImplicitDiffusion::runs_on_block(scene.rd.diffusion_solver) &&
+         scene.fluid.kind != FluidSceneKind::kObstacle;
+}
+
 bool rd_block_gathers(const SceneConfig& scene) {
   const RdConfig& rd = scene.rd;
-  return rd.diffusion_operator != RdOperator::kLaplacian ||
-         (rd.scheme != RdScheme::kExplicit5 && rd.scheme != RdScheme::kExplicit9) ||
+  const bool on_its_cells = rd.scheme == RdScheme::kExplicit5 ||
+                            rd.scheme == RdScheme::kExplicit9 ||
+                            (diffusion_solves(rd.scheme) && rd_block_sweeps(scene));
+  return rd.diffusion_operator != RdOperator::kLaplacian || !on_its_cells ||
          (rd.advect && scene.fluid.kind != FluidSceneKind::kNone);
 }
 
@@ -241,13 +258,15 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
       periodic_b_->set_delta(diffusion_scale(scene, true));
     }
   }
-  const bool solves = rd_.scheme == RdScheme::kImplicit ||
-                      rd_.scheme == RdScheme::kCrankNicolsonAm2 || rd_.scheme == RdScheme::kSbdf2;
-  if (solves && rd_.diffuse && !generalized) {
-    diff_a_ =
-        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, ex);
-    diff_b_ =
-        std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary, rd_.diffusion_solver, ex);
+  if (diffusion_solves(rd_.scheme) && rd_.diffuse && !generalized) {
+    // On a block, the sweeps run on its cells where they can (else on the gathered grid).
+    const bool block_sweeps =
+        device.on_block() && cells_ != box_of_size(scene.size) && rd_block_sweeps(scene);
+    for (std::unique_ptr<ImplicitDiffusion>* d : {&diff_a_, &diff_b_})
+      *d = block_sweeps ? std::make_unique<ImplicitDiffusion>(scene.size, cells_, rd_.boundary,
+                                                              rd_.diffusion_solver, ex)
+                        : std::make_unique<ImplicitDiffusion>(scene.size, rd_.boundary,
+                                                              rd_.diffusion_solver, ex);
   }
   if (rd_.use_table && rd_.react && rd_.scheme == RdScheme::kImplicit) {
     const ConcentrationBox r = rd_.table_range_auto ? typical_range(rd_.reaction) : rd_.table_range;
@@ -459,6 +478,8 @@ const FieldF* RdStepper::conductivity(SimState& s) {
   FieldF* const a[] = {&s.A};
   dev_->exchange_halos(a, 1);  // the gradient of A reads across a block's edges
   dev_->conductivity(s.A, s.theta0, conductivity_, rd_.anisotropy);
+  FieldF* const k[] = {&conductivity_};
+  dev_->exchange_halos(k, 1);  // a block's faces on its edges average its neighbours' k
   return &conductivity_;
 }
 

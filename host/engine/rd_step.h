@@ -59,9 +59,10 @@ std::string rd_config_problem(const SceneConfig& scene);
 
 // Every RD scheme runs as one block of a decomposed grid (a Device on a block,
 // host/engine/device.h): the explicit 5- and 9-point steps read a halo (Device::exchange_halos),
-// the reactions are per cell, the conductivity reads a halo of A one cell deep, and the ops that
-// read the whole grid (diffusion solves, seed 003's wrapping stencils and FFTs, ETDRK4, the
-// advection's back-trace) run on the gathered grid (CpuDevice).
+// the reactions are per cell, the conductivity reads a halo of A one cell deep, the implicit
+// diffusion's Jacobi sweeps exchange the iterate's halo between sweeps (rd_block_sweeps), and the
+// ops that read the whole grid (the other solvers, seed 003's wrapping stencils and FFTs, ETDRK4,
+// the advection's back-trace) run on the gathered grid (CpuDevice).
 // On a periodic grid, where every edge of a block is a neighbour's, a block runs up to this many
 // explicit steps between exchanges: the exchange is that many cells deep, and each step also
 // steps the halo cells the steps after it read (seed 001's frame of 10 steps: two exchanges,
@@ -71,8 +72,13 @@ inline constexpr int kExplicitBlockSteps = 5;
 // The halo a block of the scene's RD exchanges (block_support): kExplicitBlockSteps for the
 // explicit schemes on a periodic grid, else 1.
 int rd_block_halo(const SceneConfig& scene);
+// Whether a block's implicit diffusion (the implicit, Crank-Nicolson and SBDF2 schemes with the
+// Laplacian) sweeps the block's own cells: a Jacobi solver (ImplicitDiffusion::runs_on_block,
+// as `--realtime-solvers` sets), and no obstacle.
+bool rd_block_sweeps(const SceneConfig& scene);
 // Whether a block of the scene's RD runs ops on the gathered grid: every scheme but the explicit
-// 5- and 9-point ones with the Laplacian, and advected RD.
+// 5- and 9-point ones and the diffusion solves of rd_block_sweeps with the Laplacian, and
+// advected RD.
 bool rd_block_gathers(const SceneConfig& scene);
 
 // For the generalized operator, one line a run prints before it starts: the explicit update's

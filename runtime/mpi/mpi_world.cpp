@@ -125,7 +125,9 @@ struct MpiHaloChannel::Requests {
 };
 
 MpiHaloChannel::MpiHaloChannel(const BlockLayout& layout, int width, const MpiWorld& world)
-    : block_(world.rank()), exchange_(layout, width) {
+    : block_(world.rank()),
+      exchange_(layout, width),
+      sums_(kMaxSums * std::size_t(layout.count())) {
   ARDCELL_CHECK(world.size() == layout.count(), "MpiHaloChannel: one rank per block");
   const auto peer = [&](int rank) -> Peer& {
     for (Peer& p : peers_)
@@ -256,6 +258,22 @@ void MpiHaloChannel::gather_all(const FieldF& field, FieldF& whole) {
     unpack(gathered_.data() + gather_offsets_[std::size_t(b)], exchange_.owned(b), whole);
   bytes_sent_ +=
       double(std::size_t(gather_counts_[mine]) * sizeof(float)) * double(exchange_.count() - 1);
+  ns_ += elapsed_ns(start);
+}
+
+void MpiHaloChannel::sum(std::span<double> values) {
+  const auto start = std::chrono::steady_clock::now();
+  ARDCELL_CHECK(requests_->count == 0 && values.size() <= kMaxSums,
+                "MpiHaloChannel: a sum of at most kMaxSums values, with no exchange in flight");
+  const std::size_t n = values.size();
+  MPI_Allgather(values.data(), int(n), MPI_DOUBLE, sums_.data(), int(n), MPI_DOUBLE,
+                MPI_COMM_WORLD);
+  for (std::size_t i = 0; i < n; ++i) {
+    double total = 0.0;
+    for (int r = 0; r < exchange_.count(); ++r) total += sums_[std::size_t(r) * n + i];
+    values[i] = total;
+  }
+  bytes_sent_ += double(n * sizeof(double)) * double(exchange_.count() - 1);
   ns_ += elapsed_ns(start);
 }
 

@@ -70,6 +70,8 @@ class MpiHaloChannel final : public HaloChannel {
   void finish() override;
   // MPI_Allgatherv of the blocks' cells; its buffer (the whole grid) is made at the first call.
   void gather_all(const FieldF& field, FieldF& whole) override;
+  // MPI_Allgather of every rank's values, added in rank order on each.
+  void sum(std::span<double> values) override;
   // Halo cells this rank receives per exchanged field.
   std::size_t cells_in() const { return exchange_.cells_into(block_); }
   // Since construction or reset_stats: the bytes this rank sent, and the seconds its host thread
@@ -98,6 +100,7 @@ class MpiHaloChannel final : public HaloChannel {
   std::unique_ptr<Requests> requests_;
   std::vector<int> gather_counts_, gather_offsets_;  // floats of each rank's block, in rank order
   std::vector<float> gathered_;
+  std::vector<double> sums_;  // every rank's values of a sum(), kMaxSums a rank
   double bytes_sent_ = 0;
   long long ns_ = 0;
 };

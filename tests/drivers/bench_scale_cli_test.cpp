@@ -95,6 +95,32 @@ TEST_F(BenchScaleTest, AFluidSceneAsBlocks) {
   expect_scale_rows(r, work() / "fluid");
 }
 
+// On its real-time settings an implicit RD scene's blocks sweep their own cells: a frame sends
+// the sweeps' one-cell halos, a small part of what the gathered solves of the preset as it ships
+// send (the whole grid to every rank, 2 fields a solve).
+TEST_F(BenchScaleTest, RealtimeSolversSendHalosNotTheGrid) {
+  const auto strong_halo_bytes = [&](const std::string& flags, const std::string& out) {
+    const BinaryRunResult r = run_bench(
+        "--scene space-cookie-5 --size 96 --weak 64 --frames 2 --ranks 2 --out " + out + flags);
+    EXPECT_EQ(r.code, 0) << r.err;
+    expect_scale_rows(r, work() / out);
+    std::stringstream lines(slurp(work() / out / "scale.csv"));
+    std::string line;
+    while (std::getline(lines, line)) {
+      const std::vector<std::string> c = csv_cells(line);
+      if (c.size() == 10 && c[0] == "strong" && c[1] == "2") return std::stod(c[8]);
+    }
+    ADD_FAILURE() << "no strong 2-rank row in " << out;
+    return 0.0;
+  };
+  const double sweeps = strong_halo_bytes(" --realtime-solvers", "realtime");
+  const double gathers = strong_halo_bytes("", "shipped");
+  EXPECT_GT(sweeps, 0.0);
+  EXPECT_LT(sweeps * 4, gathers) << sweeps << " bytes a frame against " << gathers;
+  EXPECT_NE(slurp(work() / "realtime" / "scale.md").find("on its real-time settings"),
+            std::string::npos);
+}
+
 TEST_F(BenchScaleTest, AnUnknownSceneExitsTwo) {
   const BinaryRunResult r = run_bench("--scene cavityy --out res");
   EXPECT_EQ(r.code, 2);

@@ -62,8 +62,9 @@ class LiveWallCliTest : public BinaryRunTest {
   // at each wall's run.
   void walls_show_one_frame(const std::string& preset, int frames,
                             std::initializer_list<const char*> layouts,
-                            const std::function<void(const BinaryRunResult&)>& check) {
-    const std::string common = preset + " --fps 0 --no-vsync --backend threads --frames " +
+                            const std::function<void(const BinaryRunResult&)>& check,
+                            const std::string& flags = "") {
+    const std::string common = preset + flags + " --fps 0 --no-vsync --backend threads --frames " +
                                std::to_string(frames) + " --screenshot ";
     const BinaryRunResult one = live_process(common + "one.png --scale 1");
     ASSERT_EQ(one.code, 0) << one.err;
@@ -116,6 +117,15 @@ TEST_F(LiveWallCliTest, AScreenOfAStageSceneStepsItsBlock) {
     EXPECT_NE(r.err.find("each screen steps its block of the grid (split)"), std::string::npos)
         << r.err;
   });
+  // On the real-time settings, space-cookie-5's implicit diffusion sweeps each screen's block
+  // (Jacobi, exchanging between sweeps), so its wall splits too.
+  walls_show_one_frame(
+      "cookie.toml", 10, {"2x1"},
+      [](const BinaryRunResult& r) {
+        EXPECT_NE(r.err.find("each screen steps its block of the grid (split)"), std::string::npos)
+            << r.err;
+      },
+      " --realtime-solvers");
 }
 
 // A scene of stages runs whole on every screen: the screens compute the same bits (no drift is
@@ -127,8 +137,9 @@ TEST_F(LiveWallCliTest, AMirroredWallShowsOneProcesssFrame) {
         << r.err;
     EXPECT_EQ(r.err.find("drifted"), std::string::npos) << r.err;
   });
-  // A scene whose blocks would gather the grid for their solves (space-cookie-5, which `run
-  // --ranks` cuts) is mirrored: every screen would compute the whole solve anyway.
+  // A scene whose blocks would gather the grid for their solves (space-cookie-5 with its ICCG
+  // solves, which `run --ranks` cuts) is mirrored: every screen would compute the whole solve
+  // anyway.
   walls_show_one_frame("cookie.toml", 10, {"2x1"}, [](const BinaryRunResult& r) {
     EXPECT_NE(r.err.find("every screen steps the whole grid (mirrored)"), std::string::npos)
         << r.err;

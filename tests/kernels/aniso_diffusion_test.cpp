@@ -5,8 +5,11 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <thread>
+#include <vector>
 
 #include "kernels/anisotropy.h"
+#include "runtime/block_layout.h"
 
 namespace ardcell {
 namespace {
@@ -151,6 +154,91 @@ TEST(AnisoDiffusion, SolidCellsKeepTheirValueAndBlockFlux) {
   for (int y = 0; y < kSize.y; ++y) {
     EXPECT_NEAR(a(3, y), 1.0f, 1e-4);
     EXPECT_NEAR(a(15, y), 0.0f, 1e-4);
+  }
+}
+
+// A block's step (ImplicitDiffusion over the block, Jacobi sweeps exchanging the iterate's halo
+// between them) gives each of its cells the whole grid's bits: anisotropic k averaged across the
+// blocks' edges, every boundary kind (periodic through the exchange's wrap), Crank-Nicolson's
+// L A reading the neighbours, the Dirichlet value's flux on the domain's edges. The blocks' report
+// is the same on every block: the sweep count exactly, the residual to rounding.
+TEST(AnisoDiffusion, ABlocksJacobiSweepsGiveTheWholeGridsBits) {
+  const SolverSettings jacobi{SolverKind::kJacobi, 15, 0.0};
+  const FieldF a0 = random_field(7);
+  const FieldF k = lobe_conductivity(random_field(8));
+  for (BoundaryKind boundary :
+       {BoundaryKind::kPeriodic, BoundaryKind::kDirichlet, BoundaryKind::kNeumann})
+    for (bool cn : {false, true})
+      for (Int2 parts : {Int2{2, 1}, Int2{1, 3}, Int2{3, 2}}) {
+        const DiffusionStep step{3.0, 0.75f, cn};
+        const std::string what = "boundary " + std::to_string(int(boundary)) + (cn ? " cn " : " ") +
+                                 std::to_string(parts.x) + "x" + std::to_string(parts.y);
+        FieldF whole = a0;
+        ImplicitDiffusion one(kSize, boundary, jacobi);
+        const SolveReport expected = one.step(whole, &k, step);
+
+        const bool wraps = boundary == BoundaryKind::kPeriodic;
+        const BlockLayout layout = BlockLayout::split(kSize, parts, wraps, wraps);
+        LocalBlockGroup group(layout, 1);
+        std::vector<FieldF> fields, conductivities;
+        for (int b = 0; b < layout.count(); ++b) {
+          const Box2 cells = layout.block(b);
+          fields.push_back(FieldF::over(cells, 1));
+          conductivities.push_back(FieldF::over(cells, 1));
+          copy_box<float>(a0.view(), fields.back().view(), cells);
+          copy_box<float>(k.view(), conductivities.back().view(), cells);
+        }
+        std::vector<SolveReport> reports(std::size_t(layout.count()));
+        std::vector<std::thread> threads;
+        for (int b = 0; b < layout.count(); ++b)
+          threads.emplace_back([&, b] {
+            // Made on its block's thread: the serial executor's reduction scratch is per thread.
+            const std::size_t i = std::size_t(b);
+            ImplicitDiffusion d(kSize, layout.block(b), boundary, jacobi);
+            group.channel(b).exchange(conductivities[i], 1);  // as RdStepper does
+            reports[i] = d.step(fields[i], &conductivities[i], step, &group.channel(b));
+          });
+        for (std::thread& t : threads) t.join();
+        for (int b = 0; b < layout.count(); ++b) {
+          const std::size_t i = std::size_t(b);
+          const Box2 cells = layout.block(b);
+          for (int y = cells.min.y; y < cells.max.y; ++y)
+            for (int x = cells.min.x; x < cells.max.x; ++x)
+              ASSERT_EQ(fields[i](x, y), whole(x, y)) << what << " at " << x << "," << y;
+          EXPECT_EQ(reports[i].iterations, expected.iterations) << what;
+          EXPECT_EQ(reports[i].relative_residual, reports[0].relative_residual) << what;
+          EXPECT_NEAR(reports[i].relative_residual, expected.relative_residual,
+                      1e-12 + 1e-9 * expected.relative_residual)
+              << what;
+        }
+        EXPECT_GT(expected.relative_residual, 0.0) << what;  // 15 sweeps do not converge
+      }
+}
+
+// With a tolerance, every block stops at the same sweep (the norms summed over the blocks).
+TEST(AnisoDiffusion, ABlocksToleranceStopsEveryBlockAtOneSweep) {
+  const SolverSettings jacobi{SolverKind::kJacobi, 500, 1e-4};
+  const FieldF a0 = random_field(9);
+  FieldF whole = a0;
+  ImplicitDiffusion one(kSize, BoundaryKind::kNeumann, jacobi);
+  const SolveReport expected = one.step(whole, nullptr, {2.0, 0.0f, false});
+  ASSERT_LT(expected.iterations, 500);
+  const BlockLayout layout = BlockLayout::split(kSize, {2, 2}, false, false);
+  LocalBlockGroup group(layout, 1);
+  std::vector<SolveReport> reports(4);
+  std::vector<std::thread> threads;
+  for (int b = 0; b < 4; ++b)
+    threads.emplace_back([&, b] {
+      FieldF f = FieldF::over(layout.block(b), 1);
+      copy_box<float>(a0.view(), f.view(), layout.block(b));
+      ImplicitDiffusion d(kSize, layout.block(b), BoundaryKind::kNeumann, jacobi);
+      reports[std::size_t(b)] = d.step(f, nullptr, {2.0, 0.0f, false}, &group.channel(b));
+    });
+  for (std::thread& t : threads) t.join();
+  for (const SolveReport& r : reports) {
+    EXPECT_EQ(r.iterations, reports[0].iterations);
+    EXPECT_LE(r.relative_residual, 1e-4);
+    EXPECT_NEAR(r.iterations, expected.iterations, 1);
   }
 }
 

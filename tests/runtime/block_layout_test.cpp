@@ -136,5 +136,31 @@ TEST(LocalBlockGroup, BlocksOnThreadsExchangeTheirHalos) {
   }
 }
 
+// sum() adds the blocks' values in block order and hands every block the same totals, round
+// after round (values whose sum depends on the order: 1e16 + 1 - 1e16).
+TEST(LocalBlockGroup, SumsAddTheBlocksInBlockOrder) {
+  const BlockLayout l = BlockLayout::split({30, 20}, {3, 1});
+  LocalBlockGroup group(l, 1);
+  const double values[3][2] = {{1e16, 1.0}, {1.0, 2.0}, {-1e16, 0.5}};
+  std::vector<std::vector<double>> totals(3);
+  std::vector<std::thread> threads;
+  for (int b = 0; b < 3; ++b)
+    threads.emplace_back([&, b] {
+      for (int round = 0; round < 3; ++round) {
+        double v[2] = {values[b][0] * (round + 1), values[b][1]};
+        group.channel(b).sum(v);
+        totals[std::size_t(b)].insert(totals[std::size_t(b)].end(), {v[0], v[1]});
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  for (int round = 0; round < 3; ++round) {
+    const double expected = ((0.0 + 1e16 * (round + 1)) + 1.0 * (round + 1)) - 1e16 * (round + 1);
+    for (int b = 0; b < 3; ++b) {
+      EXPECT_EQ(totals[std::size_t(b)][std::size_t(2 * round)], expected) << round;
+      EXPECT_EQ(totals[std::size_t(b)][std::size_t(2 * round + 1)], 3.5) << round;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ardcell

@@ -143,6 +143,7 @@ class InFlightChannel final : public HaloChannel {
   }
   void progress() override { polls += in_flight; }  // only polls that can move a message
   void gather_all(const FieldF& field, FieldF& whole) override { inner_.gather_all(field, whole); }
+  void sum(std::span<double> values) override { inner_.sum(values); }
   void finish() override {
     inner_.begin(fields_);  // reads the blocks' own cells, writes this block's halos
     inner_.finish();

@@ -24,6 +24,7 @@
 #include "host/engine/engine.h"
 #include "host/engine/rd_step.h"
 #include "host/paint/paint.h"
+#include "host/scenes/preset.h"
 #include "host/scenes/scene_registry.h"
 #include "runtime/block_layout.h"
 #include "tests/support/field_compare.h"
@@ -323,6 +324,41 @@ TEST(StageBlocks, SecondOrderSchemesAndEverySolverEqualOneEngineBitwise) {
   jacobi.rd.diffusion_solver.kind = SolverKind::kJacobi;
   jacobi.rd.diffusion_solver.tolerance = 0;
   check_scene(jacobi, "turing-spots, jacobi");
+}
+
+// The real-time settings (`--realtime-solvers`: Jacobi sweeps, the reaction's table) let a block's
+// implicit diffusion sweep its own cells, exchanging the iterate between sweeps: a scene without a
+// fluid then computes only its blocks (no gather), with one engine's bits. The second-order
+// schemes and a Dirichlet value ride the same sweeps; with a fluid (which still runs on the
+// gathered grid) and with an obstacle (whose solid cells keep the diffusion on the gathered grid)
+// the bits hold too.
+TEST(StageBlocks, RealtimeSolversSweepTheirBlocksBitwise) {
+  constexpr Int2 kLayouts[] = {{1, 2}, {3, 1}, {2, 2}};
+  const auto realtime = [](const char* name) {
+    Preset preset = preset_from_scene(builtin_at(name, {47, 41}));
+    use_realtime_solvers(preset);
+    return preset.scene;
+  };
+  for (const char* name : {"space-cookie-5", "turing-spots", "meinhardt-spots", "fig3-orient"}) {
+    const SceneConfig scene = realtime(name);
+    ASSERT_EQ(scene.rd.diffusion_solver.kind, SolverKind::kJacobi) << name;
+    EXPECT_TRUE(rd_block_sweeps(scene)) << name;
+    EXPECT_FALSE(block_support(scene).gathers) << name;
+    check_scene(scene, std::string(name) + ", real-time solvers", kLayouts);
+  }
+  SceneConfig cn = realtime("turing-spots");
+  cn.rd.scheme = RdScheme::kCrankNicolsonAm2;
+  check_scene(cn, "turing-spots, crank-nicolson-am2, jacobi", kLayouts);
+  SceneConfig sbdf = realtime("space-cookie-5");
+  sbdf.rd.scheme = RdScheme::kSbdf2;
+  sbdf.rd.boundary_a = 0.25f;
+  check_scene(sbdf, "space-cookie-5, sbdf2, jacobi, a Dirichlet value", kLayouts);
+  const SceneConfig fluid = realtime("cavity-gray-scott");
+  EXPECT_TRUE(rd_block_sweeps(fluid));
+  check_scene(fluid, "cavity-gray-scott, real-time solvers", kLayouts);
+  const SceneConfig obstacle = realtime("obstacle-ard-gray-scott");
+  EXPECT_FALSE(rd_block_sweeps(obstacle));
+  check_scene(obstacle, "obstacle-ard-gray-scott, real-time solvers", kLayouts);
 }
 
 // The schemes whose kernels read the whole grid (seed 003's generalized operators, which wrap
