@@ -30,7 +30,7 @@ ImplicitDiffusion::ImplicitDiffusion(Int2 grid, Box2 cells, BoundaryKind boundar
       rhs_(FieldF::over(cells, 1)),
       x_(FieldF::over(cells, 1)),
       tmp_(FieldF::over(cells, 1)) {
-  ARDCELL_CHECK(runs_on_block(solver) && cells != box_of_size(grid),
+  ARDCELL_CHECK(runs_on_block(solver, grid, boundary) && cells != box_of_size(grid),
                 "ImplicitDiffusion: a solver whose sweeps run on a block, and a block");
   ex.reserve_rows(cells.height());
 }
@@ -107,8 +107,8 @@ SolveReport ImplicitDiffusion::step(FieldF& field, const FieldF* conductivity,
 }
 
 SolveReport ImplicitDiffusion::sweep_block(HaloChannel& halo) {
-  // The whole grid's Jacobi solve (kernels/jacobi_solver.cpp) sweep by sweep: the operator has
-  // the identity in it, so no null space to take out.
+  // The whole grid's Jacobi or RBGS solve (kernels/jacobi_solver.cpp, rbgs_solver.cpp) sweep by
+  // sweep: the operator has the identity in it, so no null space to take out.
   SolveReport report;
   const auto relative_residual = [&](const FieldF& x) {
     double norms[2] = {stencil::residual(op_, rhs_, x, nullptr, *ex_),
@@ -116,13 +116,21 @@ SolveReport ImplicitDiffusion::sweep_block(HaloChannel& halo) {
     halo.sum(norms);
     return norms[1] > 0.0 ? std::sqrt(norms[0] / norms[1]) : std::sqrt(norms[0]);
   };
+  const bool rbgs = settings_.kind == SolverKind::kRedBlackGaussSeidel;
   FieldF* from = &x_;
   FieldF* to = &tmp_;
   halo.exchange(*from, 1);
   for (int k = 0; k < settings_.max_iterations; ++k) {
-    stencil::jacobi_sweep(op_, rhs_, *from, *to, *ex_);
-    halo.exchange(*to, 1);
-    std::swap(from, to);
+    if (rbgs) {
+      for (int color : {0, 1}) {
+        stencil::rbgs_half_sweep(op_, rhs_, *from, color, *ex_);
+        halo.exchange(*from, 1);
+      }
+    } else {
+      stencil::jacobi_sweep(op_, rhs_, *from, *to, *ex_);
+      halo.exchange(*to, 1);
+      std::swap(from, to);
+    }
     ++report.iterations;
     if (settings_.tolerance > 0.0 && relative_residual(*from) <= settings_.tolerance) break;
   }

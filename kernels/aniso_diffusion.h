@@ -37,10 +37,15 @@ class ImplicitDiffusion {
   // or later than one process would. Only the solvers runs_on_block() accepts; no solid cells.
   ImplicitDiffusion(Int2 grid, Box2 cells, BoundaryKind boundary, const SolverSettings& solver,
                     RowExecutor& ex = RowExecutor::serial());
-  // Jacobi: its sweeps read only the last iterate, so a block's sweep is exact once its halo is
-  // exchanged. (Red-black Gauss-Seidel's order across an odd periodic wrap is not a block's to
-  // keep, ICCG's and multigrid's sweeps are global.)
-  static bool runs_on_block(const SolverSettings& s) { return s.kind == SolverKind::kJacobi; }
+  // Jacobi, whose sweeps read only the last iterate, and red-black Gauss-Seidel, whose half
+  // sweeps read only the other colour - unless the grid wraps an odd number of cells, where a
+  // colour meets itself across the wrap (ICCG's triangular solves and multigrid's levels are
+  // global).
+  static bool runs_on_block(const SolverSettings& s, Int2 grid, BoundaryKind boundary) {
+    const bool odd_wrap = boundary == BoundaryKind::kPeriodic && (grid.x % 2 || grid.y % 2);
+    return s.kind == SolverKind::kJacobi ||
+           (s.kind == SolverKind::kRedBlackGaussSeidel && !odd_wrap);
+  }
   bool on_block() const { return ardcell::on_block(op_); }
   ~ImplicitDiffusion();
 
@@ -72,7 +77,7 @@ class ImplicitDiffusion {
   // flux on the domain's edges.
   void make_rhs(FieldF& field, const FieldF* conductivity, const DiffusionStep& s,
                 HaloChannel* halo);
-  // The block's Jacobi sweeps from x_ (the step's start), exchanging between sweeps.
+  // The block's sweeps from x_ (the step's start), exchanging after each (RBGS: each half).
   SolveReport sweep_block(HaloChannel& halo);
   Int2 size_;
   RowExecutor* ex_;

@@ -295,35 +295,39 @@ void JacobiBlocking::sweeps(const StencilOperator& op, const FieldF& b, const Fi
 
 void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
                      RowExecutor& ex) {
-  const int nx = op.size.x, ny = op.size.y;
-  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  const Cols c = cols_of(op);
+  const Box2 cells = op.diag.interior();
+  const int nx = c.nx, ny = op.size.y;
+  const bool py = op.boundary_y == BoundaryKind::kPeriodic;
+  // Cells of one colour read only the other colour, so rows are independent within a half
+  // sweep - except across a periodic wrap of an odd number of rows, where rows 0 and ny - 1
+  // hold the same colour side by side. Row 0 then reads row ny - 1 before its update and row
+  // ny - 1 reads row 0 after it, as in order: rows 0 .. ny - 2 in bands, then row ny - 1. (So
+  // along x within a row.) A block cannot keep that order with its neighbours' cells.
+  const bool odd_wrap = py && ny % 2 == 1 && ny > 1;
+  ARDCELL_CHECK(!on_block(op) || (!odd_wrap && !(c.periodic && nx % 2 == 1)),
+                "rbgs_half_sweep: a block of a grid that wraps an odd number of cells");
   const auto sweep_rows = [&](int y0, int y1) {
-    for (int j = y0; j < y1; ++j) {
-      const RowRefs r = row_refs(op, x, j);
+    for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j) {
+      const RowRefs r = row_refs(op, x, j, c.wrap_below, c.wrap_above);
       const float* bj = b.row(j);
       float* xj = x.row(j);
-      const int first = (color + j) & 1;  // first i with (i + j) % 2 == color
       auto update = [&](int i) {
-        xj[i] = (bj[i] + neighbours(r, i, left_of(i, nx, px), right_of(i, nx, px))) / r.d[i];
+        xj[i] = (bj[i] + neighbours(r, i, left_of(i, c), right_of(i, c))) / r.d[i];
       };
-      int i = first;
+      int i = c.begin + ((color + j + c.begin) & 1);  // the first i with (i + j) % 2 == color
       if (i == 0) {
         update(0);
         i = 2;
       }
-      for (; i < nx - 1; i += 2)
+      for (const int mid_end = std::min(c.end, nx - 1); i < mid_end; i += 2)
         xj[i] = (bj[i] + r.wx[i] * r.x0[i - 1] + r.wx[i + 1] * r.x0[i + 1] + r.wyb[i] * r.xb[i] +
                  r.wya[i] * r.xa[i]) /
                 r.d[i];
-      if (i == nx - 1) update(i);
+      if (i == nx - 1 && i < c.end) update(i);
     }
   };
-  // Cells of one colour read only the other colour, so rows are independent within a half
-  // sweep - except across a periodic wrap of an odd number of rows, where rows 0 and ny - 1
-  // hold the same colour side by side. Row 0 then reads row ny - 1 before its update and row
-  // ny - 1 reads row 0 after it, as in order: rows 0 .. ny - 2 in bands, then row ny - 1.
-  const bool odd_wrap = op.boundary_y == BoundaryKind::kPeriodic && ny % 2 == 1 && ny > 1;
-  ex.for_rows(odd_wrap ? ny - 1 : ny, nx, sweep_rows);
+  ex.for_rows(odd_wrap ? cells.height() - 1 : cells.height(), cells.width(), sweep_rows);
   if (odd_wrap) sweep_rows(ny - 1, ny);
 }
 

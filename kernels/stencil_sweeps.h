@@ -74,7 +74,10 @@ class JacobiBlocking {
   mutable std::vector<double> residual_rows_, rhs_rows_;
 };
 
-// One red-black Gauss-Seidel sweep in place: cells with (x + y) even, then odd.
+// One red-black Gauss-Seidel sweep in place: cells with (x + y) even, then odd. On a block
+// operator, each half over the block's cells (global x + y), reading x's halo: exchange it after
+// each half; a grid that wraps an odd number of cells along an axis cannot be cut so (its order
+// across the wrap is the whole grid's).
 void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x,
                 RowExecutor& ex = RowExecutor::serial());
 // Half a sweep: only the cells with (x + y) % 2 == color.

@@ -208,7 +208,8 @@ bool diffusion_solves(RdScheme scheme) {
 }  // namespace
 
 bool rd_block_sweeps(const SceneConfig& scene) {
-  return ImplicitDiffusion::runs_on_block(scene.rd.diffusion_solver) &&
+  return ImplicitDiffusion::runs_on_block(scene.rd.diffusion_solver, scene.size,
+                                          scene.rd.boundary) &&
          scene.fluid.kind != FluidSceneKind::kObstacle;
 }
 

@@ -73,8 +73,9 @@ inline constexpr int kExplicitBlockSteps = 5;
 // explicit schemes on a periodic grid, else 1.
 int rd_block_halo(const SceneConfig& scene);
 // Whether a block's implicit diffusion (the implicit, Crank-Nicolson and SBDF2 schemes with the
-// Laplacian) sweeps the block's own cells: a Jacobi solver (ImplicitDiffusion::runs_on_block,
-// as `--realtime-solvers` sets), and no obstacle.
+// Laplacian) sweeps the block's own cells: a Jacobi solver (as `--realtime-solvers` sets) or
+// red-black Gauss-Seidel on a grid that wraps an even number of cells
+// (ImplicitDiffusion::runs_on_block), and no obstacle.
 bool rd_block_sweeps(const SceneConfig& scene);
 // Whether a block of the scene's RD runs ops on the gathered grid: every scheme but the explicit
 // 5- and 9-point ones and the diffusion solves of rd_block_sweeps with the Laplacian, and

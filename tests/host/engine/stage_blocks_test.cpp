@@ -353,6 +353,15 @@ TEST(StageBlocks, RealtimeSolversSweepTheirBlocksBitwise) {
   sbdf.rd.scheme = RdScheme::kSbdf2;
   sbdf.rd.boundary_a = 0.25f;
   check_scene(sbdf, "space-cookie-5, sbdf2, jacobi, a Dirichlet value", kLayouts);
+  // Red-black Gauss-Seidel sweeps the blocks too, unless the grid wraps an odd number of cells
+  // (then it solves on the gathered grid): the same bits either way.
+  SceneConfig rbgs = builtin_at("turing-spots", {48, 40});
+  rbgs.rd.diffusion_solver = {SolverKind::kRedBlackGaussSeidel, 10, 0.0};
+  EXPECT_TRUE(rd_block_sweeps(rbgs));
+  check_scene(rbgs, "turing-spots, rbgs, 48 x 40", kLayouts);
+  rbgs.size = {47, 41};
+  EXPECT_FALSE(rd_block_sweeps(rbgs));
+  check_scene(rbgs, "turing-spots, rbgs, 47 x 41", kLayouts);
   const SceneConfig fluid = realtime("cavity-gray-scott");
   EXPECT_TRUE(rd_block_sweeps(fluid));
   check_scene(fluid, "cavity-gray-scott, real-time solvers", kLayouts);
