@@ -185,9 +185,12 @@ inline double norm2_row(const float* r, int nx) {
 }  // namespace
 
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
-                  RowExecutor& ex, const UniformRows* uniform) {
-  const Cols c = cols_of(op);
-  const Box2 cells = op.diag.interior();
+                  RowExecutor& ex, const UniformRows* uniform, Box2 region) {
+  const Box2 cells = region.empty() ? op.diag.interior() : region;
+  ARDCELL_CHECK(op.diag.interior().contains(cells), "jacobi_sweep: a region of the operator's");
+  Cols c = cols_of(op);
+  c.begin = cells.min.x;
+  c.end = cells.max.x;
   if (on_block(op)) uniform = nullptr;  // analysed for whole rows
   ex.for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
     for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j)
@@ -294,9 +297,12 @@ void JacobiBlocking::sweeps(const StencilOperator& op, const FieldF& b, const Fi
 }
 
 void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
-                     RowExecutor& ex) {
-  const Cols c = cols_of(op);
-  const Box2 cells = op.diag.interior();
+                     RowExecutor& ex, Box2 region) {
+  const Box2 cells = region.empty() ? op.diag.interior() : region;
+  ARDCELL_CHECK(op.diag.interior().contains(cells), "rbgs_half_sweep: a region of the operator's");
+  Cols c = cols_of(op);
+  c.begin = cells.min.x;
+  c.end = cells.max.x;
   const int nx = c.nx, ny = op.size.y;
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
   // Cells of one colour read only the other colour, so rows are independent within a half
@@ -307,6 +313,8 @@ void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int 
   const bool odd_wrap = py && ny % 2 == 1 && ny > 1;
   ARDCELL_CHECK(!on_block(op) || (!odd_wrap && !(c.periodic && nx % 2 == 1)),
                 "rbgs_half_sweep: a block of a grid that wraps an odd number of cells");
+  ARDCELL_CHECK(!odd_wrap || cells == op.diag.interior(),
+                "rbgs_half_sweep: the whole of a grid that wraps an odd number of rows");
   const auto sweep_rows = [&](int y0, int y1) {
     for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j) {
       const RowRefs r = row_refs(op, x, j, c.wrap_below, c.wrap_above);

@@ -37,9 +37,12 @@ class UniformRows {
 // x_out = D^-1 (b + (D - A) x_in) over the interior. x_in and x_out must differ. With `uniform`
 // (analysed for this operator), its uniform rows skip the coefficient arrays. On a block
 // operator (assemble_block_operator) over the block's cells, reading x_in's halo (exchanged) for
-// the neighbouring blocks' cells: each cell the whole grid's sweep's bits.
+// the neighbouring blocks' cells: each cell the whole grid's sweep's bits. A non-empty `region`
+// (inside the operator's cells) computes only those cells: a block's inner cells, which read no
+// halo, while the exchange is in flight, then the ring along its edges.
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
-                  RowExecutor& ex = RowExecutor::serial(), const UniformRows* uniform = nullptr);
+                  RowExecutor& ex = RowExecutor::serial(), const UniformRows* uniform = nullptr,
+                  Box2 region = {});
 
 // Ghost-zone temporal blocking of Jacobi sweeps (seed 000, Jacobi being the real-time default):
 // `sweeps` sweeps from x_in into x_out in ONE pass over the grid, the same bits as `sweeps`
@@ -80,9 +83,9 @@ class JacobiBlocking {
 // across the wrap is the whole grid's).
 void rbgs_sweep(const StencilOperator& op, const FieldF& b, FieldF& x,
                 RowExecutor& ex = RowExecutor::serial());
-// Half a sweep: only the cells with (x + y) % 2 == color.
+// Half a sweep: only the cells with (x + y) % 2 == color (of `region`, as jacobi_sweep's).
 void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
-                     RowExecutor& ex = RowExecutor::serial());
+                     RowExecutor& ex = RowExecutor::serial(), Box2 region = {});
 
 // r = b - A x (when r is not null); returns |b - A x|_2^2 accumulated in double. On a block
 // operator, over the block's cells (its rows' partials in row order).
