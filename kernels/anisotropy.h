@@ -2,6 +2,9 @@
 // Anisotropy functions a(phi), phi = theta + theta0 (seed 000, section 4), and the per-cell
 // conductivity they give.
 //
+// Eqn 14 (the diffusion constant replaced by a polar function of theta, the angle of grad A):
+//   dA/dt = div(a(theta) grad A) + R
+//
 // Eqn 15 (Witkin-Kass), alpha = (a1 + a2) / 4:
 //   a = alpha + (a1 - alpha)/2 (1 + cos 4 phi)  for phi in [-pi/4, pi/4] or [3pi/4, 5pi/4]
 //   a = alpha + (a2 - alpha)/2 (1 + cos 4 phi)  otherwise

@@ -3,6 +3,10 @@
 // one coefficient per cell face (seed 000, Eqn 13 isotropic, Eqns 17/19 anisotropic; Stam's
 // implicit viscosity and pressure projection).
 //
+// Eqn 4 (the 5-point Laplacian: assemble_stencil_operator with no conductivity, k = 1; h the
+// cell's length):
+//   div(a grad A) ~ a (A(i-1,j) + A(i,j-1) - 4 A(i,j) + A(i+1,j) + A(i,j+1)) / h^2
+//
 //   (A x)(i,j) = diag(i,j) x(i,j) - wx(i,j) x(i-1,j) - wx(i+1,j) x(i+1,j)
 //                                 - wy(i,j) x(i,j-1) - wy(i,j+1) x(i,j+1)
 //

@@ -6,7 +6,10 @@
 #   - every repository path cited in the text (runtime/..., kernels/..., host/..., drivers/...,
 #     tests/..., bench/..., presets/..., scripts/..., docs/..., cmake/..., .ci/...) exists;
 #     globs (*, **) must match something, {a,b} is expanded, <placeholders> are skipped, and
-#     ../shared/... is checked where that folder exists.
+#     ../shared/... is checked where that folder exists;
+#   - every top-level file cited in backticks (`CMakeLists.txt`, `README.md`: a name with no
+#     folder, a capital first letter and a .md, .txt, .json, .yml or .yaml ending) exists at the
+#     repository's root or beside the citing file (placeholders such as `NAME.md` are skipped).
 # Files checked: README.md, docs/*.md, bench/*.md (or the files given as arguments).
 # scripts/check_links.allow lists broken references that are reported as warnings (with why);
 # an entry that matches nothing broken any more is an error, so fixed entries are removed.
@@ -22,6 +25,8 @@ import glob, os, re, sys
 ROOTS = r"(?:runtime|kernels|host|drivers|tests|bench|presets|scripts|docs|cmake|\.ci|\.\./shared)"
 PATH_RE = re.compile(r"(?<![\w./\-])(" + ROOTS + r"/[\w./*{},\-<>]*)")
 LINK_RE = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
+TOP_RE = re.compile(r"`([A-Z][\w\-]*\.(?:md|txt|json|ya?ml))`")
+PLACEHOLDERS = {"NAME", "FILE", "PATH", "DIR", "PREFIX", "OUT"}
 shared_exists = os.path.isdir("../shared")
 
 
@@ -116,6 +121,13 @@ for doc in sys.argv[1:]:
             for q in expand_braces(p):
                 if not path_exists(q):
                     broken(doc, where, q, f"cites {q}, which does not exist")
+        # Top-level files cited in backticks.
+        for m in TOP_RE.finditer(line):
+            name = m.group(1)
+            if name.split(".")[0] in PLACEHOLDERS:
+                continue
+            if not (os.path.exists(name) or os.path.exists(os.path.join(base, name))):
+                broken(doc, where, name, f"cites {name}, which does not exist")
 
 for (doc, cited), used in allowed.items():
     if not used and doc in sys.argv[1:]:

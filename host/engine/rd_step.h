@@ -1,5 +1,11 @@
 #pragma once
-// One reaction-diffusion frame on a SimState, in the paper's order (seed 000, section 5):
+// One reaction-diffusion frame on a SimState. The equations (seed 000; a, b the diffusion
+// constants, R_A, R_B the reaction terms, u the fluid's velocity):
+//   Eqn 1   dA/dt = div(a grad A) + R
+//   Eqn 2   dA/dt = div(a grad A) + R_A(A, B)
+//   Eqn 3   dB/dt = div(b grad B) + R_B(A, B)
+//   Eqn 18  dA/dt = -(u . grad) A + R_A(A, B) + div(a(theta) grad A)
+// integrated in the paper's order (section 5):
 //   implicit reaction (Eqn 6, Newton per cell or the precomputed table)
 //   -> implicit anisotropic diffusion of A and B (Eqn 19; Eqn 13 when isotropic)
 //   -> semi-Lagrangian advection of A and B by the fluid velocity (Eqn 20), when the scene has
