@@ -5,12 +5,12 @@
 #include <cmath>
 #include <numbers>
 #include <random>
-#include <span>
 #include <thread>
 #include <vector>
 
 #include "kernels/anisotropy.h"
 #include "runtime/block_layout.h"
+#include "tests/support/in_flight_channel.h"
 
 namespace ardcell {
 namespace {
@@ -235,36 +235,9 @@ TEST(AnisoDiffusion, RbgsAcrossAnOddWrapIsNotABlocksToSweep) {
                                                 BoundaryKind::kNeumann));
 }
 
-// A channel whose exchange arrives only when finish() is called, as a message may: the halo
-// cells stay stale while the block computes between begin and finish.
-class DeferredChannel final : public HaloChannel {
- public:
-  explicit DeferredChannel(HaloChannel& inner) : inner_(inner) {}
-  int block() const override { return inner_.block(); }
-  int width() const override { return inner_.width(); }
-  bool periodic_x() const override { return inner_.periodic_x(); }
-  bool periodic_y() const override { return inner_.periodic_y(); }
-  bool fills_any(const Box2& box) const override { return inner_.fills_any(box); }
-  void begin(std::span<const HaloField> fields) override {
-    fields_.assign(fields.begin(), fields.end());
-    ++begun;
-  }
-  void finish() override {
-    inner_.begin(fields_);
-    inner_.finish();
-  }
-  void gather_all(const FieldF& field, FieldF& whole) override { inner_.gather_all(field, whole); }
-  void sum(std::span<double> values) override { inner_.sum(values); }
-  int begun = 0;
-
- private:
-  HaloChannel& inner_;
-  std::vector<HaloField> fields_;
-};
-
 // The sweeps compute a block's inner cells while the exchange of their input is in flight, and
-// the ring along its edges after it: with the halo arriving only at finish(), still the whole
-// grid's bits, one exchange a sweep.
+// the ring along its edges after it: with the halo arriving only at finish()
+// (tests/support/in_flight_channel.h), still the whole grid's bits, one exchange a sweep.
 TEST(AnisoDiffusion, ABlocksInnerCellsSweepWhileTheExchangeIsInFlight) {
   const SolverSettings jacobi{SolverKind::kJacobi, 12, 0.0};
   const FieldF a0 = random_field(11);
@@ -281,7 +254,7 @@ TEST(AnisoDiffusion, ABlocksInnerCellsSweepWhileTheExchangeIsInFlight) {
   for (int b = 0; b < 4; ++b)
     threads.emplace_back([&, b] {
       const std::size_t i = std::size_t(b);
-      DeferredChannel channel(group.channel(b));
+      InFlightChannel channel(group.channel(b));
       fields[i] = FieldF::over(layout.block(b), 1);
       FieldF kb = FieldF::over(layout.block(b), 1);
       copy_box<float>(a0.view(), fields[i].view(), layout.block(b));

@@ -13,6 +13,7 @@
 #include "runtime/local_store.h"
 #include "runtime/thread/thread_backend.h"
 #include "tests/support/field_compare.h"
+#include "tests/support/in_flight_channel.h"
 
 namespace ardcell {
 namespace {
@@ -128,35 +129,8 @@ TEST(FramePlan, TemporalBlockingWithKSweepsEqualsKGlobalSweepsBitwise) {
 // The halo exchange overlaps its pass: between the exchange's begin and finish the back end
 // is handed only tiles whose reads stay inside the block, and the blocks of a 2x1 layout, each
 // on its own thread, still give the whole grid's bits. The channel fills the halos in finish,
-// as a message would arrive, while the worker beside the host thread computes those tiles.
-class InFlightChannel final : public HaloChannel {
- public:
-  explicit InFlightChannel(HaloChannel& inner) : inner_(inner) {}
-  int block() const override { return inner_.block(); }
-  int width() const override { return inner_.width(); }
-  bool periodic_x() const override { return inner_.periodic_x(); }
-  bool periodic_y() const override { return inner_.periodic_y(); }
-  bool fills_any(const Box2& box) const override { return inner_.fills_any(box); }
-  void begin(std::span<const HaloField> fields) override {
-    fields_.assign(fields.begin(), fields.end());
-    in_flight = true;
-  }
-  void progress() override { polls += in_flight; }  // only polls that can move a message
-  void gather_all(const FieldF& field, FieldF& whole) override { inner_.gather_all(field, whole); }
-  void sum(std::span<double> values) override { inner_.sum(values); }
-  void finish() override {
-    inner_.begin(fields_);  // reads the blocks' own cells, writes this block's halos
-    inner_.finish();
-    in_flight = false;
-  }
-  bool in_flight = false;
-  int polls = 0;
-
- private:
-  HaloChannel& inner_;
-  std::vector<HaloField> fields_;
-};
-
+// as a message would arrive, while the worker beside the host thread computes those tiles
+// (tests/support/in_flight_channel.h).
 class OverlapCheckingBackend final : public Backend {
  public:
   OverlapCheckingBackend(Backend& inner, const InFlightChannel& channel, Int2 grid, Box2 block)
