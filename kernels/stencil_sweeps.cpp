@@ -104,10 +104,14 @@ namespace {
 
 // Row j of a Jacobi sweep, out = D^-1 (b + (D - A) x), from x's rows as r gives them: the one
 // expression every sweep (plain or temporally blocked) evaluates, so both give the same bits.
+// kWholeRow: c covers the whole row (the loops' bounds are then 1 and nx - 1, as the compiler
+// vectorises best).
+template <bool kWholeRow>
 inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, const Cols& c,
                        const UniformRows* uniform) {
   const int nx = c.nx;
-  const int mid_begin = std::max(c.begin, 1), mid_end = std::min(c.end, nx - 1);
+  const int mid_begin = kWholeRow ? 1 : std::max(c.begin, 1);
+  const int mid_end = kWholeRow ? nx - 1 : std::min(c.end, nx - 1);
   if (uniform && uniform->uniform(j)) {
     const float w = uniform->weight(j), d = uniform->diag(j);
     for (int i = mid_begin; i < mid_end; ++i)
@@ -126,13 +130,14 @@ inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, con
 }
 inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, int nx, bool px,
                        const UniformRows* uniform) {
-  jacobi_row(r, bj, out, j, Cols{0, nx, nx, px, nx - 1, 0, 0, 0}, uniform);
+  jacobi_row<true>(r, bj, out, j, Cols{0, nx, nx, px, nx - 1, 0, 0, 0}, uniform);
 }
 
 // Row j's share of |b - A x|^2 (r = b - A x written to out when not null). The squares go to
 // four running sums, cell i to sum i % 4 (then (s0 + s1) + (s2 + s3)): a fixed order, so the
 // bits do not depend on the banding, and the middle of the row vectorises; the edge cells take
 // the (periodic or weight-0) neighbours separately.
+template <bool kWholeRow>
 inline double residual_row(const RowRefs& r, const float* bj, float* out, const Cols& c) {
   const int nx = c.nx;
   const auto cell = [&](int i, int il, int ir) { return residual_cell(r, bj, i, il, ir); };
@@ -143,8 +148,8 @@ inline double residual_row(const RowRefs& r, const float* bj, float* out, const 
     sum[i % 4] += ri * ri;
   };
   if (c.begin == 0) edge(0);
-  const int mid_end = std::min(c.end, nx - 1);
-  int i = std::max(c.begin, 1);
+  const int mid_end = kWholeRow ? nx - 1 : std::min(c.end, nx - 1);
+  int i = kWholeRow ? 1 : std::max(c.begin, 1);
   if (out) {
     for (; i + 4 <= mid_end; i += 4)
       for (int k = 0; k < 4; ++k) {
@@ -168,7 +173,7 @@ inline double residual_row(const RowRefs& r, const float* bj, float* out, const 
   return (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
 inline double residual_row(const RowRefs& r, const float* bj, float* out, int nx, bool px) {
-  return residual_row(r, bj, out, Cols{0, nx, nx, px, nx - 1, 0, 0, 0});
+  return residual_row<true>(r, bj, out, Cols{0, nx, nx, px, nx - 1, 0, 0, 0});
 }
 
 // A row's share of |f|^2: four running sums, cell i to sum i % 4, as residual_row (one running
@@ -192,10 +197,15 @@ void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in
   c.begin = cells.min.x;
   c.end = cells.max.x;
   if (on_block(op)) uniform = nullptr;  // analysed for whole rows
+  const bool whole_rows = c.begin == 0 && c.end == c.nx;
   ex.for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
     for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j)
-      jacobi_row(row_refs(op, x_in, j, c.wrap_below, c.wrap_above), b.row(j), x_out.row(j), j, c,
-                 uniform);
+      if (whole_rows)
+        jacobi_row<true>(row_refs(op, x_in, j, c.wrap_below, c.wrap_above), b.row(j), x_out.row(j),
+                         j, c, uniform);
+      else
+        jacobi_row<false>(row_refs(op, x_in, j, c.wrap_below, c.wrap_above), b.row(j), x_out.row(j),
+                          j, c, uniform);
   });
 }
 
@@ -348,11 +358,14 @@ double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, Fie
                 RowExecutor& ex) {
   const Cols c = cols_of(op);
   const Box2 cells = op.diag.interior();
+  const bool whole_rows = c.begin == 0 && c.end == c.nx;
   return ex.sum_rows(cells.height(), cells.width(), [&](int y0, int y1, double* partials) {
     for (int y = y0; y < y1; ++y) {
       const int j = cells.min.y + y;
-      partials[y] = residual_row(row_refs(op, x, j, c.wrap_below, c.wrap_above), b.row(j),
-                                 res ? res->row(j) : nullptr, c);
+      const RowRefs r = row_refs(op, x, j, c.wrap_below, c.wrap_above);
+      float* out = res ? res->row(j) : nullptr;
+      partials[y] = whole_rows ? residual_row<true>(r, b.row(j), out, c)
+                               : residual_row<false>(r, b.row(j), out, c);
     }
   });
 }
