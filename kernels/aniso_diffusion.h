@@ -8,8 +8,8 @@
 // Boundaries: Dirichlet (the paper's: ghost = boundary_value), periodic (tileable), Neumann.
 // Optional solid mask: solid cells are cut out (no flux through their faces) and keep their
 // value. The solve is a global one: it is not a tile kernel (its tiles are the solvers'). On a
-// block of a decomposed grid its Jacobi sweeps run on the block's cells, exchanging the iterate's
-// halo between sweeps (runtime/block_layout.h HaloChannel).
+// block of a decomposed grid its Jacobi or red-black Gauss-Seidel sweeps run on the block's
+// cells, exchanging the iterate's halo between sweeps (runtime/block_layout.h HaloChannel).
 #include <memory>
 
 #include "kernels/linear_solver.h"
