@@ -110,9 +110,9 @@ SolveReport ImplicitDiffusion::sweep_block(HaloChannel& halo) {
   // The whole grid's Jacobi or RBGS solve (kernels/jacobi_solver.cpp, rbgs_solver.cpp) sweep by
   // sweep: the operator has the identity in it, so no null space to take out.
   SolveReport report;
+  const double rhs_norm2 = stencil::norm2_squared(rhs_, *ex_);  // the block's; b is fixed
   const auto relative_residual = [&](const FieldF& x) {
-    double norms[2] = {stencil::residual(op_, rhs_, x, nullptr, *ex_),
-                       stencil::norm2_squared(rhs_, *ex_)};
+    double norms[2] = {stencil::residual(op_, rhs_, x, nullptr, *ex_), rhs_norm2};
     halo.sum(norms);
     return norms[1] > 0.0 ? std::sqrt(norms[0] / norms[1]) : std::sqrt(norms[0]);
   };

@@ -127,13 +127,10 @@ void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& 
   const int nx = op.size.x, ny = op.size.y;
   const bool px = op.boundary_x == BoundaryKind::kPeriodic;
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
-  // Across a periodic edge: the grid's other side, or on a block x's halo (exchanged).
-  const bool block = on_block(op);
-  const int wrap_left = block ? -1 : nx - 1, wrap_right = block ? nx : 0;
-  const int wrap_below = block ? -1 : ny - 1, wrap_above = block ? ny : 0;
+  const EdgeWraps wrap = edge_wraps(op);
   for (int j = c.min.y; j < c.max.y; ++j) {
-    const float* xb = x.row(j > 0 ? j - 1 : (py ? wrap_below : j));
-    const float* xa = x.row(j < ny - 1 ? j + 1 : (py ? wrap_above : j));
+    const float* xb = x.row(j > 0 ? j - 1 : (py ? wrap.below : j));
+    const float* xa = x.row(j < ny - 1 ? j + 1 : (py ? wrap.above : j));
     const float* x0 = x.row(j);
     const float* d = op.diag.row(j);
     const float* wx = op.wx.row(j);
@@ -146,11 +143,11 @@ void apply_stencil_operator(const StencilOperator& op, const FieldF& x, FieldF& 
     const int last = nx - 1;
     const bool first = c.min.x == 0;
     const float first_value =
-        first ? cell(0, px ? wrap_left : 0, nx > 1 ? 1 : (px ? wrap_right : 0)) : 0.0f;
+        first ? cell(0, px ? wrap.left : 0, nx > 1 ? 1 : (px ? wrap.right : 0)) : 0.0f;
     for (int i = std::max(c.min.x, 1); i < std::min(c.max.x, last); ++i)
       out[i] = d[i] * x0[i] -
                (wx[i] * x0[i - 1] + wx[i + 1] * x0[i + 1] + wyb[i] * xb[i] + wya[i] * xa[i]);
-    if (last > 0 && c.max.x == nx) out[last] = cell(last, last - 1, px ? wrap_right : last);
+    if (last > 0 && c.max.x == nx) out[last] = cell(last, last - 1, px ? wrap.right : last);
     if (first) out[0] = first_value;
   }
 }

@@ -63,6 +63,16 @@ StencilOperator assemble_block_operator(Int2 grid, Box2 cells, BoundaryKind boun
 inline bool on_block(const StencilOperator& op) {
   return op.diag.interior() != box_of_size(op.size);
 }
+// Where a cell on a periodic domain edge finds its neighbour across it: on the whole grid the
+// far side's column (nx - 1, 0) or row (ny - 1, 0); on a block x's halo (-1, nx; -1, ny),
+// exchanged from the block that owns those cells.
+struct EdgeWraps {
+  int left, right, below, above;
+};
+inline EdgeWraps edge_wraps(const StencilOperator& op) {
+  return on_block(op) ? EdgeWraps{-1, op.size.x, -1, op.size.y}
+                      : EdgeWraps{op.size.x - 1, 0, op.size.y - 1, 0};
+}
 
 // Re-assembles in place (same size and boundaries) without allocating: for operators whose
 // coefficients change every frame (anisotropic diffusion). On a block, the conductivity covers

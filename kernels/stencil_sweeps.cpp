@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "kernels/field_reductions.h"
 
@@ -21,46 +22,40 @@ struct RowRefs {
   const float* wya;
 };
 
-inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j, int wrap_below,
-                        int wrap_above) {
+// The columns a row of a sweep computes, [begin, end) of a grid nx wide, and the operator's
+// edge_wraps: where the cells on a periodic domain edge find their neighbour across it.
+struct Cols {
+  int begin, end, nx;
+  bool periodic;
+  EdgeWraps wrap;
+};
+// A sweep's cells: `region` (inside the operator's cells), or all of them when it is empty.
+inline Box2 cells_of(const StencilOperator& op, Box2 region) {
+  if (region.empty()) return op.diag.interior();
+  ARDCELL_CHECK(op.diag.interior().contains(region), "a sweep's region lies in its operator's");
+  return region;
+}
+// The columns of `region` (cells_of).
+inline Cols cols_of(const StencilOperator& op, Box2 region = {}) {
+  const Box2 cells = cells_of(op, region);
+  return {cells.min.x, cells.max.x, op.size.x, op.boundary_x == BoundaryKind::kPeriodic,
+          edge_wraps(op)};
+}
+inline int left_of(int i, const Cols& c) { return i > 0 ? i - 1 : (c.periodic ? c.wrap.left : 0); }
+inline int right_of(int i, const Cols& c) {
+  return i < c.nx - 1 ? i + 1 : (c.periodic ? c.wrap.right : c.nx - 1);
+}
+
+inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j, const Cols& c) {
   const int ny = op.size.y;
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
-  return {x.row(j > 0 ? j - 1 : (py ? wrap_below : j)),
+  return {x.row(j > 0 ? j - 1 : (py ? c.wrap.below : j)),
           x.row(j),
-          x.row(j < ny - 1 ? j + 1 : (py ? wrap_above : j)),
+          x.row(j < ny - 1 ? j + 1 : (py ? c.wrap.above : j)),
           op.diag.row(j),
           op.wx.row(j),
           op.wy.row(j),
           op.wy.row(j + 1)};
-}
-inline RowRefs row_refs(const StencilOperator& op, const FieldF& x, int j) {
-  return row_refs(op, x, j, op.size.y - 1, 0);
-}
-
-// The columns a row of a sweep computes, [begin, end) of a grid nx wide, and where the cells on
-// the domain's left and right edges find their neighbour across a periodic edge: columns nx - 1
-// and 0 on the whole grid; on a block of a decomposed grid, x's halo columns -1 and nx
-// (exchanged from the block that owns them). The rows likewise (wrap_below, wrap_above).
-struct Cols {
-  int begin, end, nx;
-  bool periodic;
-  int wrap_left, wrap_right;
-  int wrap_below, wrap_above;
-};
-inline Cols whole_cols(const StencilOperator& op) {
-  const int nx = op.size.x;
-  return {0, nx, nx, op.boundary_x == BoundaryKind::kPeriodic, nx - 1, 0, op.size.y - 1, 0};
-}
-// The whole grid's columns, or a block operator's (on_block(op)).
-inline Cols cols_of(const StencilOperator& op) {
-  if (!on_block(op)) return whole_cols(op);
-  const Box2 c = op.diag.interior();
-  return {c.min.x, c.max.x,   op.size.x, op.boundary_x == BoundaryKind::kPeriodic,
-          -1,      op.size.x, -1,        op.size.y};
-}
-inline int left_of(int i, const Cols& c) { return i > 0 ? i - 1 : (c.periodic ? c.wrap_left : 0); }
-inline int right_of(int i, const Cols& c) {
-  return i < c.nx - 1 ? i + 1 : (c.periodic ? c.wrap_right : c.nx - 1);
 }
 
 // Sum of the weighted neighbours of cell i with left/right neighbour indices il/ir.
@@ -74,9 +69,6 @@ inline double residual_cell(const RowRefs& r, const float* bj, int i, int il, in
          (double(r.wx[i]) * r.x0[il] + double(r.wx[i + 1]) * r.x0[ir] + double(r.wyb[i]) * r.xb[i] +
           double(r.wya[i]) * r.xa[i]);
 }
-
-inline int left_of(int i, int nx, bool px) { return i > 0 ? i - 1 : (px ? nx - 1 : 0); }
-inline int right_of(int i, int nx, bool px) { return i < nx - 1 ? i + 1 : (px ? 0 : nx - 1); }
 
 }  // namespace
 
@@ -128,10 +120,6 @@ inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, con
     out[i] = (bj[i] + neighbours(r, i, left_of(i, c), right_of(i, c))) / r.d[i];
   }
 }
-inline void jacobi_row(const RowRefs& r, const float* bj, float* out, int j, int nx, bool px,
-                       const UniformRows* uniform) {
-  jacobi_row<true>(r, bj, out, j, Cols{0, nx, nx, px, nx - 1, 0, 0, 0}, uniform);
-}
 
 // Row j's share of |b - A x|^2 (r = b - A x written to out when not null). The squares go to
 // four running sums, cell i to sum i % 4 (then (s0 + s1) + (s2 + s3)): a fixed order, so the
@@ -172,9 +160,6 @@ inline double residual_row(const RowRefs& r, const float* bj, float* out, const 
   if (nx > 1 && c.end == nx) edge(nx - 1);
   return (sum[0] + sum[1]) + (sum[2] + sum[3]);
 }
-inline double residual_row(const RowRefs& r, const float* bj, float* out, int nx, bool px) {
-  return residual_row<true>(r, bj, out, Cols{0, nx, nx, px, nx - 1, 0, 0, 0});
-}
 
 // A row's share of |f|^2: four running sums, cell i to sum i % 4, as residual_row (one running
 // sum is a chain of dependent additions).
@@ -191,21 +176,18 @@ inline double norm2_row(const float* r, int nx) {
 
 void jacobi_sweep(const StencilOperator& op, const FieldF& b, const FieldF& x_in, FieldF& x_out,
                   RowExecutor& ex, const UniformRows* uniform, Box2 region) {
-  const Box2 cells = region.empty() ? op.diag.interior() : region;
-  ARDCELL_CHECK(op.diag.interior().contains(cells), "jacobi_sweep: a region of the operator's");
-  Cols c = cols_of(op);
-  c.begin = cells.min.x;
-  c.end = cells.max.x;
+  const Box2 cells = cells_of(op, region);
+  const Cols c = cols_of(op, cells);
   if (on_block(op)) uniform = nullptr;  // analysed for whole rows
-  const bool whole_rows = c.begin == 0 && c.end == c.nx;
-  ex.for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
+  const auto rows = [&](auto whole_row, int y0, int y1) {
     for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j)
-      if (whole_rows)
-        jacobi_row<true>(row_refs(op, x_in, j, c.wrap_below, c.wrap_above), b.row(j), x_out.row(j),
-                         j, c, uniform);
-      else
-        jacobi_row<false>(row_refs(op, x_in, j, c.wrap_below, c.wrap_above), b.row(j), x_out.row(j),
-                          j, c, uniform);
+      jacobi_row<whole_row()>(row_refs(op, x_in, j, c), b.row(j), x_out.row(j), j, c, uniform);
+  };
+  ex.for_rows(cells.height(), cells.width(), [&](int y0, int y1) {
+    if (c.begin == 0 && c.end == c.nx)
+      rows(std::true_type{}, y0, y1);
+    else
+      rows(std::false_type{}, y0, y1);
   });
 }
 
@@ -229,7 +211,7 @@ void JacobiBlocking::band(const StencilOperator& op, const FieldF& b, const Fiel
                           FieldF& x_out, int sweeps, int y0, int y1, float* rings,
                           const UniformRows* uniform, bool norms) const {
   const int nx = op.size.x, ny = op.size.y;
-  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
+  const Cols c = cols_of(op);  // the whole grid (JacobiBlocking's operators are)
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
   const int extra = norms ? 1 : 0;
   const auto wrap = [&](int v) { return ((v % ny) + ny) % ny; };
@@ -269,12 +251,12 @@ void JacobiBlocking::band(const StencilOperator& op, const FieldF& b, const Fiel
       if (v < lo(s) || v >= hi(s)) continue;
       const int j = wrap(v);
       float* out = s == sweeps && in_band(v) ? x_out.row(v) : ring_row(s, v);
-      jacobi_row(refs(s - 1, v, j), b.row(j), out, j, nx, px, uniform);
+      jacobi_row<true>(refs(s - 1, v, j), b.row(j), out, j, c, uniform);
     }
     // The residual of row v once the last level's row v + 1 exists.
     const int v = t - sweeps - 1;
     if (norms && in_band(v)) {
-      residual_rows_[std::size_t(v)] = residual_row(refs(sweeps, v, v), b.row(v), nullptr, nx, px);
+      residual_rows_[std::size_t(v)] = residual_row<true>(refs(sweeps, v, v), b.row(v), nullptr, c);
       rhs_rows_[std::size_t(v)] = norm2_row(b.row(v), nx);
     }
   }
@@ -283,8 +265,8 @@ void JacobiBlocking::band(const StencilOperator& op, const FieldF& b, const Fiel
 void JacobiBlocking::sweeps(const StencilOperator& op, const FieldF& b, const FieldF& x_in,
                             FieldF& x_out, int sweeps, RowExecutor& ex, const UniformRows* uniform,
                             Norms* norms) {
-  ARDCELL_CHECK(op.size == size_ && sweeps >= 1 && sweeps <= kMaxSweeps,
-                "JacobiBlocking: size or sweep count out of range");
+  ARDCELL_CHECK(op.size == size_ && !on_block(op) && sweeps >= 1 && sweeps <= kMaxSweeps,
+                "JacobiBlocking: a whole grid's operator, size or sweep count out of range");
   const int ny = size_.y;
   // A band per worker: each recomputes the levels of its neighbours' edge rows, so more bands
   // would cost more, and fewer would leave a core idle.
@@ -308,11 +290,8 @@ void JacobiBlocking::sweeps(const StencilOperator& op, const FieldF& b, const Fi
 
 void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int color,
                      RowExecutor& ex, Box2 region) {
-  const Box2 cells = region.empty() ? op.diag.interior() : region;
-  ARDCELL_CHECK(op.diag.interior().contains(cells), "rbgs_half_sweep: a region of the operator's");
-  Cols c = cols_of(op);
-  c.begin = cells.min.x;
-  c.end = cells.max.x;
+  const Box2 cells = cells_of(op, region);
+  const Cols c = cols_of(op, cells);
   const int nx = c.nx, ny = op.size.y;
   const bool py = op.boundary_y == BoundaryKind::kPeriodic;
   // Cells of one colour read only the other colour, so rows are independent within a half
@@ -327,7 +306,7 @@ void rbgs_half_sweep(const StencilOperator& op, const FieldF& b, FieldF& x, int 
                 "rbgs_half_sweep: the whole of a grid that wraps an odd number of rows");
   const auto sweep_rows = [&](int y0, int y1) {
     for (int j = cells.min.y + y0; j < cells.min.y + y1; ++j) {
-      const RowRefs r = row_refs(op, x, j, c.wrap_below, c.wrap_above);
+      const RowRefs r = row_refs(op, x, j, c);
       const float* bj = b.row(j);
       float* xj = x.row(j);
       auto update = [&](int i) {
@@ -362,7 +341,7 @@ double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, Fie
   return ex.sum_rows(cells.height(), cells.width(), [&](int y0, int y1, double* partials) {
     for (int y = y0; y < y1; ++y) {
       const int j = cells.min.y + y;
-      const RowRefs r = row_refs(op, x, j, c.wrap_below, c.wrap_above);
+      const RowRefs r = row_refs(op, x, j, c);
       float* out = res ? res->row(j) : nullptr;
       partials[y] = whole_rows ? residual_row<true>(r, b.row(j), out, c)
                                : residual_row<false>(r, b.row(j), out, c);
@@ -372,18 +351,18 @@ double residual(const StencilOperator& op, const FieldF& b, const FieldF& x, Fie
 
 void residual_field(const StencilOperator& op, const FieldF& b, const FieldF& x, FieldF& res,
                     RowExecutor& ex) {
-  const int nx = op.size.x, ny = op.size.y;
-  const bool px = op.boundary_x == BoundaryKind::kPeriodic;
-  ex.for_rows(ny, nx, [&](int y0, int y1) {
+  ARDCELL_CHECK(!on_block(op), "residual_field: a whole grid's operator (multigrid's levels)");
+  const Cols c = cols_of(op);
+  const int nx = c.nx;
+  ex.for_rows(op.size.y, nx, [&](int y0, int y1) {
     for (int j = y0; j < y1; ++j) {
-      const RowRefs r = row_refs(op, x, j);
+      const RowRefs r = row_refs(op, x, j, c);
       const float* bj = b.row(j);
       float* out = res.row(j);
-      out[0] = float(residual_cell(r, bj, 0, left_of(0, nx, px), right_of(0, nx, px)));
+      out[0] = float(residual_cell(r, bj, 0, left_of(0, c), right_of(0, c)));
       for (int i = 1; i < nx - 1; ++i) out[i] = float(residual_cell(r, bj, i, i - 1, i + 1));
       if (nx > 1)
-        out[nx - 1] =
-            float(residual_cell(r, bj, nx - 1, left_of(nx - 1, nx, px), right_of(nx - 1, nx, px)));
+        out[nx - 1] = float(residual_cell(r, bj, nx - 1, left_of(nx - 1, c), right_of(nx - 1, c)));
     }
   });
 }

@@ -479,8 +479,10 @@ const FieldF* RdStepper::conductivity(SimState& s) {
   FieldF* const a[] = {&s.A};
   dev_->exchange_halos(a, 1);  // the gradient of A reads across a block's edges
   dev_->conductivity(s.A, s.theta0, conductivity_, rd_.anisotropy);
-  FieldF* const k[] = {&conductivity_};
-  dev_->exchange_halos(k, 1);  // a block's faces on its edges average its neighbours' k
+  if (diff_a_ && diff_a_->on_block()) {
+    FieldF* const k[] = {&conductivity_};
+    dev_->exchange_halos(k, 1);  // the block's faces on its edges average its neighbours' k
+  }
   return &conductivity_;
 }
 
