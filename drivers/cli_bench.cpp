@@ -1,7 +1,7 @@
 // `ardcell bench table1` (`bench scenes`: drivers/cli_bench_scenes.cpp): runs the Table 1 benchmark
 // programs (bench/table1_bench.cpp for the CPU rows and bench/table1_opencl_bench.cpp for the
 // opencl-* rows, built next to the ardcell binary) and reports it beside the paper's Cell figures:
-// a Markdown table on stdout, and table1.md, table1.csv and table1.png (drivers/bar_chart.h, when
+// a Markdown table on stdout, and table1.md, table1.csv and table1.png (drivers/chart.h, when
 // built with PLplot) in --out.
 #include <unistd.h>
 
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/bar_chart.h"
+#include "drivers/chart.h"
 #include "drivers/bench_program.h"
 #include "drivers/cli.h"
 #include "host/io/atomic_file.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <thread>
 
-#include "drivers/bar_chart.h"
+#include "drivers/chart.h"
 #include "drivers/cli.h"
 #include "host/scenes/preset.h"
 

@@ -384,6 +384,8 @@ int run_live(const LiveArgs& a, CliContext& ctx) {
                                    .title = title},
                                   window_cells, error);
   if (!display) return fail(kExitFailure, error.message(), true);
+  if (!display->hud_notice().empty())
+    std::fprintf(ctx.err, "ardcell live: %s\n", display->hud_notice().c_str());
   // A wall's screens pace alike (a barrier joins their frames anyway): 60 Hz unless told.
   o.fps = a.fps >= 0                               ? a.fps
           : !walled && display->refresh_rate() > 0 ? display->refresh_rate()

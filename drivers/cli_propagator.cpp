@@ -8,11 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "drivers/bitmap_font.h"
+#include "drivers/chart.h"
 #include "drivers/cli.h"
-#include "drivers/png_writer.h"
 #include "host/io/atomic_file.h"
-#include "host/render/polar_plot.h"
 #include "kernels/generalized_diffusion.h"
 #include "kernels/gram_charlier.h"
 
@@ -102,56 +100,27 @@ std::string format_degrees(double deg) {
   return s;
 }
 
-void draw_label(ImageRgb8& image, const std::string& text, int x, int y, int scale, Rgb8 c) {
-  draw_text(text, x, y, scale, [&](int px, int py) {
-    for (int dy = 0; dy < scale; ++dy)
-      for (int dx = 0; dx < scale; ++dx) {
-        const int X = px + dx, Y = py + dy;
-        if (X < 0 || Y < 0 || X >= image.width || Y >= image.height) continue;
-        uint8_t* p = image.row(Y) + 3 * X;
-        p[0] = c.r, p[1] = c.g, p[2] = c.b;
-      }
-  });
-}
-
-int text_width(const std::string& text, int scale) {
-  return int(text.size()) * kGlyphAdvance * scale - scale;
-}
-
-// The angle labels at the ends of the axes, a title and the colour legend.
-void add_labels(ImageRgb8& image, const std::string& title, bool negative) {
-  const int scale = std::max(1, image.width / 256);
-  const PolarPlotLayout L = polar_plot_layout(image.width);
-  const int gap = 4 * scale, h = kGlyphHeight * scale;
-  const int cx = int(L.cx), cy = int(L.cy), r = int(L.radius * kPolarAxisReach);
-  draw_label(image, "0", cx + r + gap, cy - h / 2, scale, kPolarAxisRgb);
-  draw_label(image, "90", cx - text_width("90", scale) / 2, cy - r - gap - h, scale, kPolarAxisRgb);
-  draw_label(image, "180", cx - r - gap - text_width("180", scale), cy - h / 2, scale,
-             kPolarAxisRgb);
-  draw_label(image, "270", cx - text_width("270", scale) / 2, cy + r + gap, scale, kPolarAxisRgb);
-  draw_label(image, title, gap, gap, scale, kPolarAxisRgb);
-  const int bottom = image.height - gap - h;
-  draw_label(image, "POSITIVE", gap, bottom - (negative ? h + gap : 0), scale, kPolarPositiveRgb);
-  if (negative) draw_label(image, "NEGATIVE, DRAWN AS -P", gap, bottom, scale, kPolarNegativeRgb);
-}
-
 int do_propagator(const PropagatorArgs& a, CliContext& ctx) {
   auto usage = [&](const std::string& m) { return cli_usage_error(ctx, "propagator", m); };
   TensorSequence d;
   std::string label;
   if (std::string error = parse_sequence(a.sequence, d, label); !error.empty()) return usage(error);
   if (Status s = check_output_path(a.out, false); !s) return usage("--out " + s.message());
+  if (!a.out.ends_with(".png") && !a.out.ends_with(".svg"))
+    return usage("--out " + a.out + ": expected a .png or .svg file");
 
   std::vector<double> p(kSamples);
   propagator_on_circle(d, a.tau, a.radius, p);
   const std::vector<double> maxima = polar_maxima_degrees(p);
-  ImageRgb8 image;
-  const PolarPlotInfo info = draw_polar_plot(p, a.size, image);
-  char title[96];
-  std::snprintf(title, sizeof title, "%s%sTAU=%g R=%g", label.c_str(), label.empty() ? "" : " ",
-                a.tau, a.radius);
-  add_labels(image, title, info.has_negative);
-  if (Status s = write_png(a.out, image); !s) {
+  char numbers[64];
+  std::snprintf(numbers, sizeof numbers, ", #gt = %g, |r| = %g", a.tau, a.radius);
+  // PLplot's text: #gt is tau, #d/#u go down/up a level.
+  PolarChart chart{
+      .title = "p#d#gt#u(r), " + (label.empty() ? a.sequence : "Table 2 " + label) + numbers,
+      .samples = p,
+      .positive_label = "p > 0",
+      .negative_label = "p < 0, drawn as |p|"};
+  if (Status s = write_polar_chart(a.out, chart, a.size); !s) {
     std::fprintf(ctx.err, "ardcell propagator: %s\n", s.message().c_str());
     return kExitFailure;
   }
@@ -159,9 +128,10 @@ int do_propagator(const PropagatorArgs& a, CliContext& ctx) {
   for (double deg : maxima) list += (list.empty() ? "" : ",") + format_degrees(deg);
   double lo = p[0], hi = p[0];
   for (double v : p) lo = std::min(lo, v), hi = std::max(hi, v);
+  const bool negative = lo < 0;
   std::fprintf(ctx.out, "maxima_deg=%s lobes=%zu p_min=%.6g p_max=%.6g negative=%s out=%s\n",
-               list.empty() ? "none" : list.c_str(), maxima.size(), lo, hi,
-               info.has_negative ? "yes" : "no", a.out.c_str());
+               list.empty() ? "none" : list.c_str(), maxima.size(), lo, hi, negative ? "yes" : "no",
+               a.out.c_str());
   std::fflush(ctx.out);
   return kExitOk;
 }
@@ -173,12 +143,13 @@ void add_propagator_command(CLI::App& app, CliContext& ctx) {
   PropagatorArgs& a = *args;
   CLI::App* cmd = app.add_subcommand(
       "propagator",
-      "Fig. 1 of seed 003: polar plot of the diffusion propagator of a tensor sequence (PNG) and "
+      "Fig. 1 of seed 003: polar plot of the diffusion propagator of a tensor sequence (PNG or "
+      "SVG) and "
       "the directions of its lobes");
   cmd->add_option("sequence", a.sequence,
                   "a Table 2 letter a-f, or components such as xx=1,yy=1,xxxx=1,xxyy=-1,yyyy=1")
       ->required();
-  cmd->add_option("--out", a.out, "the PNG to write")->required();
+  cmd->add_option("--out", a.out, "the chart to write (.png or .svg)")->required();
   cmd->add_option("--tau", a.tau, "diffusion time tau (default 0.1, as in Fig. 1)")
       ->check(finite_range(1e-6, 1e3));
   cmd->add_option("--radius", a.radius, "|r| of the circle sampled (default 1, as in Fig. 1)")

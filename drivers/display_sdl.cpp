@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "drivers/bitmap_font.h"
+#include "drivers/glyph_atlas_sdl.h"
 
 namespace ardcell {
 
@@ -61,18 +61,20 @@ std::unique_ptr<SdlDisplay> SdlDisplay::open(const DisplayOptions& options, Int2
     return nullptr;
   }
   SDL_SetRenderDrawBlendMode(d->renderer_, SDL_BLENDMODE_BLEND);
-  d->hud_rects_ = std::make_unique<std::array<Rect, kMaxHudRects>>();
+  d->hud_font_ = std::make_unique<SdlGlyphAtlas>();
   d->ensure_texture(image_size.x, image_size.y);
   if (!d->texture_) {
     error = Status::error(std::string("display: cannot create a texture (") + SDL_GetError() + ")");
     return nullptr;
   }
   SDL_ShowCursor(options.fullscreen ? SDL_DISABLE : SDL_ENABLE);
+  d->prepare_hud_font();
   error = Status::ok();
   return d;
 }
 
 SdlDisplay::~SdlDisplay() {
+  hud_font_.reset();
   if (texture_) SDL_DestroyTexture(texture_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (window_) SDL_DestroyWindow(window_);
@@ -242,34 +244,37 @@ bool SdlDisplay::read_back(ImageRgb8& out) {
                               size.x * 3) == 0;
 }
 
+void SdlDisplay::prepare_hud_font() {
+  // Text about 1/30 of the window's height, narrow enough for ~48 characters a line (DejaVu
+  // Sans Mono advances 0.6 of its size), 9 to 32 pixels; a new size only on a resize.
+  const Int2 win = window_size();
+  const int pixels = std::clamp(std::min(win.y / 30, (win.x - 16) / 29), 9, 32);
+  std::string error;
+  if (!hud_font_->prepare(renderer_, pixels, error) && hud_notice_.empty())
+    hud_notice_ = "HUD: " + error + "; the HUD shows no text";
+}
+
 void SdlDisplay::draw_hud(const HudInfo& hud) {
   char lines[4][192];  // room for a 63-character preset and back-end name on one line
   int n = 0;
-  std::snprintf(lines[n++], sizeof lines[0], "FPS %.1f  P50 %.2fMS  P99 %.2fMS  MISSED %lld",
+  std::snprintf(lines[n++], sizeof lines[0], "%.1f fps  p50 %.2f ms  p99 %.2f ms  missed %lld",
                 hud.fps, hud.p50_ms, hud.p99_ms, static_cast<long long>(hud.misses));
-  std::snprintf(lines[n++], sizeof lines[0], "%s  [%s]  SWEEPS %d  RD %.0f%%", hud.preset.data(),
+  std::snprintf(lines[n++], sizeof lines[0], "%s  [%s]  sweeps %d  RD %.0f%%", hud.preset.data(),
                 hud.backend.data(), hud.sweeps, hud.rd_scale * 100);
   if (hud.paused || hud.recording || hud.attract)
     std::snprintf(lines[n++], sizeof lines[0], "%s%s%s", hud.paused ? "PAUSED  " : "",
                   hud.recording ? "REC  " : "", hud.attract ? "ATTRACT" : "");
   if (hud.message[0]) std::snprintf(lines[n++], sizeof lines[0], "%s", hud.message.data());
-  const Int2 win = window_size();
-  const int scale = std::max(1, std::min(3, win.y / 300));
-  const int line_h = (kGlyphHeight + 3) * scale;
+  prepare_hud_font();
+  const int line_h = std::max(1, hud_font_->line_height());
+  const int pad = std::max(4, line_h / 4);
   int width = 0;
-  for (int i = 0; i < n; ++i)
-    width = std::max(width, int(std::strlen(lines[i])) * kGlyphAdvance * scale);
+  for (int i = 0; i < n; ++i) width = std::max(width, hud_font_->width(lines[i]));
   SDL_SetRenderDrawColor(renderer_, 0, 0, 0, 160);
-  const SDL_Rect bg{4, 4, width + 8 * scale, n * line_h + 6 * scale};
+  const SDL_Rect bg{4, 4, width + 2 * pad, n * line_h + 2 * pad};
   SDL_RenderFillRect(renderer_, &bg);
-  int count = 0;
-  auto& rects = *hud_rects_;
   for (int i = 0; i < n; ++i)
-    draw_text(lines[i], 4 + 4 * scale, 4 + 4 * scale + i * line_h, scale, [&](int x, int y) {
-      if (count < kMaxHudRects) rects[size_t(count++)] = {x, y, scale, scale};
-    });
-  SDL_SetRenderDrawColor(renderer_, 255, 255, 255, 255);
-  SDL_RenderFillRects(renderer_, reinterpret_cast<const SDL_Rect*>(rects.data()), count);
+    hud_font_->draw(renderer_, lines[i], 4 + pad, 4 + pad + i * line_h, {255, 255, 255, 255});
 }
 
 }  // namespace ardcell

@@ -2,8 +2,8 @@
 // The live window (SDL2): a window or fullscreen on a chosen display, vsync, SDL's KMS/DRM
 // video driver when there is no X or Wayland (a kiosk needs no desktop). Each frame is
 // uploaded to a streaming texture and drawn scaled with its aspect kept (nearest neighbour);
-// the HUD is drawn with the built-in bitmap font. Mouse and touch become stroke samples
-// (pressure where the device reports it); keys become live-loop commands:
+// the HUD's text comes from a glyph atlas (drivers/glyph_atlas_sdl.h). Mouse and touch become
+// stroke samples (pressure where the device reports it); keys become live-loop commands:
 //   Esc/Q quit   Space pause   R reset   Right/N/PgDn next preset   Left/P/PgUp previous
 //   M next painting mode   1-5 mode (deposit orient push obstacle erase)   S/F12 screenshot
 //   V start/stop recording   H/F1 HUD   F/F11 fullscreen
@@ -18,6 +18,8 @@ struct SDL_Renderer;
 struct SDL_Texture;
 
 namespace ardcell {
+
+class SdlGlyphAtlas;
 
 struct DisplayOptions {
   int display = 0;  // --display N
@@ -43,11 +45,14 @@ class SdlDisplay final : public LiveDisplay {
   double refresh_rate() const { return refresh_hz_; }
   std::string_view driver() const { return driver_; }
   Int2 window_size() const;
+  // Empty, or the one line saying why the HUD shows no text (no font).
+  const std::string& hud_notice() const { return hud_notice_; }
 
  private:
   SdlDisplay() = default;
   void draw(const HudInfo* hud);
   void draw_hud(const HudInfo& hud);
+  void prepare_hud_font();
   void update_layout();
   bool to_canvas(float wx, float wy, float& x, float& y) const;
   void ensure_texture(int w, int h);
@@ -64,11 +69,8 @@ class SdlDisplay final : public LiveDisplay {
   bool erasing_ = false;
   bool hud_shown_ = false;
   HudInfo last_hud_{};
-  struct Rect {
-    int x, y, w, h;
-  };
-  static constexpr int kMaxHudRects = 12000;
-  std::unique_ptr<std::array<Rect, kMaxHudRects>> hud_rects_;
+  std::unique_ptr<SdlGlyphAtlas> hud_font_;
+  std::string hud_notice_;
 };
 
 }  // namespace ardcell

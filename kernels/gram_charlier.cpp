@@ -1,5 +1,6 @@
 #include "kernels/gram_charlier.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -70,6 +71,33 @@ void propagator_on_circle(const TensorSequence& d, double tau, double radius,
     const double theta = 2 * std::numbers::pi * double(k) / n;
     out[k] = gram_charlier_propagator(d, tau, radius * std::cos(theta), radius * std::sin(theta));
   }
+}
+
+std::vector<double> polar_maxima_degrees(std::span<const double> samples) {
+  std::vector<double> out;
+  const std::size_t n = samples.size();
+  if (n < 3) return out;
+  double lo = samples[0], hi = samples[0];
+  for (double v : samples) {
+    if (!std::isfinite(v)) return out;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  // Rounding alone makes an isotropic propagator ripple at ~1e-16 relative: not a lobe.
+  if (hi - lo <= 1e-9 * std::max(std::abs(hi), std::abs(lo))) return out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double prev = samples[(k + n - 1) % n], cur = samples[k], next = samples[(k + 1) % n];
+    if (!(cur > 0 && cur > prev && cur >= next)) continue;
+    const double curvature = prev - 2 * cur + next;
+    const double offset =
+        curvature < 0 ? std::clamp(0.5 * (prev - next) / curvature, -0.5, 0.5) : 0.0;
+    double deg = (double(k) + offset) * 360.0 / double(n);
+    if (deg < 0) deg += 360.0;
+    if (deg >= 360.0 - 1e-9) deg = std::max(0.0, deg - 360.0);  // rounding just below 360
+    out.push_back(deg);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace ardcell

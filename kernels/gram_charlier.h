@@ -19,6 +19,7 @@
 // zero; (f) (D2 = diag(1, 2)) integrates to 1 - 0.12 tau (tests/kernels/gram_charlier_test.cpp).
 // Pure functions, no field: nothing to read around a cell.
 #include <span>
+#include <vector>
 
 #include "kernels/generalized_diffusion.h"
 
@@ -37,5 +38,11 @@ double gram_charlier_propagator(const TensorSequence& d, double tau, double x, d
 // (counter-clockwise towards +y): the samples of a Fig. 1 polar plot.
 void propagator_on_circle(const TensorSequence& d, double tau, double radius,
                           std::span<double> out);
+
+// The directions of a polar plot's lobes: the local maxima of the circular sequence samples
+// (theta_k = 2 pi k / samples.size()) that are above zero, in degrees in [0, 360), refined by a
+// parabola through the three samples around each, in increasing order. Empty for a flat curve
+// (an isotropic propagator has no preferred direction) or one with a non-finite sample.
+std::vector<double> polar_maxima_degrees(std::span<const double> samples);
 
 }  // namespace ardcell

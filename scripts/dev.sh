@@ -13,7 +13,8 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config ccache
   libgtest-dev libgmock-dev libbenchmark-dev
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
-  libhidapi-dev libgpiod-dev libsdl2-dev libpng-dev libcli11-dev libtomlplusplus-dev
+  libhidapi-dev libgpiod-dev libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core
+  libpng-dev libcli11-dev libtomlplusplus-dev
   nlohmann-json3-dev liblo-dev libsystemd-dev libplplot-dev libfftw3-dev
   clang libclang-rt-14-dev
   libosd-dev libcgal-demo

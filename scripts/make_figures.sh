@@ -130,8 +130,8 @@ fig cavity 1000 -- run cavity --size 128 --steps 1000 --every 1000
 # The live window, painted by the attract mode replaying the spiral.
 live_frames=150
 [ $small -eq 1 ] && live_frames=4
-live=("$bin" live ink --frames "$live_frames" --attract 0 --attract-dir presets/strokes
-      --backend serial --no-vsync --screenshot "$out/live.png")
+live=("$bin" live ink --frames "$live_frames" --hud --attract 0 --attract-dir presets/strokes
+      --backend serial --no-vsync --scale 2 --screenshot "$out/live.png")
 if [[ live != $only ]]; then
   :
 elif [ -n "${DISPLAY:-}" ]; then

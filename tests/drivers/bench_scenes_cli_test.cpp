@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/bar_chart.h"
+#include "drivers/chart.h"
 #include "tests/drivers/binary_run_fixture.h"
 
 namespace ardcell {

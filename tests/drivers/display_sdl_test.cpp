@@ -6,8 +6,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <vector>
 
-#include "drivers/bitmap_font.h"
+#include "drivers/glyph_atlas_sdl.h"
 #include "host/engine/engine.h"
 #include "host/live/live_engine.h"
 
@@ -77,10 +79,16 @@ TEST(SdlDisplay, HudDrawsTextOverTheFrame) {
   ASSERT_TRUE(display->read_back(plain));
   display->present(frame, &hud);
   ASSERT_TRUE(display->read_back(with_hud));
-  int white = 0;
-  for (size_t i = 0; i + 2 < with_hud.rgb.size(); i += 3)
-    white += with_hud.rgb[i] == 255 && with_hud.rgb[i + 1] == 255 && with_hud.rgb[i + 2] == 255;
+  // White (anti-aliased) text on the HUD's dark box, in the window's top-left corner only.
+  int white = 0, below = 0;
+  for (int y = 0; y < with_hud.height; ++y)
+    for (int x = 0; x < with_hud.width; ++x) {
+      const uint8_t* p = with_hud.row(y) + 3 * x;
+      if (p[0] >= 200 && p[1] >= 200 && p[2] >= 200) (y < with_hud.height / 2 ? white : below)++;
+    }
   EXPECT_GT(white, 100);
+  EXPECT_EQ(below, 0);
+  EXPECT_EQ(display->hud_notice(), "");
   for (uint8_t v : plain.rgb) ASSERT_EQ(v, 0);
 }
 
@@ -118,20 +126,54 @@ TEST(SdlDisplay, MouseAndKeysBecomeStrokesAndCommands) {
   EXPECT_EQ(c.kind, LiveCommandKind::kTogglePause);
 }
 
-TEST(BitmapFont, GlyphsAreTheDotMatrixShapes) {
-  // 'L': a left column and a bottom row.
-  const auto l = glyph_rows('l');
-  for (int r = 0; r < 6; ++r) EXPECT_EQ(l[size_t(r)], 0x10);
-  EXPECT_EQ(l[6], 0x1F);
-  EXPECT_EQ(glyph_rows('~'), glyph_rows('?'));
-  int lit = 0, max_x = 0;
-  const int w = draw_text("I", 10, 0, 2, [&](int x, int) {
-    ++lit;
-    max_x = std::max(max_x, x);
-  });
-  EXPECT_EQ(lit, 3 + 5 + 3);  // top bar, stem, bottom bar
-  EXPECT_EQ(w, kGlyphAdvance * 2);
-  EXPECT_EQ(max_x, 10 + 3 * 2);
+TEST(SdlGlyphAtlas, TextIsTheFontsGlyphsAtItsAdvance) {
+  if (!have_display()) GTEST_SKIP() << "no X or Wayland display";
+  ASSERT_FALSE(hud_font_path().empty()) << "built without a HUD font";
+  ASSERT_EQ(SDL_InitSubSystem(SDL_INIT_VIDEO), 0) << SDL_GetError();
+  std::unique_ptr<SDL_Window, void (*)(SDL_Window*)> window(
+      SDL_CreateWindow("atlas", 0, 0, 200, 60, SDL_WINDOW_HIDDEN), SDL_DestroyWindow);
+  ASSERT_NE(window, nullptr) << SDL_GetError();
+  std::unique_ptr<SDL_Renderer, void (*)(SDL_Renderer*)> owned(
+      SDL_CreateRenderer(window.get(), -1, SDL_RENDERER_SOFTWARE), SDL_DestroyRenderer);
+  ASSERT_NE(owned, nullptr) << SDL_GetError();
+  SDL_Renderer* renderer = owned.get();
+  SdlGlyphAtlas atlas;
+  std::string why;
+  ASSERT_TRUE(atlas.prepare(renderer, 16, why)) << why;
+  EXPECT_GE(atlas.line_height(), 16);
+  EXPECT_LE(atlas.line_height(), 24);
+  // A monospace font: every glyph advances alike; outside ASCII draws as '?'.
+  const int one = atlas.width("M");
+  EXPECT_GT(one, 4);
+  EXPECT_EQ(atlas.width("iiii"), 4 * one);
+  EXPECT_EQ(atlas.width("\xc3\xa9"), atlas.width("??"));
+  // Drawn: lit pixels only inside the text's box, and more of them for "MMMM" than for "....".
+  auto lit_in = [&](const char* text, int& outside) {
+    SDL_SetRenderDrawColor(renderer, 0, 0, 0, 255);
+    SDL_RenderClear(renderer);
+    const int w = atlas.draw(renderer, text, 10, 5, {255, 255, 255, 255});
+    EXPECT_EQ(w, atlas.width(text));
+    int ww = 0, wh = 0;
+    SDL_GetRendererOutputSize(renderer, &ww, &wh);
+    std::vector<uint8_t> px(size_t(ww) * size_t(wh) * 3);
+    EXPECT_EQ(SDL_RenderReadPixels(renderer, nullptr, SDL_PIXELFORMAT_RGB24, px.data(), ww * 3), 0);
+    int lit = 0;
+    outside = 0;
+    for (int y = 0; y < wh; ++y)
+      for (int x = 0; x < ww; ++x)
+        if (px[(size_t(y) * size_t(ww) + size_t(x)) * 3] > 128) {
+          const bool in = x >= 10 && x < 10 + w && y >= 5 && y < 5 + atlas.line_height();
+          (in ? lit : outside) += 1;
+        }
+    return lit;
+  };
+  int outside = 0;
+  const int heavy = lit_in("MMMM", outside);
+  EXPECT_EQ(outside, 0);
+  const int light = lit_in("....", outside);
+  EXPECT_EQ(outside, 0);
+  EXPECT_GT(light, 0);
+  EXPECT_GT(heavy, 3 * light);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "host/render/polar_plot.h"
+#include "drivers/chart.h"
 #include "tests/drivers/binary_run_fixture.h"
 #include "tests/drivers/png_read_back.h"
 
@@ -121,6 +121,7 @@ TEST_F(PropagatorCli, BadInputExitsTwoWithOneLineAndWritesNothing) {
       {"propagator xx=1,yy=-1 --out p.png", "positive definite"},
       {"propagator xxxx=1 --out p.png", "positive definite"},
       {"propagator c --out missing/p.png", "does not exist"},
+      {"propagator c --out p.bmp", "expected a .png or .svg file"},
       {"propagator c", "--out"},
       {"propagator --out p.png", "sequence"},
       {"propagator c --out p.png --tau 0", "--tau"},

@@ -1,8 +1,9 @@
-// Benchmark charts (drivers/bar_chart.h, PLplot): a two-panel chart comes back from libpng at
+// Charts (drivers/chart.h, PLplot): a two-panel bar chart comes back from libpng at
 // the asked size with its bars in the series colours, the reference marks and text in ink on a
-// white page; SVG is written too; other formats and sizes are refused with one line. Through
-// the binary, `ardcell bench table1` writes table1.png beside table1.md and table1.csv.
-#include "drivers/bar_chart.h"
+// white page; SVG is written too; a polar chart draws each sign in its colour; other formats
+// and sizes are refused with one line. Through the binary, `ardcell bench table1` writes
+// table1.png beside table1.md and table1.csv.
+#include "drivers/chart.h"
 
 #include <png.h>
 #include <unistd.h>
@@ -64,7 +65,7 @@ Rgba read_png_rgba(const fs::path& p) {
   return out;
 }
 
-class BarChartTest : public ::testing::Test {
+class ChartTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!charts_available()) GTEST_SKIP() << "built without PLplot";
@@ -78,7 +79,7 @@ class BarChartTest : public ::testing::Test {
   fs::path dir_;
 };
 
-TEST_F(BarChartTest, PngHasBarsMarksAndTextOnWhite) {
+TEST_F(ChartTest, PngHasBarsMarksAndTextOnWhite) {
   const fs::path png = dir_ / "chart.png";
   const Status st = write_bar_chart(png, sample_chart(), 640, 360);
   ASSERT_TRUE(st) << st.message();
@@ -94,7 +95,7 @@ TEST_F(BarChartTest, PngHasBarsMarksAndTextOnWhite) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
 }
 
-TEST_F(BarChartTest, SvgIsWrittenWithItsText) {
+TEST_F(ChartTest, SvgIsWrittenWithItsText) {
   const fs::path svg = dir_ / "chart.svg";
   const Status st = write_bar_chart(svg, sample_chart());
   ASSERT_TRUE(st) << st.message();
@@ -104,7 +105,7 @@ TEST_F(BarChartTest, SvgIsWrittenWithItsText) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
 }
 
-TEST_F(BarChartTest, BadFormatOrSizeIsOneLine) {
+TEST_F(ChartTest, BadFormatOrSizeIsOneLine) {
   Status st = write_bar_chart(dir_ / "chart.bmp", sample_chart());
   ASSERT_FALSE(st);
   EXPECT_NE(st.message().find("expected .png or .svg"), std::string::npos) << st.message();
@@ -112,6 +113,37 @@ TEST_F(BarChartTest, BadFormatOrSizeIsOneLine) {
   ASSERT_FALSE(st);
   EXPECT_NE(st.message().find("expected 200..8192"), std::string::npos) << st.message();
   EXPECT_FALSE(fs::exists(dir_ / "chart.png"));
+}
+
+TEST_F(ChartTest, PolarChartDrawsEachSignInItsColour) {
+  // cos(2 theta): lobes along x positive, along y negative (drawn as |p| in its own colour).
+  std::vector<double> p(360);
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = std::cos(2 * 2 * M_PI * double(k) / 360.0);
+  const fs::path png = dir_ / "polar.png";
+  const Status st = write_polar_chart(
+      png, {.title = "cos 2#gh", .samples = p, .positive_label = "+", .negative_label = "-"}, 300);
+  ASSERT_TRUE(st) << st.message();
+  const Rgba img = read_png_rgba(png);
+  ASSERT_EQ(img.w, 300);
+  ASSERT_EQ(img.h, 300);
+  const auto is = [&](int x, int y, Rgb8 c) {
+    const std::size_t i = 4 * (std::size_t(y) * std::size_t(img.w) + std::size_t(x));
+    return img.px[i] == c.r && img.px[i + 1] == c.g && img.px[i + 2] == c.b;
+  };
+  // Each colour's extent, the legend in the lower-left corner aside: the positive lobes span
+  // x, the negative ones y, both a diameter of r = 1.
+  int x0 = img.w, x1 = 0, y0 = img.h, y1 = 0, pos_rows = 0;
+  for (int y = 0; y < img.h; ++y)
+    for (int x = 0; x < img.w; ++x) {
+      if (x < img.w / 4 && y > img.h * 4 / 5) continue;
+      if (is(x, y, kPolarPositiveRgb)) x0 = std::min(x0, x), x1 = std::max(x1, x), ++pos_rows;
+      if (is(x, y, kPolarNegativeRgb)) y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  ASSERT_GT(pos_rows, 100);
+  EXPECT_GT(x1 - x0, img.w / 2) << "the positive lobes along x";
+  EXPECT_GT(y1 - y0, img.h / 2) << "the negative lobes along y, drawn as |p|";
+  EXPECT_NEAR(x1 - x0, y1 - y0, 3) << "both reach r = 1";
+  EXPECT_FALSE(write_polar_chart(dir_ / "p.png", {.samples = p}, 10));
 }
 
 using BenchTable1CliTest = BinaryRunTest;

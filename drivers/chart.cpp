@@ -1,10 +1,12 @@
-#include "drivers/bar_chart.h"
+#include "drivers/chart.h"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "drivers/png_writer.h"
@@ -20,10 +22,18 @@ namespace ardcell {
 
 bool charts_available() { return false; }
 
-Status write_bar_chart(const std::filesystem::path& path, const BarChart&, int, int) {
+static Status not_drawn(const std::filesystem::path& path) {
   return Status::error(path.string() +
                        ": not drawn (built without PLplot: install libplplot-dev "
                        "and reconfigure)");
+}
+
+Status write_bar_chart(const std::filesystem::path& path, const BarChart&, int, int) {
+  return not_drawn(path);
+}
+
+Status write_polar_chart(const std::filesystem::path& path, const PolarChart&, int) {
+  return not_drawn(path);
 }
 
 #else
@@ -32,12 +42,10 @@ namespace {
 
 // Colour map 0: 0 background, 1 ink, 2 grid, 3.. the series (light to dark pairs cycle).
 constexpr int kInk = 1, kGrid = 2, kFirstSeries = 3;
-constexpr unsigned char kPalette[][3] = {{255, 255, 255}, {30, 30, 30},    {215, 215, 215},
-                                         {40, 110, 190},  {40, 150, 60},   {200, 90, 50},
-                                         {130, 60, 180},  {190, 150, 20},  {90, 170, 200},
-                                         {120, 120, 120}, {220, 120, 170}, {60, 60, 140}};
-constexpr int kPaletteSize = int(sizeof kPalette / sizeof kPalette[0]);
-constexpr int kSeriesColours = kPaletteSize - kFirstSeries;
+constexpr Rgb8 kBarPalette[] = {{255, 255, 255}, {30, 30, 30},    {215, 215, 215}, {40, 110, 190},
+                                {40, 150, 60},   {200, 90, 50},   {130, 60, 180},  {190, 150, 20},
+                                {90, 170, 200},  {120, 120, 120}, {220, 120, 170}, {60, 60, 140}};
+constexpr int kSeriesColours = int(std::size(kBarPalette)) - kFirstSeries;
 
 bool has_value(double v, bool log_y) { return std::isfinite(v) && (!log_y || v > 0); }
 
@@ -147,23 +155,18 @@ void draw(const BarChart& c) {
   }
 }
 
-void start_stream() {
-  PLINT stream = 0;
-  plmkstrm(&stream);
-  plscmap0n(16);
-  for (int i = 0; i < kPaletteSize; ++i) plscol0(i, kPalette[i][0], kPalette[i][1], kPalette[i][2]);
-  plfontld(1);
-}
-
-}  // namespace
-
-bool charts_available() { return true; }
-
-Status write_bar_chart(const std::filesystem::path& path, const BarChart& chart, int width,
-                       int height) {
-  if (width < 200 || height < 150 || width > 8192 || height > 8192)
-    return Status::error(path.string() + ": chart size " + std::to_string(width) + "x" +
-                         std::to_string(height) + " (expected 200..8192 x 150..8192)");
+// Draws one page with `draw` into `path` (.png or .svg), whole or not at all.
+template <class Draw>
+Status write_page(const std::filesystem::path& path, int width, int height,
+                  std::span<const Rgb8> palette, Draw&& draw) {
+  auto start_stream = [&] {
+    PLINT stream = 0;
+    plmkstrm(&stream);
+    plscmap0n(16);
+    for (int i = 0; i < int(palette.size()); ++i)
+      plscol0(i, palette[std::size_t(i)].r, palette[std::size_t(i)].g, palette[std::size_t(i)].b);
+    plfontld(1);
+  };
   if (path.extension() == ".svg") {
     // The SVG driver writes the file itself: a temporary name beside it, then a rename.
     std::string name(1, '.');  // (appends: GCC 12 warns falsely about "." + string)
@@ -174,7 +177,7 @@ Status write_bar_chart(const std::filesystem::path& path, const BarChart& chart,
     plsfnam(tmp.c_str());
     plspage(0, 0, width, height, 0, 0);
     plinit();
-    draw(chart);
+    draw();
     plend1();
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
@@ -194,9 +197,111 @@ Status write_bar_chart(const std::filesystem::path& path, const BarChart& chart,
   plsdev("mem");
   plsmem(width, height, image.rgb.data());
   plinit();
-  draw(chart);
+  draw();
   plend1();
   return write_png(path, image);
+}
+
+// Polar plot colour map 0.
+constexpr int kPolarAxis = 1, kPolarGrid = 2, kPolarPositive = 3, kPolarNegative = 4;
+constexpr Rgb8 kPolarPalette[] = {
+    {255, 255, 255}, {90, 90, 90}, {210, 210, 210}, kPolarPositiveRgb, kPolarNegativeRgb};
+
+void polyline(const std::vector<PLFLT>& x, const std::vector<PLFLT>& y) {
+  plline(PLINT(x.size()), x.data(), y.data());
+}
+
+void draw_polar(const PolarChart& c, int size) {
+  const double pi = std::numbers::pi;
+  const double text = std::clamp(size / 350.0, 0.8, 3.0);
+  // A square viewport on the square page, the title above it.
+  pladv(0);
+  plvpor(0.05, 0.95, 0.02, 0.92);
+  plwind(-1.32, 1.32, -1.22, 1.42);
+  plwidth(std::max(1.0, size / 512.0));
+  plcol0(kPolarGrid);
+  std::vector<PLFLT> x, y;
+  for (int ring = 1; ring <= 4; ++ring) {
+    x.clear(), y.clear();
+    for (int k = 0; k <= 240; ++k) {
+      x.push_back(0.25 * ring * std::cos(2 * pi * k / 240));
+      y.push_back(0.25 * ring * std::sin(2 * pi * k / 240));
+    }
+    polyline(x, y);
+  }
+  for (int deg = 30; deg < 180; deg += 30) {
+    if (deg == 90) continue;
+    const double a = deg * pi / 180;
+    pljoin(-std::cos(a), -std::sin(a), std::cos(a), std::sin(a));
+  }
+  plcol0(kPolarAxis);
+  pljoin(-1.05, 0, 1.05, 0);
+  pljoin(0, -1.05, 0, 1.05);
+  plschr(0, text);
+  plptex(1.08, -0.025, 1, 0, 0, "0#uo");
+  plptex(0, 1.08, 1, 0, 0.5, "90#uo");
+  plptex(-1.08, -0.025, 1, 0, 1, "180#uo");
+  plptex(0, -1.14, 1, 0, 0.5, "270#uo");
+  plschr(0, 1.1 * text);
+  plmtex("t", 1.2, 0.5, 0.5, c.title.c_str());
+
+  double scale = 0;
+  bool negative = false;
+  for (double v : c.samples)
+    if (std::isfinite(v)) scale = std::max(scale, std::abs(v)), negative |= v < 0;
+  const std::size_t n = c.samples.size();
+  // The legend in the lower left corner.
+  plschr(0, 0.9 * text);
+  auto legend = [&](int colour, double at, const std::string& label) {
+    plcol0(colour);
+    plwidth(2 * std::max(1.0, size / 256.0));
+    pljoin(-1.28, at, -1.16, at);
+    plptex(-1.12, at - 0.02, 1, 0, 0, label.c_str());
+  };
+  legend(kPolarPositive, negative ? -1.06 : -1.16, c.positive_label);
+  if (negative) legend(kPolarNegative, -1.16, c.negative_label);
+  if (!(scale > 0) || n < 2) return;
+
+  // The curve, one segment per pair of samples; where the sign changes it passes the centre.
+  plwidth(2 * std::max(1.0, size / 256.0));
+  auto point = [&](std::size_t k, double& px, double& py) {
+    const double theta = 2 * pi * double(k % n) / double(n), r = std::abs(c.samples[k % n]) / scale;
+    px = r * std::cos(theta), py = r * std::sin(theta);
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const double v0 = c.samples[k], v1 = c.samples[(k + 1) % n];
+    if (!std::isfinite(v0) || !std::isfinite(v1)) continue;
+    double x0, y0, x1, y1;
+    point(k, x0, y0);
+    point(k + 1, x1, y1);
+    plcol0(v0 < 0 ? kPolarNegative : kPolarPositive);
+    if ((v0 < 0) == (v1 < 0)) {
+      pljoin(x0, y0, x1, y1);
+      continue;
+    }
+    pljoin(x0, y0, 0, 0);
+    plcol0(v1 < 0 ? kPolarNegative : kPolarPositive);
+    pljoin(0, 0, x1, y1);
+  }
+}
+
+}  // namespace
+
+bool charts_available() { return true; }
+
+Status write_bar_chart(const std::filesystem::path& path, const BarChart& chart, int width,
+                       int height) {
+  if (width < 200 || height < 150 || width > 8192 || height > 8192)
+    return Status::error(path.string() + ": chart size " + std::to_string(width) + "x" +
+                         std::to_string(height) + " (expected 200..8192 x 150..8192)");
+  return write_page(path, width, height, kBarPalette, [&] { draw(chart); });
+}
+
+Status write_polar_chart(const std::filesystem::path& path, const PolarChart& chart, int size) {
+  if (size < 64 || size > 8192)
+    return Status::error(path.string() + ": chart size " + std::to_string(size) +
+                         " (expected 64..8192)");
+  return write_page(path, size, size, kPolarPalette, [&] { draw_polar(chart, size); });
 }
 
 #endif
