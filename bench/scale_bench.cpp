@@ -7,7 +7,7 @@
 // configuration a process group:
 //   ARDCELL_BENCH_SCENE    a built-in scene that runs as blocks (default table1-ard);
 //   ARDCELL_BENCH_GRID     the whole grid, "WxH" (default 2048x2048);
-//   ARDCELL_BENCH_RANKS    the layout, "2x1" (must match mpirun -np; default 1x1);
+//   ARDCELL_BENCH_RANKS    the layout, "1x2" (must match mpirun -np; default 1x1);
 //   ARDCELL_BENCH_WORKERS  threads back end workers per rank (default 1);
 //   ARDCELL_BENCH_FRAMES   frames timed (default 20): a fixed count, the same on every rank,
 //                          since ranks that chose their own iteration counts would wait on

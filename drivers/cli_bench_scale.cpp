@@ -93,13 +93,15 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
       row.kind = kind;
       row.ranks = r;
       row.workers = std::max(1, cores / r);
-      row.grid = row.kind == "strong" ? Int2{o.size, o.size} : Int2{o.weak * r, o.weak};
+      // Blocks of whole rows (1xR): a row-major grid's halo rows are contiguous, and seed
+      // 001's blocks run its temporally blocked kernel only on whole rows.
+      row.grid = row.kind == "strong" ? Int2{o.size, o.size} : Int2{o.weak, o.weak * r};
       const std::string grid = std::to_string(row.grid.x) + "x" + std::to_string(row.grid.y);
       const std::string json = (fs::path(o.out) / ".scale_bench.json").string();
       std::vector<std::pair<std::string, std::string>> env = {
           {"ARDCELL_BENCH_SCENE", o.scene},
           {"ARDCELL_BENCH_GRID", grid},
-          {"ARDCELL_BENCH_RANKS", std::to_string(r) + "x1"},
+          {"ARDCELL_BENCH_RANKS", "1x" + std::to_string(r)},
           {"ARDCELL_BENCH_WORKERS", std::to_string(row.workers)},
           {"ARDCELL_BENCH_FRAMES", std::to_string(o.frames)}};
       if (o.realtime_solvers) env.emplace_back("ARDCELL_BENCH_REALTIME", "1");

@@ -292,8 +292,9 @@ void GrayScott9Blocked::RowStore::resize(int rows, std::ptrdiff_t stride) {
   std::memset(data_.get(), 0, bytes);
 }
 
-GrayScott9Blocked::GrayScott9Blocked(Int2 size, RowExecutor& ex, int bands, int block_steps)
-    : size_(size), ex_(&ex) {
+GrayScott9Blocked::GrayScott9Blocked(Int2 size, RowExecutor& ex, int bands, int block_steps,
+                                     Rows rows)
+    : size_(size), ex_(&ex), rows_(rows) {
   ARDCELL_CHECK(size.x > 0 && size.y > 0, "grid must be non-empty");
   ARDCELL_CHECK(block_steps > 0, "block_steps must be positive");
   if (bands <= 0) bands = ex.workers();
@@ -320,13 +321,14 @@ GrayScott9Blocked::GrayScott9Blocked(Int2 size, RowExecutor& ex, int bands, int 
   }
   fixed_rows_.resize(2, stride_);
   row_activity_.assign(2 * std::size_t(size.y), Int2{0, 0});
+  halo_activity_.assign(2 * std::size_t(block_steps_), Int2{0, 0});
 }
 
 GrayScott9Blocked::~GrayScott9Blocked() = default;
 
 void GrayScott9Blocked::adopt(FieldF& f) {
   if (fits(f)) return;
-  FieldF g = make_field(f.size());
+  FieldF g = FieldF::over(f.interior(), kHalo);
   const int h = std::min(f.halo(), kHalo);
   copy_box(std::as_const(f).view(), g.view(), f.interior().grown(h));
   f = std::move(g);
@@ -415,15 +417,24 @@ void GrayScott9Blocked::move_boundary(int t, int to, int parity) {
 
 void GrayScott9Blocked::prepare_band(int t) {
   Band& band = bands_[std::size_t(t)];
-  const int nx = size_.x, nv = vectors_;
+  const int nx = size_.x, ny = size_.y, nv = vectors_, kmax = block_steps_;
   Int2* activity = row_activity_.data() + std::size_t(parity_) * std::size_t(size_.y);
-  for (int y = band.y0; y < band.y1; ++y) {
+  // A row's periodic x ghosts and padding, and its differing vectors.
+  auto prepare_row = [&](int y, Int2& differing) {
     float* ra = field_row(y, 0);
     float* rb = field_row(y, 1);
     finish_row(ra, nx, nv, 0, nv, 0.0f);
     finish_row(rb, nx, nv, 0, nv, 0.0f);
     if (skip_)
-      activity[y] = differing_vectors(ra, rb, fixed_rows_.row(0), fixed_rows_.row(1), nx, 0, nv);
+      differing = differing_vectors(ra, rb, fixed_rows_.row(0), fixed_rows_.row(1), nx, 0, nv);
+  };
+  // Rows from the halo: the first and last bands' outer neighbours, read as they are.
+  if (rows_ == Rows::kFromHalo && t == 0)
+    for (int i = 0; i < kmax; ++i) prepare_row(i - kmax, halo_activity_[std::size_t(i)]);
+  if (rows_ == Rows::kFromHalo && t == bands() - 1)
+    for (int i = 0; i < kmax; ++i) prepare_row(ny + i, halo_activity_[std::size_t(kmax + i)]);
+  for (int y = band.y0; y < band.y1; ++y) {
+    prepare_row(y, activity[y]);
     if (parity_ == 1)
       for (int chem = 0; chem < 2; ++chem) {
         float* place = band_row(band, 1, y, chem);
@@ -462,7 +473,10 @@ void GrayScott9Blocked::step_band(int t) {
     rhi = y0 - k;
     int first = nv, end = 0;
     for (int y = y0 - k; y < y1 + k; ++y) {
-      const Int2 v = activity[std::size_t((y % ny + ny) % ny)];
+      const Int2 v = rows_ == Rows::kPeriodic ? activity[std::size_t((y % ny + ny) % ny)]
+                     : y < 0                  ? halo_activity_[std::size_t(y + kmax)]
+                     : y >= ny                ? halo_activity_[std::size_t(y - ny + kmax)]
+                                              : activity[std::size_t(y)];
       if (v.y <= v.x) continue;
       rlo = std::min(rlo, y);
       rhi = y + 1;
@@ -495,9 +509,13 @@ void GrayScott9Blocked::step_band(int t) {
   // Level 0 and level k: a band's rows more than kmax from its ends are updated in place (level
   // k writes row y after level 1 has read it for the last time); the kmax rows at either end,
   // which the neighbours read as halo, alternate between two copies by block parity.
+  const bool halo_above = rows_ == Rows::kFromHalo && t == 0;
+  const bool halo_below = rows_ == Rows::kFromHalo && t == n - 1;
   auto level0 = [&](int y, int chem) -> const float* {
-    if (y < y0) return band_row(above, parity, above.y1 - (y0 - y), chem);
-    if (y >= y1) return band_row(below, parity, below.y0 + (y - y1), chem);
+    if (y < y0)
+      return halo_above ? field_row(y, chem) : band_row(above, parity, above.y1 - (y0 - y), chem);
+    if (y >= y1)
+      return halo_below ? field_row(y, chem) : band_row(below, parity, below.y0 + (y - y1), chem);
     return band_row(band, parity, y, chem);
   };
   auto input = [&](int level, int y, int chem) -> const float* {
@@ -569,8 +587,12 @@ void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott
   if (steps <= 0) return;
   ARDCELL_CHECK(a.size() == size_ && b.size() == size_ && fits(a) && fits(b),
                 "GrayScott9Blocked::run: fields of the grid's size and halo kHalo (adopt())");
+  ARDCELL_CHECK(rows_ == Rows::kPeriodic || steps <= block_steps_,
+                "GrayScott9Blocked::run: rows from the halo serve block_steps() steps a run");
+  ARDCELL_CHECK(a.origin() == b.origin(), "GrayScott9Blocked::run: a and b over different cells");
   fields_[0] = &a;
   fields_[1] = &b;
+  origin_ = a.origin();
   coeffs_ = row_coeffs(params);
   const bool unit_dt = params.dt == 1.0f;  // drops a multiply: dt * abb == abb then
   kernel_[0] = unit_dt ? &gray_scott9_rows_simd<1, true> : &gray_scott9_rows_simd<1, false>;
@@ -602,8 +624,10 @@ void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott
     balance_bands(parity_);
   }
   for (const Band& band : bands_) last_run_cell_updates_ += band.updates;
-  wrap_rows_y(a);
-  wrap_rows_y(b);
+  if (rows_ == Rows::kPeriodic) {
+    wrap_rows_y(a);
+    wrap_rows_y(b);
+  }
   fields_[0] = fields_[1] = nullptr;
 }
 

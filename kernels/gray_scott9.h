@@ -33,6 +33,11 @@
 // changes; the bits do not change.
 // Fields: run() steps FieldFs of halo kHalo in place (x = 0 on a 64-byte line, room for whole
 // SIMD vectors on either side); make_field() makes one, adopt() converts another.
+// Rows: periodic (the whole grid), or - for a block of whole rows of a periodic grid, one rank's
+// share of a grid split into rows - given by the halo: the block_steps() rows above and below
+// the fields' interior hold the neighbouring blocks' rows (the caller's halo exchange) and a
+// run of up to block_steps() steps computes the rows it needs from them, as the bands do from
+// each other's; the rows still wrap in x.
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
@@ -56,10 +61,13 @@ class GrayScott9Blocked {
   // Blocks per balancing decision: about half a millisecond of seed 001 on two cores.
   static constexpr int kBalanceBlocks = 8;
 
+  enum class Rows : uint8_t { kPeriodic, kFromHalo };
+
   // bands <= 0: one per worker of `ex`. block_steps: steps per pass at most (1 = plain
   // step-by-step sweeps; any value gives the same bits), capped at the smallest band height.
   // Everything a run needs is allocated here: run() allocates nothing.
-  GrayScott9Blocked(Int2 size, RowExecutor& ex, int bands = 0, int block_steps = kBlockSteps);
+  GrayScott9Blocked(Int2 size, RowExecutor& ex, int bands = 0, int block_steps = kBlockSteps,
+                    Rows rows = Rows::kPeriodic);
   ~GrayScott9Blocked();
   GrayScott9Blocked(const GrayScott9Blocked&) = delete;
   GrayScott9Blocked& operator=(const GrayScott9Blocked&) = delete;
@@ -72,7 +80,9 @@ class GrayScott9Blocked {
   static void adopt(FieldF& f);
 
   // Advances a and b (this grid's size, fits()) by `steps` explicit steps, in place, on the
-  // executor's workers; returns when done. The interior is read; the periodic ghosts are written.
+  // executor's workers; returns when done. Periodic rows: the interior is read and the periodic
+  // ghosts are written. Rows from the halo: steps <= block_steps(), and the interior and the
+  // block_steps() rows either side are read (their x ghosts written).
   void run(FieldF& a, FieldF& b, int64_t steps, const GrayScott9Params& params);
 
   Int2 size() const { return size_; }
@@ -140,7 +150,8 @@ class GrayScott9Blocked {
   // Row y of a band as of block parity `parity`: the field's row, except for rows within
   // block_steps_ of the band's ends at odd parity (the band's edge copy).
   float* band_row(Band& band, int parity, int y, int chem);
-  float* field_row(int y, int chem) { return fields_[chem]->row(y); }
+  // Row y of the run's field (y and x from the interior's first cell: a block's may be anywhere).
+  float* field_row(int y, int chem) { return fields_[chem]->row(origin_.y + y) + origin_.x; }
   void copy_whole_row(const float* from, float* to) const;  // padding and ghosts included
   // Pass 0 of a run for band t: periodic ghosts of its rows, their differing vectors, and their
   // edge copy when the run starts at odd parity.
@@ -160,6 +171,7 @@ class GrayScott9Blocked {
   int vectors_ = 0;
   std::ptrdiff_t stride_ = 0;  // of the rows run() touches, from x = -kHalo
   std::vector<Band> bands_;
+  Rows rows_ = Rows::kPeriodic;
   bool skip_quiescent_ = true;
   int64_t last_run_cell_updates_ = 0;
   bool balancing_ = true;
@@ -171,9 +183,13 @@ class GrayScott9Blocked {
   // row_activity_[parity * ny + y].
   RowStore fixed_rows_;
   std::vector<Int2> row_activity_;
+  // Rows from the halo: the differing vectors of rows -block_steps_ .. -1, then ny .. ny +
+  // block_steps_ - 1, as of the run's start.
+  std::vector<Int2> halo_activity_;
 
   // The run in progress, read by the bands' tasks.
   FieldF* fields_[2] = {nullptr, nullptr};
+  Int2 origin_{};
   RowCoeffs coeffs_;
   RowsKernel kernel_[2] = {nullptr, nullptr};  // one and two output rows per call
   bool skip_ = false;                          // the run skips quiescent cells

@@ -105,6 +105,10 @@ bool CpuDevice::supports(DeviceOp op) const {
     case DeviceOp::kSbdfRhs:
     case DeviceOp::kConductivity:
     case DeviceOp::kExplicitRd:
+      return true;
+    // Its rows above and below from the halo; rows wrap in x, so the block must hold them whole.
+    case DeviceOp::kGrayScott9Steps:
+      return block_.block.min.x == 0 && block_.block.max.x == block_.grid.x;
     // On the grid gathered from every block (CpuDevice::gathers).
     case DeviceOp::kImplicitDiffusion:
     case DeviceOp::kGeneralizedRd:

@@ -278,7 +278,10 @@ RdStepper::RdStepper(const SceneConfig& scene, Device& device)
   if (rd_.scheme == RdScheme::kExplicit9 && rd_.reaction.model == ReactionModel::kGrayScott &&
       rd_.react && rd_.diffuse && rd_.boundary == BoundaryKind::kPeriodic &&
       device.supports(DeviceOp::kGrayScott9Steps))
-    gray_scott9_ = std::make_unique<GrayScott9Blocked>(scene.size, ex);
+    gray_scott9_ = std::make_unique<GrayScott9Blocked>(
+        cells_.size(), ex, 0, std::min(GrayScott9Blocked::kBlockSteps, kExplicitBlockSteps),
+        device.on_block() ? GrayScott9Blocked::Rows::kFromHalo
+                          : GrayScott9Blocked::Rows::kPeriodic);
   conductivity_ = FieldF::over(cells_, 1);
   scratch_a_ = FieldF::over(cells_, chemical_halo());
   scratch_b_ = FieldF::over(cells_, chemical_halo());
@@ -646,8 +649,18 @@ void RdStepper::append_stages(FramePlan& plan, SimState& s) {
 
 void RdStepper::react_diffuse(SimState& s) {
   halo_left_ = 0;  // the fields may have been written since the last frame
-  if (gray_scott9_) {
+  if (gray_scott9_ && !dev_->on_block()) {
     dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params());
+  } else if (gray_scott9_) {
+    // A block of whole rows: each op steps as deep as the rows exchanged above and below it.
+    for (int done = 0; done < rd_.steps_per_frame;) {
+      const int steps = std::min(gray_scott9_->block_steps(), rd_.steps_per_frame - done);
+      fill_chemical_ghosts(s);
+      FieldF* const chemicals[] = {&s.A, &s.B};
+      dev_->exchange_halos(chemicals, steps);
+      dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, steps, gray_scott9_params());
+      done += steps;
+    }
   } else {
     for (int k = 0; k < rd_.steps_per_frame; ++k) {
       if (generalized_ && fuses_generalized_steps()) {
