@@ -1,8 +1,12 @@
 #pragma once
 // Homogeneous generalized (non-Gaussian) diffusion, seed 003 (McGraw), as ONE 5x5 stencil:
 //   seed 003, Eqn 19: du/dt = D_ij d_ij u + D_ijk d_ijk u + D_ijkl d_ijkl u
-//   seed 003, Eqn 21: the 12 terms, each unique component of a symmetric tensor times its
-//     multiplicity mu = l! / (nx! ny!) (Eqn 16) times the derivative d^l / dx^nx dy^ny:
+//     (Eqn 12, the Kramers-Moyal expansion, homogeneous and truncated at rank 4; d_ij... the
+//     partial derivatives of Eqn 13; each sum a full contraction, Eqn 17)
+//   seed 003, Eqn 20 and Eqn 21: the 12 terms (Eqn 20 the rank-2 ones, Eqn 21 the ranks 3 and
+//     4), each unique component of a symmetric tensor (Eqn 14, Eqn 15) times its multiplicity
+//     mu = l! / (nx! ny!) (Eqn 16; the contraction over unique components of Eqn 18) times the
+//     derivative d^l / dx^nx dy^ny:
 //       D_xx u_xx + 2 D_xy u_xy + D_yy u_yy
 //     + D_xxx u_xxx + 3 D_xxy u_xxy + 3 D_xyy u_xyy + D_yyy u_yyy
 //     + D_xxxx u_xxxx + 4 D_xxxy u_xxxy + 6 D_xxyy u_xxyy + 4 D_xyyy u_xyyy + D_yyyy u_yyyy
@@ -10,7 +14,7 @@
 //     kernel is i! j! X^+_ij (Eqn 35) and mu i! j! = l!, so Eqn 37's 2, 6, 24 are Eqn 21's
 //     multiplicities with Eqn 35's factorials folded in; nothing to correct there).
 // Corrected labels: the printed Eqn 21 and Table 2 write the rank-4 components D_xxxxy,
-// D_xxyyy, D_xyyyy, D_yyyyy (five indices); they are D_xxxy, D_xxyy, D_xyyy, D_yyyy (Eqn 36/37
+// D_xxyyy, D_xyyyy, D_yyyyy (five indices); they are D_xxxy, D_xxyy, D_xyyy, D_yyyy (Eqn 36, Eqn 37
 // and the multiplicities 4, 6, 4, 1 of Eqn 21 say so). Eqn 35's first "d_xyyy = 4 a_22" is
 // d_xxyy (2! 2! = 4).
 // Derivative kernels: Savitzky-Golay (kernels/savitzky_golay.h, degree 4 default, 5 option)
@@ -79,7 +83,7 @@ struct GeneralizedDiffusionOptions {
   SecondDerivatives second_derivatives = SecondDerivatives::kCentralDifference;
 };
 
-// Eqn 21 / 37 as one 25-point stencil: sum of multiplicity x component x derivative kernel.
+// Eqn 21 / Eqn 37 as one 25-point stencil: sum of multiplicity x component x derivative kernel.
 Stencil5x5 assemble_generalized_stencil(const TensorSequence& d,
                                         const GeneralizedDiffusionOptions& options = {});
 

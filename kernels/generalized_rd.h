@@ -1,12 +1,13 @@
 #pragma once
 // Reaction-diffusion with seed 003's generalized (non-Gaussian) diffusion on a periodic grid:
-//   seed 003, Eqn 27: u' = (I + delta A) u + delta f(u)       (explicit; generalized_rd_rows)
+//   seed 003, Eqn 27: u' = (I + delta A) u + delta f(u)       (explicit; generalized_rd_rows;
+//     Eqn 26, (u' - u) / delta = A u + f(u), solved for u')
 //   seed 003, Eqn 28: u' = (I - delta A)^-1 (u + delta f(u))  (semi-implicit: these rows with
 //     the diffusion scales at 0 give u + delta f(u); kernels/periodic_stencil_solve.h inverts)
 // for A and B with their own rates: A' = A + s_A K A + dt R_A(A, B), B' = B + s_B K B + dt R_B,
-// s = delta D / h^2, K the 25-point stencil of kernels/generalized_diffusion.h (Eqns 19-21, 37)
-// and R the reaction of kernels/reaction.h (seed 003's Eqn 2 is its Turing model with s = 1,
-// Eqns 3-4 its Gray-Scott).
+// s = delta D / h^2, K the 25-point stencil of kernels/generalized_diffusion.h (Eqn 19,
+// Eqn 20, Eqn 21, Eqn 37) and R the reaction of kernels/reaction.h (seed 003's Eqn 2 is its
+// Turing model with s = 1, Eqn 3 and Eqn 4 its Gray-Scott).
 // Reads no halo: the domain is periodic (a texture that tiles), and the kernel wraps its
 // indices itself, so fields of any halo width work and no boundary fill runs between steps.
 // Each cell sums its taps in float by symmetry groups (GeneralizedTaps), in one fixed order
@@ -94,7 +95,8 @@ void generalized_rd_fused_rows(const GeneralizedTaps& k, View<const float> a, Vi
                                const GeneralizedRdParams& p, int steps, float* scratch);
 
 // --- Seed 003, Table 1, last row at rank 2: an inhomogeneous (per-cell) diffusion tensor --------
-//   seed 003, Table 1 (inhomogeneous, anisotropic Gaussian): tr(D H(u)) + grad u . div D, i.e.
+//   seed 003, Table 1 (inhomogeneous, anisotropic Gaussian): tr(D H(u)) + grad u . div D
+//     (div D the row-wise divergence of Eqn 22), i.e.
 //     du/dt = div(D(x) grad u) + f(u) = D_ij d_i d_j u + (d_i D_ij) d_j u ("the evaluation of
 //     additional terms ... due to the spatially varying diffusion coefficients", sec. 7),
 //     with D(x) a symmetric positive (semi)definite 2x2 tensor per cell (Eqn 5 with D varying).

@@ -2,7 +2,7 @@
 // The right-hand sides of the IMEX multistep schemes SBDF1 and SBDF2 (Ascher, Ruuth & Wetton
 // 1995, "Implicit-explicit methods for time-dependent partial differential equations"):
 // implicit (backward-differentiation) diffusion, extrapolated explicit reaction f = (R_A, R_B) of
-// seed 000's Eqns 7-8 and Appendix A:
+// seed 000's Eqn 7, Eqn 8 and Appendix A:
 //   SBDF1:  (I - dt L) u^{n+1}        = u^n + dt f(u^n)
 //   SBDF2:  (I - 2/3 dt L) u^{n+1}    = (4 u^n - u^{n-1}) / 3 + 2/3 dt (2 f(u^n) - f(u^{n-1}))
 // This kernel writes the right-hand side over u^n and moves u^n into the history (u^{n-1} of the

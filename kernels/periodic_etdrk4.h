@@ -2,7 +2,7 @@
 // Fourth-order exponential time differencing (ETDRK4) of a two-chemical reaction-diffusion
 // system on a periodic, homogeneous, isotropic grid:
 //   u_t = L u + N(u),  L = diag(c_A, c_B) lap5 (seed 000, Eqn 4: c = D / h^2 in cells, per unit
-//   time),  N = (R_A, R_B) of Eqns 7-8 / Appendix A (kernels/reaction.h reaction_rates)
+//   time),  N = (R_A, R_B) of Eqn 7, Eqn 8 / App. A (kernels/reaction.h reaction_rates)
 // Cox & Matthews 2002 ("Exponential time differencing for stiff systems", their ETD4RK), per
 // Fourier mode k (z = dt L(k), v = u^(k), N_u = N(u)^(k)):
 //   a = E2 v + Q N_u                      b = E2 v + Q N_a

@@ -2,7 +2,8 @@
 // The exact semi-implicit diffusion step of seed 003 (McGraw) on a periodic grid, by FFT:
 //   seed 003, Eqn 28: u^{t+1} = (I - delta A)^{-1} (u^t + delta f(u^t))
 // This solves the linear part, x <- (I - delta K)^{-1} x, in place, where K is any 25-point
-// stencil (kernels/generalized_diffusion.h: Eqn 21/37's A, or Eqn 25/29's 3x3 special cases)
+// stencil (kernels/generalized_diffusion.h: Eqn 21 / Eqn 37's A, or the 3x3 special cases of
+// Eqn 25 and Eqn 29)
 // and the caller has already added delta f(u^t) to x.
 // Reads NO halo: the periodic wrap (the tileable texture of seed 003, sec. 4) is implicit in the
 // discrete Fourier transform, so only the interior [0, nx) x [0, ny) is read and written.

@@ -2,13 +2,20 @@
 // Reaction terms of seed 000 and their implicit (backward Euler) updates.
 //
 // Eqn 6: (A^, B^) = (A, B) + dt R(A^, B^), solved per cell. Reads halo 0 (no neighbours).
-// As the paper derives (Eqns 9-12, Appendix A) one unknown is eliminated in closed form and the
-// reduced scalar equation g(x) = 0 is solved by Newton-Raphson, safeguarded by a bracket that
-// provably holds a root (bisection whenever a Newton step leaves it), to |g| < 1e-6.
+// As the paper derives for Gray-Scott (Eqn 9 to Eqn 12 below) and for the models of Appendix A,
+// one unknown is eliminated in closed form and the reduced scalar equation g(x) = 0 is solved by
+// Newton-Raphson, safeguarded by a bracket that provably holds a root (bisection whenever a
+// Newton step leaves it), to |g| < 1e-6.
 //
-//   Gray-Scott (Eqns 7-8):  R_A = -A B^2 + F (1 - A)          R_B = A B^2 - (F + k) B
-//     reduced in B^ (Eqn 12); A^ = (A + F dt) / (1 + F dt + dt B^2)   (Eqn 11, with the
-//     square of Eqn 7 that the printed Eqns 9 and 11 drop)
+//   Gray-Scott, Eqn 7:  R_A = -A B^2 + F (1 - A)      Eqn 8:  R_B = A B^2 - (F + k) B
+//     Eqn 9:  A^ = A + dt R_A(A^, B^)     Eqn 10:  B^ = B + dt R_B(A^, B^)   (Eqn 6 here)
+//     Eqn 11: A^ = (A + F dt) / (1 + F dt + dt B^2), Eqn 9 solved for A^ in terms of B^
+//             (reaction.cpp solve_gray_scott, once B^ is known)
+//     Eqn 12: B^ = B + dt (A^(B^) B^2 - (F + k) B^), Eqn 11 put into Eqn 10: a cubic in B^,
+//             solved by the safeguarded Newton above (solve_gray_scott)
+//     The printed Eqn 9, Eqn 10 and Eqn 11 write A^ B^ where Eqn 7 and Eqn 8 have A B^2 (the
+//     printed Eqn 12 keeps the square); ardcell keeps the square throughout.
+//   seed 003's Eqn 3 and Eqn 4 (its Gray-Scott, u = A, v = B) have these rates.
 //   Turing:                 R_A = s (A B - A - beta)          R_B = s (sigma - A B)
 //     reduced in A^;         B^ = (B + sigma s dt) / (1 + s A^ dt)  (the printed rule drops s)
 //     sigma (turing_supply) is Turk's and Kim & Lin's 16; seed 003's Eqn 2 is the same model
@@ -110,8 +117,8 @@ double implicit_reaction_residual(const ReactionParams& p, double dt, double A, 
 
 // --- Tile kernels (halo 0). Outputs may alias inputs (per-cell, in place). ---------------------
 
-// Gray-Scott backward Euler (Eqns 9-12) over region; F, k, dt plain floats so the kernel
-// fuses into other passes and has a one-to-one OpenCL twin.
+// Gray-Scott backward Euler (Eqn 9 and Eqn 10, solved by Eqn 12 then Eqn 11) over region;
+// F, k, dt plain floats so the kernel fuses into other passes and has a one-to-one OpenCL twin.
 struct GrayScottImplicitParams {
   float F = 0.055f, k = 0.062f, dt = 1.0f;
 };

@@ -1,6 +1,8 @@
 #pragma once
 // Savitzky-Golay derivative filters on the 5x5 neighbourhood, seed 003 (McGraw, "Generalized
-// Reaction-Diffusion Textures"), Eqns 30-35:
+// Reaction-Diffusion Textures"), Eqn 30 to Eqn 35:
+//   seed 003, Eqn 30: the 5x5 neighbourhood, offsets (r, s) in [-2, 2]^2 (Stencil5x5::at)
+//   seed 003, Eqn 31: p_rs(x, y) = a_00 + a_10 x + a_01 y + a_20 x^2 + ... fitted around (r, s)
 //   seed 003, Eqn 32: p(x, y) = sum_{i + j <= n} a_ij x^i y^j       (read as TOTAL degree n)
 //   seed 003, Eqn 33: X a = u,  X's rows (x^i y^j) at the 25 offsets (x, y) in [-2, 2]^2
 //   seed 003, Eqn 34: a = X^+ u  (least squares; X^+_ij is the row with X^+_ij u = a_ij)

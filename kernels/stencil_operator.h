@@ -1,6 +1,6 @@
 #pragma once
 // The linear systems every implicit step of ardcell solves: a symmetric 5-point operator with
-// one coefficient per cell face (seed 000, Eqn 13 isotropic, Eqns 17/19 anisotropic; Stam's
+// one coefficient per cell face (seed 000, Eqn 13 isotropic, Eqn 17 and Eqn 19 anisotropic; Stam's
 // implicit viscosity and pressure projection).
 //
 // Eqn 4 (the 5-point Laplacian: assemble_stencil_operator with no conductivity, k = 1; h the

@@ -201,8 +201,8 @@ class Device {
   virtual void reaction_table(FieldF& a, FieldF& b, const ReactionTable& table) = 0;
   virtual void conductivity(const FieldF& a, const FieldF& theta0, FieldF& k,
                             const AnisotropyParams& p) = 0;
-  // One implicit step of `field` with `diffusion`'s operator and solver (Eqn 13; Eqns 17/19 with
-  // a conductivity).
+  // One implicit step of `field` with `diffusion`'s operator and solver (Eqn 13; Eqn 17 and Eqn 19
+  // with a conductivity).
   virtual SolveReport implicit_diffusion(ImplicitDiffusion& diffusion, FieldF& field,
                                          const FieldF* conductivity, const DiffusionStep& s) = 0;
   // Forward Euler (Eqn 5, seed 001's 9-point scheme): a_out, b_out from a, b over the interior

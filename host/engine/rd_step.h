@@ -36,10 +36,12 @@
 // rd.steps_per_frame RD steps run per frame; advection runs once per frame with the scene's dt.
 // Seed 001's case (explicit 9-point Gray-Scott, periodic) runs a frame's steps as one op where the
 // device has it (Device::gray_scott9_steps: the CPU's temporally blocked kernels/gray_scott9.h,
-// whose A and B have halo GrayScott9Blocked::kHalo); the other explicit cases, and seed 001's
-// scheme on OpenCL, on a block or with walls, step whole fields one step at a time - seed 001's
-// skipping, on the CPU, the cells that cannot change (kernels/explicit_rd.h QuiescentBox). On a
-// periodic grid a block steps kExplicitBlockSteps steps per halo exchange. Every stage is an op of
+// whose A and B have halo GrayScott9Blocked::kHalo) - on a block of whole rows as one op per
+// halo exchange, its rows above and below from the halo; the other explicit cases, and seed
+// 001's scheme on OpenCL, on a block that splits rows or with walls, step whole fields one step
+// at a time - seed 001's skipping, on the CPU, the cells that cannot change
+// (kernels/explicit_rd.h QuiescentBox). On a periodic grid a block steps kExplicitBlockSteps
+// steps per halo exchange. Every stage is an op of
 // the engine's Device (host/engine/device.h: the CPU in bands of rows, same bits on any number of
 // workers, or OpenCL). The frame is the stages append_stages() adds to the scene's FramePlan
 // (host/engine/frame_plan.h): the RD steps of the frame, then the advection. Nothing is
@@ -152,7 +154,7 @@ class RdStepper {
   void react(SimState& s);
   // The conductivity k = a(theta) of A as it is now (null when isotropic).
   const FieldF* conductivity(SimState& s);
-  // The implicit diffusion of A and B over `fraction` of dt (Eqns 13, 19; Crank-Nicolson with
+  // The implicit diffusion of A and B over `fraction` of dt (Eqn 13, Eqn 19; Crank-Nicolson with
   // `crank_nicolson`), with conductivity k (null: isotropic).
   void diffuse(SimState& s, const FieldF* k, double fraction, bool crank_nicolson);
   // One explicit step, `steps_left` of the frame's steps left (this one included).
@@ -166,7 +168,7 @@ class RdStepper {
   // Whether react_diffuse runs explicit generalized steps several at a time
   // (Device::generalized_rd_steps).
   bool fuses_generalized_steps() const;
-  // One step of seed 003's generalized RD (Eqns 27, 28).
+  // One step of seed 003's generalized RD (Eqn 27, Eqn 28).
   void generalized_step(SimState& s);
   GeneralizedRdParams generalized_params(bool react, bool diffuse) const;
   GrayScott9Params gray_scott9_params() const;
