@@ -245,12 +245,13 @@ bool SdlDisplay::read_back(ImageRgb8& out) {
 }
 
 void SdlDisplay::prepare_hud_font() {
+  if (!hud_notice_.empty()) return;  // no font: said once, not tried again every frame
   // Text about 1/30 of the window's height, narrow enough for ~48 characters a line (DejaVu
   // Sans Mono advances 0.6 of its size), 9 to 32 pixels; a new size only on a resize.
   const Int2 win = window_size();
   const int pixels = std::clamp(std::min(win.y / 30, (win.x - 16) / 29), 9, 32);
   std::string error;
-  if (!hud_font_->prepare(renderer_, pixels, error) && hud_notice_.empty())
+  if (!hud_font_->prepare(renderer_, pixels, error))
     hud_notice_ = "HUD: " + error + "; the HUD shows no text";
 }
 
