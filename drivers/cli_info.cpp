@@ -8,6 +8,9 @@
 
 #include "drivers/chart.h"
 #include "drivers/cli.h"
+#ifdef ARDCELL_WITH_SDL2
+#include "drivers/glyph_atlas_sdl.h"
+#endif
 #include "host/scenes/preset.h"
 
 namespace ardcell {
@@ -137,6 +140,14 @@ int do_info(CliContext& ctx) {
                on_off(true));
 #else
                on_off(false));
+#endif
+#ifdef ARDCELL_WITH_SDL2
+  // The live HUD's font (fonts-dejavu-core): a kiosk without it shows no HUD text.
+  const std::string font(hud_font_path());
+  std::fprintf(o, "hud font: %s\n",
+               font.empty()                            ? "none (install fonts-dejavu-core)"
+               : std::ifstream(font, std::ios::binary) ? font.c_str()
+                                                       : (font + " (missing)").c_str());
 #endif
   std::fprintf(o, "cpu: %s\n", cpu_model().c_str());
   std::fprintf(o, "cpu features: %s\n", cpu_features().c_str());

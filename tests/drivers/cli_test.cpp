@@ -159,6 +159,12 @@ TEST_F(CliTest, InfoReportsVersionBuildOptionsCpuAndCores) {
   EXPECT_NE(options.find(" mpi=off"), std::string::npos) << r.out;
 #endif
   EXPECT_NE(r.out.find("cpu features:"), std::string::npos);
+#if defined(ARDCELL_WITH_SDL2)
+  // This build found the HUD's font (dev.sh installs fonts-dejavu-core): its path, present.
+  const std::string font = line_starting(r.out, "hud font: ");
+  EXPECT_NE(font.find("DejaVuSansMono-Bold.ttf"), std::string::npos) << r.out;
+  EXPECT_EQ(font.find("missing"), std::string::npos) << r.out;
+#endif
   const std::string cores = line_starting(r.out, "cores: ");
   EXPECT_TRUE(cores.size() > 7 && cores[7] >= '1' && cores[7] <= '9' &&
               cores.find(" online") != std::string::npos)
