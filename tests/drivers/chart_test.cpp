@@ -143,7 +143,7 @@ TEST_F(ChartTest, PolarChartDrawsEachSignInItsColour) {
   EXPECT_GT(x1 - x0, img.w / 2) << "the positive lobes along x";
   EXPECT_GT(y1 - y0, img.h / 2) << "the negative lobes along y, drawn as |p|";
   EXPECT_NEAR(x1 - x0, y1 - y0, 3) << "both reach r = 1";
-  EXPECT_FALSE(write_polar_chart(dir_ / "p.png", {.samples = p}, 10));
+  EXPECT_FALSE(write_polar_chart(dir_ / "p.png", {"", p, "", ""}, 10));
 }
 
 using BenchTable1CliTest = BinaryRunTest;
