@@ -602,7 +602,7 @@ void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott
   // that makes the last one end in the fields (even), so nothing is copied back.
   const int64_t blocks = (steps + block_steps_ - 1) / block_steps_;
   const int64_t short_k = steps / blocks, long_blocks = steps % blocks;
-  float fixed_a = a(0, 0), fixed_b = b(0, 0);
+  float fixed_a = a(origin_.x, origin_.y), fixed_b = b(origin_.x, origin_.y);
   skip_ = skip_quiescent_ && short_k + (long_blocks > 0 ? 1 : 0) > 1 &&
           find_fixed_point(kernel_[0], coeffs_, fixed_a, fixed_b);
   if (skip_) {

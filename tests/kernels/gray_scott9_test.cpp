@@ -150,11 +150,15 @@ TEST(GrayScott9Blocked, RowBlocksFromTheHaloGiveTheWholeGridsBits) {
           parts.push_back(std::make_unique<Sim>(Int2{size.x, rows}, *ex.ex, sc.bands,
                                                 sc.block_steps,
                                                 GrayScott9Blocked::Rows::kFromHalo));
+          // The block's fields over its own cells of the grid (global coordinates).
           Sim& part = *parts.back();
-          for (int y = 0; y < rows; ++y)
+          const Box2 cells{{0, y0[std::size_t(i)]}, {size.x, y0[std::size_t(i) + 1]}};
+          part.a = FieldF::over(cells, GrayScott9Blocked::kHalo);
+          part.b = FieldF::over(cells, GrayScott9Blocked::kHalo);
+          for (int y = cells.min.y; y < cells.max.y; ++y)
             for (int x = 0; x < size.x; ++x) {
-              part.a(x, y) = whole.a(x, y0[std::size_t(i)] + y);
-              part.b(x, y) = whole.b(x, y0[std::size_t(i)] + y);
+              part.a(x, y) = whole.a(x, y);
+              part.b(x, y) = whole.b(x, y);
             }
           k = std::min(k, part.gs.block_steps());
         }
@@ -165,7 +169,7 @@ TEST(GrayScott9Blocked, RowBlocksFromTheHaloGiveTheWholeGridsBits) {
           int i = 0;
           while (g >= y0[std::size_t(i) + 1]) ++i;
           const Sim& part = *parts[std::size_t(i)];
-          return (chem == 0 ? part.a : part.b).row(g - y0[std::size_t(i)]);
+          return (chem == 0 ? part.a : part.b).row(g);
         };
         std::vector<float> rows_in(std::size_t(blocks) * 2 * std::size_t(k) * 2 *
                                    std::size_t(size.x));
@@ -181,9 +185,8 @@ TEST(GrayScott9Blocked, RowBlocksFromTheHaloGiveTheWholeGridsBits) {
           at = 0;
           for (int i = 0; i < blocks; ++i) {
             Sim& part = *parts[std::size_t(i)];
-            const int rows = part.a.ny();
             for (int r = 0; r < k; ++r)
-              for (const int y : {r - k, rows + r})
+              for (const int y : {y0[std::size_t(i)] - k + r, y0[std::size_t(i) + 1] + r})
                 for (int chem = 0; chem < 2; ++chem, at += std::size_t(size.x))
                   std::copy_n(rows_in.begin() + std::ptrdiff_t(at), size.x,
                               (chem == 0 ? part.a : part.b).row(y));
@@ -195,8 +198,8 @@ TEST(GrayScott9Blocked, RowBlocksFromTheHaloGiveTheWholeGridsBits) {
           for (int y = y0[std::size_t(i)]; y < y0[std::size_t(i) + 1]; ++y)
             for (int x = 0; x < size.x; ++x) {
               const Sim& part = *parts[std::size_t(i)];
-              ASSERT_EQ(whole.a(x, y), part.a(x, y - y0[std::size_t(i)])) << x << "," << y;
-              ASSERT_EQ(whole.b(x, y), part.b(x, y - y0[std::size_t(i)])) << x << "," << y;
+              ASSERT_EQ(whole.a(x, y), part.a(x, y)) << x << "," << y;
+              ASSERT_EQ(whole.b(x, y), part.b(x, y)) << x << "," << y;
             }
       }
 }
