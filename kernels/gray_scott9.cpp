@@ -434,7 +434,7 @@ void GrayScott9Blocked::prepare_band(int t) {
   if (rows_ == Rows::kFromHalo && t == bands() - 1)
     for (int i = 0; i < kmax; ++i) prepare_row(ny + i, halo_activity_[std::size_t(kmax + i)]);
   for (int y = band.y0; y < band.y1; ++y) {
-    prepare_row(y, activity[y]);
+    if (!resume_) prepare_row(y, activity[y]);
     if (parity_ == 1)
       for (int chem = 0; chem < 2; ++chem) {
         float* place = band_row(band, 1, y, chem);
@@ -582,7 +582,8 @@ void GrayScott9Blocked::step_band(int t) {
                       .count();
 }
 
-void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott9Params& params) {
+void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott9Params& params,
+                            bool resume) {
   last_run_cell_updates_ = 0;
   if (steps <= 0) return;
   ARDCELL_CHECK(a.size() == size_ && b.size() == size_ && fits(a) && fits(b),
@@ -615,6 +616,15 @@ void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott
   }
   for (Band& band : bands_) band.updates = 0;
   parity_ = int(blocks % 2);
+  resume_ = resume && skip_ && activity_valid_ && activity_fields_[0] == a.raw() &&
+            activity_fields_[1] == b.raw() &&
+            std::memcmp(activity_fixed_, &coeffs_.fixed_a, sizeof(float)) == 0 &&
+            std::memcmp(activity_fixed_ + 1, &coeffs_.fixed_b, sizeof(float)) == 0;
+  if (resume_ && activity_parity_ != parity_) {
+    const std::size_t ny = std::size_t(size_.y);
+    std::copy_n(row_activity_.begin() + std::ptrdiff_t(std::size_t(activity_parity_) * ny), ny,
+                row_activity_.begin() + std::ptrdiff_t(std::size_t(parity_) * ny));
+  }
   const int n = bands();
   ex_->for_tasks(n, [this](int t) { prepare_band(t); });
   for (int64_t i = 0; i < blocks; ++i) {
@@ -624,6 +634,13 @@ void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott
     balance_bands(parity_);
   }
   for (const Band& band : bands_) last_run_cell_updates_ += band.updates;
+  // The last block (of short_k steps) recorded every row's differing vectors when it skipped.
+  activity_valid_ = skip_ && short_k > 1;
+  activity_parity_ = parity_;
+  activity_fields_[0] = a.raw();
+  activity_fields_[1] = b.raw();
+  activity_fixed_[0] = coeffs_.fixed_a;
+  activity_fixed_[1] = coeffs_.fixed_b;
   if (rows_ == Rows::kPeriodic) {
     wrap_rows_y(a);
     wrap_rows_y(b);

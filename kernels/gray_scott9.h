@@ -22,7 +22,10 @@
 // itself exactly (seed 001's background settles on A = 1.00000036, B = 0 after 2 steps) stays so
 // wherever its whole 3x3 neighbourhood has it. Each block starts from the bounding box of the
 // rows and SIMD vectors that differ from it (recorded as rows are written), grows it by one cell
-// per level, and computes only that; everything outside is known to be the fixed point.
+// per level, and computes only that; everything outside is known to be the fixed point. A run
+// scans every row for them first, unless it resumes from the last run's record (the caller
+// knows nothing else wrote the fields): on a large grid with a small pattern that scan is most
+// of a frame.
 // Seed 001's pattern covers 35% of the grid on average over 2000 steps.
 // Balance: the back end's workers run their own bands first and then take the bands of a worker
 // that has not started them (runtime/thread/thread_backend.h), and with balancing on (the
@@ -83,7 +86,12 @@ class GrayScott9Blocked {
   // executor's workers; returns when done. Periodic rows: the interior is read and the periodic
   // ghosts are written. Rows from the halo: steps <= block_steps(), and the interior and the
   // block_steps() rows either side are read (their x ghosts written).
-  void run(FieldF& a, FieldF& b, int64_t steps, const GrayScott9Params& params);
+  // resume: a and b hold what the last run left in them (apart from the rows from the halo), as
+  // when the caller steps on without painting or loading anything: the differing vectors that
+  // run recorded are used instead of a scan of every row (the same bits; checked as far as it
+  // can be: the same fields, fixed point and skipping, else every row is scanned).
+  void run(FieldF& a, FieldF& b, int64_t steps, const GrayScott9Params& params,
+           bool resume = false);
 
   Int2 size() const { return size_; }
   int bands() const { return int(bands_.size()); }
@@ -186,6 +194,13 @@ class GrayScott9Blocked {
   // Rows from the halo: the differing vectors of rows -block_steps_ .. -1, then ny .. ny +
   // block_steps_ - 1, as of the run's start.
   std::vector<Int2> halo_activity_;
+  // What the last run left for a resumed one: its fields, the fixed point its differing
+  // vectors are relative to and their parity; valid only when that run skipped to its end.
+  bool activity_valid_ = false;
+  int activity_parity_ = 0;
+  const float* activity_fields_[2] = {nullptr, nullptr};
+  float activity_fixed_[2] = {0, 0};
+  bool resume_ = false;  // this run uses them (prepare_band scans no row of the fields)
 
   // The run in progress, read by the bands' tasks.
   FieldF* fields_[2] = {nullptr, nullptr};

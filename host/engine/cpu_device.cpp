@@ -501,11 +501,11 @@ void CpuDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, Fie
 }
 
 void CpuDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
-                                  const GrayScott9Params& p) {
+                                  const GrayScott9Params& p, bool resume) {
   require(DeviceOp::kGrayScott9Steps);
   GrayScott9Blocked::adopt(a);
   GrayScott9Blocked::adopt(b);
-  blocked.run(a, b, steps, p);
+  blocked.run(a, b, steps, p, resume);
 }
 
 void CpuDevice::generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,

@@ -218,8 +218,9 @@ class Device {
   // Seed 001's scheme (explicit 9-point Gray-Scott, periodic): `steps` steps of a and b in place,
   // temporally blocked (kernels/gray_scott9.h; `blocked` made for the grid on the device's
   // executor). A and B should have GrayScott9Blocked::kHalo; others are given it (an allocation).
+  // resume: a and b are as the last call left them (GrayScott9Blocked::run's resume).
   virtual void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
-                                 const GrayScott9Params& p) = 0;
+                                 const GrayScott9Params& p, bool resume) = 0;
   // seed 003, Eqn 27 on a periodic grid (kernels/generalized_rd.h): a_out, b_out from a, b.
   virtual void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                               const GeneralizedTaps& k, const GeneralizedRdParams& p) = 0;
@@ -336,7 +337,7 @@ class CpuDevice final : public Device {
                    ExplicitScheme scheme, const ExplicitRdParams& p, QuiescentBox* quiet,
                    int grow) override;
   void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
-                         const GrayScott9Params& p) override;
+                         const GrayScott9Params& p, bool resume) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   void generalized_rd_steps(FieldF& a, FieldF& b, FieldF& a_out, FieldF& b_out,

@@ -106,7 +106,7 @@ class OpenClDevice final : public Device {
                    int grow) override;
   // On the CPU (the engine steps seed 001 with the 9-point twin here instead), with one line.
   void gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
-                         const GrayScott9Params& p) override;
+                         const GrayScott9Params& p, bool resume) override;
   void generalized_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                       const GeneralizedTaps& k, const GeneralizedRdParams& p) override;
   // The per-cell tensor field's explicit step, on the device.

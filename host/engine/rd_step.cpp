@@ -631,7 +631,7 @@ void RdStepper::advect(SimState& s) {
   }
   dev_->swap(s.A, scratch_a_);
   dev_->swap(s.B, scratch_b_);
-  quiescent_.restart();  // the advection wrote both pairs
+  restart_skipping();  // the advection wrote both pairs
 }
 
 void RdStepper::append_stages(FramePlan& plan, SimState& s) {
@@ -650,7 +650,9 @@ void RdStepper::append_stages(FramePlan& plan, SimState& s) {
 void RdStepper::react_diffuse(SimState& s) {
   halo_left_ = 0;  // the fields may have been written since the last frame
   if (gray_scott9_ && !dev_->on_block()) {
-    dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params());
+    dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params(),
+                            gray_scott9_resumes_);
+    gray_scott9_resumes_ = true;
   } else if (gray_scott9_) {
     // A block of whole rows: each op steps as deep as the rows exchanged above and below it.
     for (int done = 0; done < rd_.steps_per_frame;) {
@@ -658,7 +660,9 @@ void RdStepper::react_diffuse(SimState& s) {
       fill_chemical_ghosts(s);
       FieldF* const chemicals[] = {&s.A, &s.B};
       dev_->exchange_halos(chemicals, steps);
-      dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, steps, gray_scott9_params());
+      dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, steps, gray_scott9_params(),
+                              gray_scott9_resumes_);
+      gray_scott9_resumes_ = true;
       done += steps;
     }
   } else {

@@ -118,7 +118,7 @@ class RdStepper {
   // The other schemes keep no history. Allocates nothing.
   void restart() {
     history_ = false;
-    quiescent_.restart();
+    restart_skipping();
   }
   // Whether the next sbdf2 step is SBDF2 (true) or its SBDF1 start (false).
   bool has_history() const { return history_; }
@@ -190,9 +190,16 @@ class RdStepper {
   FieldF conductivity_, scratch_a_, scratch_b_;
   FieldF back_a_, back_b_;  // MacCormack's backward step (fluid.advection); else empty
   std::unique_ptr<GrayScott9Blocked> gray_scott9_;  // seed 001's scheme (gray_scott9_steps)
-  std::unique_ptr<PeriodicEtdrk4> etdrk4_;          // rd.scheme etdrk4
-  FieldF prev_a_, prev_b_;                          // sbdf2: u^(n-1)
-  bool history_ = false;                            // sbdf2: prev_a_, prev_b_ hold u^(n-1)
+  // A and B are as gray_scott9_'s last run left them: its next run resumes (scans no row).
+  bool gray_scott9_resumes_ = false;
+  // A and B were written other than by seed 001's steps: both skippers look at every cell again.
+  void restart_skipping() {
+    quiescent_.restart();
+    gray_scott9_resumes_ = false;
+  }
+  std::unique_ptr<PeriodicEtdrk4> etdrk4_;  // rd.scheme etdrk4
+  FieldF prev_a_, prev_b_;                  // sbdf2: u^(n-1)
+  bool history_ = false;                    // sbdf2: prev_a_, prev_b_ hold u^(n-1)
   // Seed 001's quiescent cells on the per-step schedule (explicit_step): A, B and the scratch
   // pair they swap with; advection and restart() restart it.
   QuiescentBox quiescent_;
