@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "drivers/chart.h"
 #include "drivers/bench_program.h"
+#include "drivers/chart.h"
 #include "drivers/cli.h"
 #include "host/io/atomic_file.h"
 #include "runtime/local_store.h"

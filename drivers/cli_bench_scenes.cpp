@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "drivers/chart.h"
 #include "drivers/bench_program.h"
+#include "drivers/chart.h"
 #include "drivers/cli.h"
 #include "host/scenes/preset.h"
 
