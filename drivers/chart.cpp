@@ -1,7 +1,5 @@
 #include "drivers/chart.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -10,6 +8,7 @@
 #include <vector>
 
 #include "drivers/png_writer.h"
+#include "host/io/atomic_file.h"
 #include "host/render/image.h"
 
 #if ARDCELL_WITH_PLPLOT
@@ -169,9 +168,7 @@ Status write_page(const std::filesystem::path& path, int width, int height,
   };
   if (path.extension() == ".svg") {
     // The SVG driver writes the file itself: a temporary name beside it, then a rename.
-    std::string name(1, '.');  // (appends: GCC 12 warns falsely about "." + string)
-    name.append(path.filename().string()).append(".tmp-").append(std::to_string(getpid()));
-    const std::filesystem::path tmp = path.parent_path() / name;
+    const std::filesystem::path tmp = temporary_sibling(path);
     start_stream();
     plsdev("svg");
     plsfnam(tmp.c_str());

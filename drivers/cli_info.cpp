@@ -2,6 +2,7 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -145,9 +146,9 @@ int do_info(CliContext& ctx) {
   // The live HUD's font (fonts-dejavu-core): a kiosk without it shows no HUD text.
   const std::string font(hud_font_path());
   std::fprintf(o, "hud font: %s\n",
-               font.empty()                            ? "none (install fonts-dejavu-core)"
-               : std::ifstream(font, std::ios::binary) ? font.c_str()
-                                                       : (font + " (missing)").c_str());
+               font.empty()                    ? "none (install fonts-dejavu-core)"
+               : std::filesystem::exists(font) ? font.c_str()
+                                               : (font + " (missing)").c_str());
 #endif
   std::fprintf(o, "cpu: %s\n", cpu_model().c_str());
   std::fprintf(o, "cpu features: %s\n", cpu_features().c_str());

@@ -14,16 +14,15 @@
 //     kernel is i! j! X^+_ij (Eqn 35) and mu i! j! = l!, so Eqn 37's 2, 6, 24 are Eqn 21's
 //     multiplicities with Eqn 35's factorials folded in; nothing to correct there).
 // Corrected labels: the printed Eqn 21 and Table 2 write the rank-4 components D_xxxxy,
-// D_xxyyy, D_xyyyy, D_yyyyy (five indices); they are D_xxxy, D_xxyy, D_xyyy, D_yyyy (Eqn 36, Eqn 37
-// and the multiplicities 4, 6, 4, 1 of Eqn 21 say so). Eqn 35's first "d_xyyy = 4 a_22" is
-// d_xxyy (2! 2! = 4).
-// Derivative kernels: Savitzky-Golay (kernels/savitzky_golay.h, degree 4 default, 5 option)
-// for the ranks 3 and 4; the second derivatives by central differences (the paper's final
-// choice, end of sec. 5.1) or, as an option, Savitzky-Golay too. Note that the central
-// difference ones replace i! j! X^+_ij (the derivative), not X^+_ij: put into Eqn 37 literally
-// (2 D_xx times the [1 -2 1] kernel) they would double the rank-2 part.
-// Special cases: Eqn 25 (isotropic, 3x3) and Eqn 29 (anisotropic Gaussian, 3x3) are the
-// rank-2 sequences with central differences (tests/kernels/generalized_diffusion_test.cpp).
+// D_xxyyy, D_xyyyy, D_yyyyy with five indices; they are D_xxxy, D_xxyy, D_xyyy, D_yyyy
+// (Eqn 36, Eqn 37 and the multiplicities 4, 6, 4, 1 of Eqn 21 say so). Eqn 35's first "d_xyyy = 4
+// a_22" is d_xxyy (2! 2! = 4). Derivative kernels: Savitzky-Golay (kernels/savitzky_golay.h, degree
+// 4 default, 5 option) for the ranks 3 and 4; the second derivatives by central differences (the
+// paper's final choice, end of sec. 5.1) or, as an option, Savitzky-Golay too. Note that the
+// central difference ones replace i! j! X^+_ij (the derivative), not X^+_ij: put into Eqn 37
+// literally (2 D_xx times the [1 -2 1] kernel) they would double the rank-2 part. Special cases:
+// Eqn 25 (isotropic, 3x3) and Eqn 29 (anisotropic Gaussian, 3x3) are the rank-2 sequences with
+// central differences (tests/kernels/generalized_diffusion_test.cpp).
 //   seed 003, Eqn 27: u' = (I + delta A) u  (explicit update), stable when its spectral radius,
 //     max over wavenumbers k of |1 + delta symbol(k)|, is <= 1.
 // apply reads halo 2 (a 5x5 stencil); fill_periodic_halo wraps a field's halo for a periodic

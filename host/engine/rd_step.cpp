@@ -649,17 +649,18 @@ void RdStepper::append_stages(FramePlan& plan, SimState& s) {
 
 void RdStepper::react_diffuse(SimState& s) {
   halo_left_ = 0;  // the fields may have been written since the last frame
-  if (gray_scott9_ && !dev_->on_block()) {
-    dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, rd_.steps_per_frame, gray_scott9_params(),
-                            gray_scott9_resumes_);
-    gray_scott9_resumes_ = true;
-  } else if (gray_scott9_) {
-    // A block of whole rows: each op steps as deep as the rows exchanged above and below it.
+  if (gray_scott9_) {
+    // The whole grid: the frame's steps in one op. A block of whole rows: each op steps as deep
+    // as the rows exchanged above and below it.
+    const bool block = dev_->on_block();
+    const int per_op = block ? gray_scott9_->block_steps() : rd_.steps_per_frame;
     for (int done = 0; done < rd_.steps_per_frame;) {
-      const int steps = std::min(gray_scott9_->block_steps(), rd_.steps_per_frame - done);
-      fill_chemical_ghosts(s);
-      FieldF* const chemicals[] = {&s.A, &s.B};
-      dev_->exchange_halos(chemicals, steps);
+      const int steps = std::min(per_op, rd_.steps_per_frame - done);
+      if (block) {
+        fill_chemical_ghosts(s);
+        FieldF* const chemicals[] = {&s.A, &s.B};
+        dev_->exchange_halos(chemicals, steps);
+      }
       dev_->gray_scott9_steps(*gray_scott9_, s.A, s.B, steps, gray_scott9_params(),
                               gray_scott9_resumes_);
       gray_scott9_resumes_ = true;
