@@ -626,7 +626,10 @@ void GrayScott9Blocked::run(FieldF& a, FieldF& b, int64_t steps, const GrayScott
                 row_activity_.begin() + std::ptrdiff_t(std::size_t(parity_) * ny));
   }
   const int n = bands();
-  ex_->for_tasks(n, [this](int t) { prepare_band(t); });
+  // A resumed run whose first block reads the fields has nothing to prepare: no pass (on the
+  // threads back end a pass is a round trip to every worker, a wake-up when they sleep).
+  if (!resume_ || parity_ == 1 || rows_ == Rows::kFromHalo)
+    ex_->for_tasks(n, [this](int t) { prepare_band(t); });
   for (int64_t i = 0; i < blocks; ++i) {
     block_k_ = int(short_k + (i < long_blocks ? 1 : 0));
     ex_->for_tasks(n, [this](int t) { step_band(t); });

@@ -2,8 +2,10 @@
 // Mailbox<T, N>: a single-producer single-consumer ring of N messages, the host<->worker
 // channel (as the SPE's inbound and outbound mailboxes). No allocation and no lock: the two
 // indices are atomics, and a blocked reader sleeps on the write index with C++20
-// atomic::wait (a futex on Linux) after a short spin, so an idle worker costs no CPU.
+// atomic::wait (a futex on Linux) after a bounded spin and yield (Wait), so an idle worker costs
+// no CPU.
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -38,13 +40,21 @@ class Mailbox {
     read_.store(r + 1, std::memory_order_release);
     return value;
   }
-  // Consumer side: blocks until a message arrives, spinning `spin_limit` times first, then
-  // yielding the core `yield_limit` times, then sleeping on the futex. A short spin catches the
-  // next message of a busy pipeline without a futex round trip; a long one steals the core from
-  // the thread that would send it when cores are shared, where yielding hands it over (and on
-  // an idle core returns at once, a spin of a microsecond a round).
-  T pop(int spin_limit = 256, int yield_limit = 0) {
-    for (int spin = 0;; ++spin) {
+  // How a blocked consumer waits: `spins` pause instructions, then it yields the core until
+  // `yield_for` has passed since it began waiting, then it sleeps on the futex. A spin catches
+  // the next message of a busy pipeline at once; a long one steals the core from the thread that
+  // would send it when cores are shared, where yielding hands it over (and on an idle core
+  // returns at once, about a microsecond a round). The futex's sleep and wake-up cost tens of
+  // microseconds (more in a VM, where the idle core halts): a wait shorter than yield_for never
+  // pays it.
+  struct Wait {
+    int spins = 256;
+    std::chrono::microseconds yield_for{0};
+  };
+  // Consumer side: blocks until a message arrives.
+  T pop(Wait wait = {}) {
+    std::chrono::steady_clock::time_point yield_until{};
+    for (int round = 0;; ++round) {
       const std::uint32_t r = read_.load(std::memory_order_relaxed);
       const std::uint32_t w = write_.load(std::memory_order_acquire);
       if (r != w) {
@@ -52,15 +62,20 @@ class Mailbox {
         read_.store(r + 1, std::memory_order_release);
         return value;
       }
-      if (spin < spin_limit) {
+      if (round < wait.spins) {
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
-      } else if (spin < spin_limit + yield_limit) {
-        std::this_thread::yield();
-      } else {
-        write_.wait(w, std::memory_order_acquire);
+        continue;
       }
+      // The clock is read every 16 yields (a vDSO call, tens of nanoseconds, against a yield's
+      // microsecond).
+      const int yields = round - wait.spins;
+      if (yields == 0) yield_until = std::chrono::steady_clock::now() + wait.yield_for;
+      if (yields % 16 != 0 || std::chrono::steady_clock::now() < yield_until)
+        std::this_thread::yield();
+      else
+        write_.wait(w, std::memory_order_acquire);
     }
   }
   std::size_t size() const {

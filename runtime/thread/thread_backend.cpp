@@ -4,17 +4,22 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include "runtime/check.h"
 
 namespace ardcell {
 namespace {
-// A waiting side spins kSpin pauses (about 50 ns each on the EPYC), then yields kYields times,
-// then sleeps on the futex. Passes of a small grid last tens of microseconds: on idle cores the
-// yields return at once and the waiter picks the next message up without a sleep and wake-up
-// (which costs more than the pass); on shared cores they hand the core to the thread being
-// waited for instead of spinning it away.
-constexpr int kSpin = 256, kYields = 64;
+// A waiting side spins kSpins pauses (about 10 us), then yields the core until kYieldFor has
+// passed, then sleeps on the futex. The gaps inside a frame (between passes, while the host
+// balances bands or sums a reduction) and between the frames of `ardcell run` are shorter than
+// kYieldFor, so a worker picks the next pass up at once instead of being woken from the futex,
+// which takes about 0.1 ms on a KVM guest (an IPI to a halted vCPU): 5% of a 2 ms frame. On idle
+// cores a yield returns at once; on shared cores it hands the core to the thread being waited
+// for instead of spinning it away. A 60 Hz live loop's idle time between frames is longer, and
+// ends in the futex: at most kYieldFor of each frame goes to yielding.
+constexpr int kSpins = 256;
+constexpr std::chrono::microseconds kYieldFor{1000};
 }  // namespace
 
 struct ThreadBackend::Worker {
@@ -101,7 +106,7 @@ void ThreadBackend::sync() {
   host_ran_ = 0;
   for (; outstanding_ > 0; --outstanding_)
     for (auto& w : workers_)
-      if (w->thread.joinable()) (void)w->outbox.pop(kSpin, kYields);
+      if (w->thread.joinable()) (void)w->outbox.pop({kSpins, kYieldFor});
 }
 
 std::uint64_t ThreadBackend::dma_bytes() const {
@@ -112,7 +117,7 @@ std::uint64_t ThreadBackend::dma_bytes() const {
 
 void ThreadBackend::run_worker(Worker& w) {
   for (;;) {
-    const Command cmd = w.inbox.pop(kSpin, kYields);
+    const Command cmd = w.inbox.pop({kSpins, kYieldFor});
     if (cmd.pass == nullptr) return;
     run_share(w, cmd);
     w.outbox.push(w.index);
