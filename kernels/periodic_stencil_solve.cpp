@@ -218,6 +218,31 @@ void PeriodicStencilSolve::inverse_rows(FieldF& x, int y0, int y1, int worker) {
   }
 }
 
+void PeriodicStencilSolve::solve_on_this_thread(FieldF& x) {
+  ARDCELL_CHECK(x.size() == size_, "PeriodicStencilSolve::solve: field size differs from plan");
+  forward_rows(x, 0, size_.y, 0);
+  columns(0, (width_ + kColumnBlock - 1) / kColumnBlock, 0);
+  inverse_rows(x, 0, size_.y, 0);
+}
+
+void PeriodicStencilSolve::solve_pair(PeriodicStencilSolve& solve_a, FieldF& a,
+                                      PeriodicStencilSolve& solve_b, FieldF& b) {
+  ARDCELL_CHECK(solve_a.executor_ == solve_b.executor_ && &solve_a != &solve_b,
+                "PeriodicStencilSolve::solve_pair: two solves on one executor");
+  RowExecutor& ex = *solve_a.executor_;
+  if (ex.workers() != 2) {
+    solve_a.solve(a);
+    solve_b.solve(b);
+    return;
+  }
+  ex.for_tasks(2, [&](int t) {
+    if (t == 0)
+      solve_a.solve_on_this_thread(a);
+    else
+      solve_b.solve_on_this_thread(b);
+  });
+}
+
 void PeriodicStencilSolve::solve(FieldF& x) {
   ARDCELL_CHECK(x.size() == size_, "PeriodicStencilSolve::solve: field size differs from plan");
   ARDCELL_CHECK(executor_->workers() <= int(scratch_.size()),

@@ -570,11 +570,13 @@ void CpuDevice::tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out,
   });
 }
 
-void CpuDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
+void CpuDevice::periodic_solve(PeriodicStencilSolve& solve_a, FieldF& a,
+                               PeriodicStencilSolve& solve_b, FieldF& b) {
   require(DeviceOp::kPeriodicSolve);
-  if (!gathers(x)) return solve.solve(x);
-  solve.solve(gather(x, 0));
-  take(whole_[0], x);
+  if (!gathers(a)) return PeriodicStencilSolve::solve_pair(solve_a, a, solve_b, b);
+  PeriodicStencilSolve::solve_pair(solve_a, gather(a, 0), solve_b, gather(b, 1));
+  take(whole_[0], a);
+  take(whole_[1], b);
 }
 
 SolveReport CpuDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {

@@ -242,9 +242,11 @@ class Device {
   // fused with the reaction like generalized_rd (kernels/generalized_rd.h tensor_field_rd_rows).
   virtual void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                                const Rank2FaceField& d, const GeneralizedRdParams& p) = 0;
-  // x <- (I - delta K)^-1 x on the periodic grid with the solve's delta, exactly (seed 003,
-  // Eqn 28; kernels/periodic_stencil_solve.h).
-  virtual void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) = 0;
+  // a <- (I - delta_A K)^-1 a and b <- (I - delta_B K)^-1 b on the periodic grid, each with its
+  // solve's delta, exactly (seed 003, Eqn 28; kernels/periodic_stencil_solve.h): one op for both
+  // chemicals, so that the CPU can run the two transforms side by side.
+  virtual void periodic_solve(PeriodicStencilSolve& solve_a, FieldF& a,
+                              PeriodicStencilSolve& solve_b, FieldF& b) = 0;
   // x <- (I - s L)^-1 x with L the per-cell tensor's div(D(x) grad) (seed 003, Eqn 28 with
   // Table 1's last row; kernels/tensor_field_solve.h: BiCGSTAB to the solve's limits).
   virtual SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) = 0;
@@ -345,7 +347,8 @@ class CpuDevice final : public Device {
                             int steps) override;
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
-  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
+  void periodic_solve(PeriodicStencilSolve& solve_a, FieldF& a, PeriodicStencilSolve& solve_b,
+                      FieldF& b) override;
   SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) override;
   void reaction_trapezoidal(FieldF& a, FieldF& b, const ReactionParams& p, float dt) override;
   void sbdf_rhs(FieldF& a, FieldF& b, FieldF& a_prev, FieldF& b_prev,

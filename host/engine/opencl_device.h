@@ -113,7 +113,8 @@ class OpenClDevice final : public Device {
   void tensor_field_rd(const FieldF& a, const FieldF& b, FieldF& a_out, FieldF& b_out,
                        const Rank2FaceField& d, const GeneralizedRdParams& p) override;
   // By the device FFT (OpenClPeriodicSolve); on the CPU, with one line, at a size it lacks.
-  void periodic_solve(PeriodicStencilSolve& solve, FieldF& x) override;
+  void periodic_solve(PeriodicStencilSolve& solve_a, FieldF& a, PeriodicStencilSolve& solve_b,
+                      FieldF& b) override;
   // By the device BiCGSTAB (OpenClTensorFieldSolve, made on the solve's first use) on the
   // resident faces; on the CPU, with one line, on a device without doubles.
   SolveReport tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) override;

@@ -79,17 +79,23 @@ OpenClDevice::FftTwin<Cpu, OnDevice>& OpenClDevice::fft_twin(
   return twins.back();
 }
 
-void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve, FieldF& x) {
-  PeriodicSolveTwin& twin = fft_twin(periodic_twins_, solve, 1);
-  if (twin.device) {
-    twin.device->solve(solve, out(x));
+void OpenClDevice::periodic_solve(PeriodicStencilSolve& solve_a, FieldF& a,
+                                  PeriodicStencilSolve& solve_b, FieldF& b) {
+  // Twins live in a deque: making b's keeps a reference to a's valid.
+  PeriodicSolveTwin& twin_a = fft_twin(periodic_twins_, solve_a, 1);
+  PeriodicSolveTwin& twin_b = fft_twin(periodic_twins_, solve_b, 1);
+  if (twin_a.device && twin_b.device) {
+    twin_a.device->solve(solve_a, out(a));
+    twin_b.device->solve(solve_b, out(b));
     return;
   }
   say_fallback(DeviceOp::kPeriodicSolve, "rd.scheme implicit or semi-implicit",
-               twin.why_not.c_str());
-  host_in(x);
-  cpu_.periodic_solve(solve, x);
-  host_wrote(x);
+               (twin_a.device ? twin_b : twin_a).why_not.c_str());
+  host_in(a);
+  host_in(b);
+  cpu_.periodic_solve(solve_a, a, solve_b, b);
+  host_wrote(a);
+  host_wrote(b);
 }
 
 SolveReport OpenClDevice::tensor_field_solve(TensorFieldSolve& solve, FieldF& x, double s) {

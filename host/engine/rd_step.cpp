@@ -595,8 +595,7 @@ void RdStepper::generalized_step(SimState& s) {
         dev_->tensor_field_solve(*tensor_solve_, s.B, diffusion_scale(scene_, true));
     record_solves(ra, rb);
   } else if (solve) {  // (I - dt D K)^-1, exactly (Eqn 28)
-    dev_->periodic_solve(*periodic_a_, s.A);
-    dev_->periodic_solve(*periodic_b_, s.B);
+    dev_->periodic_solve(*periodic_a_, s.A, *periodic_b_, s.B);
   }
   if (solve) {
     // The solve's result clamped like every other result (kernels/generalized_rd.h says why).

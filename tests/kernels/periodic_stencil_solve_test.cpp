@@ -355,6 +355,38 @@ TEST(PeriodicStencilSolve, SameBitsOnOneToFourWorkers) {
     }
 }
 
+TEST(PeriodicStencilSolve, PairGivesEachSolvesBitsOnOneToFourWorkers) {
+  // Two transforms side by side on two workers, each split over the workers otherwise.
+  const Int2 n{300, 257};
+  const Stencil5x5 k = assemble_generalized_stencil(kTable2[2].tensors);
+  FieldF want_a = make_rhs(n, 9), want_b = make_rhs(n, 10);
+  {
+    PeriodicStencilSolve serial(n, k);
+    serial.solve(want_a, 0.3);
+    serial.solve(want_b, 1.7);
+  }
+  for (int workers : {1, 2, 3, 4}) {
+    ThreadBackendOptions o;
+    o.workers = workers;
+    ThreadBackend backend(o);
+    RowExecutor ex(backend);
+    PeriodicStencilSolve solve_a(n, k, ex), solve_b(n, k, ex);
+    solve_a.set_delta(0.3);
+    solve_b.set_delta(1.7);
+    FieldF a = make_rhs(n, 9), b = make_rhs(n, 10);
+    for (int repeat = 0; repeat < 2; ++repeat) {  // the second on warm scratch
+      if (repeat == 1) a = make_rhs(n, 9), b = make_rhs(n, 10);
+      PeriodicStencilSolve::solve_pair(solve_a, a, solve_b, b);
+      for (int y = 0; y < n.y; ++y) {
+        ASSERT_EQ(std::memcmp(a.row(y), want_a.row(y), std::size_t(n.x) * sizeof(float)), 0)
+            << workers << " workers, A row " << y;
+        ASSERT_EQ(std::memcmp(b.row(y), want_b.row(y), std::size_t(n.x) * sizeof(float)), 0)
+            << workers << " workers, B row " << y;
+      }
+    }
+  }
+}
+
 TEST(PeriodicStencilSolve, SecondSolveAllocatesNothing) {
   for (int workers : {0, 2}) {
     ThreadBackendOptions o;
@@ -363,11 +395,14 @@ TEST(PeriodicStencilSolve, SecondSolveAllocatesNothing) {
     RowExecutor threads(backend);
     RowExecutor& ex = workers == 0 ? RowExecutor::serial() : threads;
     PeriodicStencilSolve solve(Int2{256, 200}, assemble_generalized_stencil(kTable2C), ex);
-    FieldF x = make_rhs(Int2{256, 200}, 1);
+    PeriodicStencilSolve other(Int2{256, 200}, assemble_generalized_stencil(kTable2C), ex);
+    FieldF x = make_rhs(Int2{256, 200}, 1), y = make_rhs(Int2{256, 200}, 2);
     solve.solve(x, 0.5);
+    PeriodicStencilSolve::solve_pair(solve, x, other, y);
     const long before = g_allocations.load();
     solve.solve(x, 0.5);
     solve.solve(x, 2.0);  // a new delta: set_delta retabulates without allocating
+    PeriodicStencilSolve::solve_pair(solve, x, other, y);
     EXPECT_EQ(g_allocations.load() - before, 0) << workers << " workers";
   }
 }
