@@ -11,15 +11,15 @@
 namespace ardcell {
 namespace {
 // A waiting side spins kSpins pauses (about 10 us), then yields the core until kYieldFor has
-// passed, then sleeps on the futex. The gaps inside a frame (between passes, while the host
-// balances bands or sums a reduction) and between the frames of `ardcell run` are shorter than
-// kYieldFor, so a worker picks the next pass up at once instead of being woken from the futex,
-// which takes about 0.1 ms on a KVM guest (an IPI to a halted vCPU): 5% of a 2 ms frame. On idle
-// cores a yield returns at once; on shared cores it hands the core to the thread being waited
-// for instead of spinning it away. A 60 Hz live loop's idle time between frames is longer, and
-// ends in the futex: at most kYieldFor of each frame goes to yielding.
+// passed, then sleeps on the futex. kYieldFor is about what a futex wake-up costs on a KVM guest
+// (0.1 ms: an IPI to a halted vCPU), the classic spin-then-block choice that never pays more than
+// twice the better of the two. Longer is worse where threads are not pinned (`ardcell live`):
+// two threads yielding to each other stay runnable on one core, cache-hot, and the scheduler
+// does not move one to the idle core (with 1 ms, cavity at 512^2 on two unpinned workers ran at
+// 0.5-0.8x one core in some runs). On idle cores a yield returns at once; on shared cores it hands
+// the core to the thread being waited for instead of spinning it away.
 constexpr int kSpins = 256;
-constexpr std::chrono::microseconds kYieldFor{1000};
+constexpr std::chrono::microseconds kYieldFor{100};
 }  // namespace
 
 struct ThreadBackend::Worker {
