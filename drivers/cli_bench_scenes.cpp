@@ -1,7 +1,7 @@
 // `ardcell bench scenes`: every preset through the engine users run, serial against threads and
 // (with an OpenCL device) opencl in one run (bench/scenes_bench.cpp, SceneSpeedup/<preset>/<N>:
-// the back ends' frames alternate, so a slow spell of the machine hits each). Prints a Markdown
-// table and writes scenes.md, scenes.csv and scenes.png (drivers/chart.h, when built with
+// the back ends' runs of frames alternate, so a slow spell of the machine hits each). Prints a
+// Markdown table and writes scenes.md, scenes.csv and scenes.png (drivers/chart.h, when built with
 // PLplot) in --out.
 #include <unistd.h>
 
