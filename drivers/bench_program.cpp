@@ -22,13 +22,14 @@ fs::path bench_binary_beside_ardcell(const char* name) {
 }
 
 int run_bench_program(const std::string& binary, const std::string& filter, double min_time,
-                      const std::string& json_path,
+                      int repetitions, const std::string& json_path,
                       const std::vector<std::pair<std::string, std::string>>& env,
                       const std::vector<std::string>& launcher) {
   std::vector<std::string> args = launcher;
   for (std::string a :
        {binary, "--benchmark_filter=" + filter, "--benchmark_min_time=" + std::to_string(min_time),
-        "--benchmark_out=" + json_path, std::string("--benchmark_out_format=json")})
+        "--benchmark_repetitions=" + std::to_string(repetitions), "--benchmark_out=" + json_path,
+        std::string("--benchmark_out_format=json")})
     args.push_back(std::move(a));
   const pid_t pid = fork();
   if (pid < 0) return -1;
@@ -59,9 +60,13 @@ Status read_bench_rows(const std::string& json_path, std::vector<BenchRow>& rows
           *skipped = name + ": " + b.value("error_message", std::string("error"));
         continue;
       }
+      BenchRow row;
+      if (b.value("run_type", std::string()) == "aggregate")
+        row.aggregate = b.value("aggregate_name", std::string());
+      if (!row.aggregate.empty() && name.ends_with("_" + row.aggregate))
+        name.resize(name.size() - row.aggregate.size() - 1);
       for (const char* suffix : {"/min_time", "/real_time"})
         if (const auto cut = name.find(suffix); cut != std::string::npos) name.resize(cut);
-      BenchRow row;
       row.name = std::move(name);
       for (const auto& [key, value] : b.items())
         if (value.is_number()) row.counters[key] = value.get<double>();

@@ -15,20 +15,23 @@ namespace ardcell {
 // `name` in the folder of the running ardcell binary (or the bare name when that is unknown).
 std::filesystem::path bench_binary_beside_ardcell(const char* name);
 
-// Runs `binary` with --benchmark_filter=filter, --benchmark_min_time=min_time and a JSON report
-// to json_path, with `env` set, through `launcher` when given (mpirun and its arguments; looked
-// up in PATH); its console output goes to stderr. Returns its exit status, or -1 when it could
-// not be run.
+// Runs `binary` with --benchmark_filter=filter, --benchmark_min_time=min_time,
+// --benchmark_repetitions=repetitions and a JSON report to json_path, with `env` set, through
+// `launcher` when given (mpirun and its arguments; looked up in PATH); its console output goes to
+// stderr. Returns its exit status, or -1 when it could not be run.
 int run_bench_program(const std::string& binary, const std::string& filter, double min_time,
-                      const std::string& json_path,
+                      int repetitions, const std::string& json_path,
                       const std::vector<std::pair<std::string, std::string>>& env,
                       const std::vector<std::string>& launcher = {});
 
-// One benchmark of a report: its name without the /min_time and /real_time suffixes, and its
-// numeric counters (fps, cells_per_s, ...).
+// One benchmark of a report: its name without the /min_time and /real_time suffixes (and the
+// aggregate's), and its numeric counters (fps, cells_per_s, ...). With repetitions, each
+// repetition is a row and so is each aggregate over them, named by `aggregate` ("mean",
+// "median", "stddev", "cv"; empty for a repetition).
 struct BenchRow {
   std::string name;
   std::map<std::string, double> counters;
+  std::string aggregate;
 };
 
 // Reads a Google Benchmark JSON report. Rows that reported an error are left out, the first

@@ -74,7 +74,7 @@ int run_table1_program(const BenchOptions& o, const std::string& binary, const s
       {"ARDCELL_BENCH_SERIAL_MAX", std::to_string(o.serial_max)},
       {"ARDCELL_BENCH_STORE_KIB", std::to_string(o.store_kib)}};
   if (o.cl_device >= 0) env.emplace_back("ARDCELL_CL_DEVICE", std::to_string(o.cl_device));
-  return run_bench_program(binary, filter, o.min_time, json_path, env);
+  return run_bench_program(binary, filter, o.min_time, 1, json_path, env);
 }
 
 // Reads a Google Benchmark JSON report into results ("<schedule>/<fluid|ard>/<N>") and the

@@ -117,7 +117,7 @@ int run_scale(const ScaleOptions& o, CliContext& ctx) {
       else
         launcher.insert(launcher.end(), {"--bind-to", "none"});
       launcher.insert(launcher.end(), {"-np", std::to_string(r)});
-      const int rc = run_bench_program(binary, "Scale/", 0.0, json, env, launcher);
+      const int rc = run_bench_program(binary, "Scale/", 0.0, 1, json, env, launcher);
       std::vector<BenchRow> report;
       std::string skipped;
       if (rc != 0 || !read_bench_rows(json, report, &skipped) || report.empty()) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -27,6 +28,7 @@ struct ScenesOptions {
   std::string sizes = "256,512,1024";
   std::string presets;  // empty: every embedded preset
   double min_time = 0.3;
+  int repetitions = 1;  // > 1: the medians, and the range of threads / serial
   std::string out = "bench-results";
   std::string binary;
   int cl_device = -1;  // -1: the first device; -2: none (--cl-device none)
@@ -49,6 +51,10 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
   }
   if (split_commas(o.sizes).empty() || presets.empty() || !(o.min_time > 0))
     return cli_usage_error(ctx, cmd, "need at least one size and preset, and --min-time > 0");
+  if (o.repetitions < 1 || o.repetitions > 100)
+    return cli_usage_error(ctx, cmd,
+                           "--repetitions: " + std::to_string(o.repetitions) +
+                               " is not a number of repetitions in 1..100");
   const std::string binary =
       o.binary.empty() ? bench_binary_beside_ardcell("scenes_bench").string() : o.binary;
   if (access(binary.c_str(), X_OK) != 0)
@@ -68,30 +74,49 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
   if (o.cl_device != -1)
     env.emplace_back("ARDCELL_CL_DEVICE", o.cl_device >= 0 ? std::to_string(o.cl_device) : "none");
   if (o.realtime_solvers) env.emplace_back("ARDCELL_BENCH_REALTIME", "1");
-  const int rc = run_bench_program(binary, "SceneSpeedup/", o.min_time, json, env);
+  const int rc = run_bench_program(binary, "SceneSpeedup/", o.min_time, o.repetitions, json, env);
   if (rc != 0) {
     std::fprintf(ctx.err, "ardcell bench scenes: %s exited with status %d\n", binary.c_str(), rc);
     return kExitFailure;
   }
-  std::vector<BenchRow> rows;
+  std::vector<BenchRow> report;
   std::string skipped;
-  if (Status st = read_bench_rows(json, rows, &skipped); !st) {
+  if (Status st = read_bench_rows(json, report, &skipped); !st) {
     std::fprintf(ctx.err, "ardcell bench scenes: %s\n", st.message().c_str());
     return kExitFailure;
   }
   fs::remove(json, ec);
   if (!skipped.empty())
     std::fprintf(ctx.err, "ardcell bench scenes: rows left out (%s)\n", skipped.c_str());
+  // One row per preset and size: the only run, or the median of the repetitions; the range of
+  // threads / serial over the repetitions beside it.
+  const bool repeated = o.repetitions > 1;
+  std::vector<BenchRow> rows;
+  std::map<std::string, std::pair<double, double>> speedup_range;
+  for (const BenchRow& row : report) {
+    if (row.aggregate == (repeated ? "median" : "")) rows.push_back(row);
+    if (!row.aggregate.empty()) continue;
+    const auto it = row.counters.find("speedup");
+    if (it == row.counters.end()) continue;
+    auto [range, fresh] = speedup_range.try_emplace(row.name, it->second, it->second);
+    if (!fresh)
+      range->second = {std::min(range->second.first, it->second),
+                       std::max(range->second.second, it->second)};
+  }
 
   std::ostringstream md, csv;
   bool with_opencl = false;
   for (const BenchRow& row : rows) with_opencl = with_opencl || row.counters.count("opencl_ms");
   if (o.realtime_solvers) md << "Every preset on its real-time settings (--realtime-solvers).\n\n";
-  md << "| preset | N | serial FPS | threads FPS | threads / serial | workers |"
-     << (with_opencl ? " opencl FPS | opencl / serial |\n|---|---|---|---|---|---|---|---|\n"
-                     : "\n|---|---|---|---|---|---|\n");
-  csv << "preset,n,serial_fps,threads_fps,speedup,workers"
-      << (with_opencl ? ",opencl_fps,opencl_speedup\n" : "\n");
+  if (repeated)
+    md << "Medians of " << o.repetitions
+       << " repetitions; range: threads / serial in the fastest and slowest.\n\n";
+  md << "| preset | N | serial FPS | threads FPS | threads / serial |"
+     << (repeated ? " range |" : "") << " workers |"
+     << (with_opencl ? " opencl FPS | opencl / serial |" : "") << "\n|---|---|---|---|---|"
+     << (repeated ? "---|" : "") << "---|" << (with_opencl ? "---|---|" : "") << "\n";
+  csv << "preset,n,serial_fps,threads_fps,speedup" << (repeated ? ",speedup_min,speedup_max" : "")
+      << ",workers" << (with_opencl ? ",opencl_fps,opencl_speedup\n" : "\n");
   char line[256];
   struct ChartRow {
     std::string preset, n;
@@ -111,11 +136,24 @@ int run_scenes(const ScenesOptions& o, CliContext& ctx) {
     const double serial_fps = 1e3 / counter("serial_ms"), threads_fps = 1e3 / counter("threads_ms");
     const double opencl_fps_chart = counter("opencl_ms") > 0 ? 1e3 / counter("opencl_ms") : NAN;
     chart_rows.push_back({preset, n, {serial_fps, threads_fps, opencl_fps_chart}});
-    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2fx | %.0f |", preset.c_str(),
-                  n.c_str(), serial_fps, threads_fps, counter("speedup"), counter("workers"));
+    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.1f | %.2fx |", preset.c_str(), n.c_str(),
+                  serial_fps, threads_fps, counter("speedup"));
     md << line;
-    std::snprintf(line, sizeof line, "%s,%s,%.4f,%.4f,%.4f,%.0f", preset.c_str(), n.c_str(),
-                  serial_fps, threads_fps, counter("speedup"), counter("workers"));
+    std::snprintf(line, sizeof line, "%s,%s,%.4f,%.4f,%.4f", preset.c_str(), n.c_str(), serial_fps,
+                  threads_fps, counter("speedup"));
+    csv << line;
+    if (repeated) {
+      const auto it = speedup_range.find(row.name);
+      const auto [lo, hi] =
+          it == speedup_range.end() ? std::pair<double, double>{NAN, NAN} : it->second;
+      std::snprintf(line, sizeof line, " %.2f-%.2fx |", lo, hi);
+      md << line;
+      std::snprintf(line, sizeof line, ",%.4f,%.4f", lo, hi);
+      csv << line;
+    }
+    std::snprintf(line, sizeof line, " %.0f |", counter("workers"));
+    md << line;
+    std::snprintf(line, sizeof line, ",%.0f", counter("workers"));
     csv << line;
     if (with_opencl) {
       const double opencl_fps = counter("opencl_ms") > 0 ? 1e3 / counter("opencl_ms") : 0.0;
@@ -185,6 +223,11 @@ void add_bench_scenes_command(CLI::App& bench, CliContext& ctx) {
   scenes->add_option("--sizes", o->sizes, "Grid widths N, comma-separated")->capture_default_str();
   scenes->add_option("--presets", o->presets, "Presets, comma-separated (default: every one)");
   scenes->add_option("--min-time", o->min_time, "Seconds per benchmark (at least)")
+      ->capture_default_str();
+  scenes
+      ->add_option("--repetitions", o->repetitions,
+                   "Runs of each benchmark: above 1, the table shows their medians and the range "
+                   "of threads / serial (a VM's ratio moves between runs)")
       ->capture_default_str();
   scenes->add_option("--out", o->out, "Folder for scenes.md, scenes.csv and scenes.png")
       ->capture_default_str();
