@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdint>
 #include <thread>
 
@@ -34,6 +35,32 @@ TEST(Mailbox, TwoThreadsPassEveryMessageInOrder) {
   consumer.join();
   EXPECT_TRUE(ordered);
   EXPECT_EQ(sum, std::uint64_t(kCount) * (kCount - 1) / 2);
+}
+
+TEST(Mailbox, EveryWaitGetsTheMessagesOfAProducerThatPauses) {
+  // The producer pauses between bursts longer than the waits' spin and yield, so the consumer
+  // reaches each of its ways of waiting: spinning, yielding, and asleep on the futex.
+  using Wait = Mailbox<int, 4>::Wait;
+  for (const Wait wait :
+       {Wait{0, std::chrono::microseconds(0)}, Wait{}, Wait{16, std::chrono::microseconds(200)}}) {
+    Mailbox<int, 4> box;
+    int received = 0;
+    bool ordered = true;
+    std::thread consumer([&] {
+      for (int i = 0; i < 60; ++i) {
+        const int v = box.pop(wait);
+        ordered = ordered && v == i;
+        ++received;
+      }
+    });
+    for (int i = 0; i < 60; ++i) {
+      if (i % 3 == 0) std::this_thread::sleep_for(std::chrono::microseconds(50 * (i % 7)));
+      box.push(i);
+    }
+    consumer.join();
+    EXPECT_EQ(received, 60) << wait.spins << " spins, " << wait.yield_for.count() << " us";
+    EXPECT_TRUE(ordered) << wait.spins << " spins, " << wait.yield_for.count() << " us";
+  }
 }
 
 }  // namespace
