@@ -218,13 +218,6 @@ void PeriodicStencilSolve::inverse_rows(FieldF& x, int y0, int y1, int worker) {
   }
 }
 
-void PeriodicStencilSolve::solve_on_this_thread(FieldF& x) {
-  ARDCELL_CHECK(x.size() == size_, "PeriodicStencilSolve::solve: field size differs from plan");
-  forward_rows(x, 0, size_.y, 0);
-  columns(0, (width_ + kColumnBlock - 1) / kColumnBlock, 0);
-  inverse_rows(x, 0, size_.y, 0);
-}
-
 void PeriodicStencilSolve::solve_pair(PeriodicStencilSolve& solve_a, FieldF& a,
                                       PeriodicStencilSolve& solve_b, FieldF& b) {
   ARDCELL_CHECK(solve_a.executor_ == solve_b.executor_ && &solve_a != &solve_b,
@@ -235,26 +228,28 @@ void PeriodicStencilSolve::solve_pair(PeriodicStencilSolve& solve_a, FieldF& a,
     solve_b.solve(b);
     return;
   }
+  // Each task transforms on its own thread, with worker 0's scratch of its own object.
   ex.for_tasks(2, [&](int t) {
     if (t == 0)
-      solve_a.solve_on_this_thread(a);
+      solve_a.transform(a, RowExecutor::serial());
     else
-      solve_b.solve_on_this_thread(b);
+      solve_b.transform(b, RowExecutor::serial());
   });
 }
 
-void PeriodicStencilSolve::solve(FieldF& x) {
+void PeriodicStencilSolve::solve(FieldF& x) { transform(x, *executor_); }
+
+void PeriodicStencilSolve::transform(FieldF& x, RowExecutor& ex) {
   ARDCELL_CHECK(x.size() == size_, "PeriodicStencilSolve::solve: field size differs from plan");
-  ARDCELL_CHECK(executor_->workers() <= int(scratch_.size()),
+  ARDCELL_CHECK(ex.workers() <= int(scratch_.size()),
                 "PeriodicStencilSolve: executor has more workers than at construction");
   const int nx = size_.x, ny = size_.y;
   const int blocks = (width_ + kColumnBlock - 1) / kColumnBlock;
   // cells_per_row counts the work of a task (a block: kColumnBlock columns there and back), so
   // the executor's "worth dispatching" threshold sees the same work in both directions.
-  executor_->for_rows(ny, nx, [&](int y0, int y1, int w) { forward_rows(x, y0, y1, w); });
-  executor_->for_rows(blocks, 2 * kColumnBlock * ny,
-                      [&](int b0, int b1, int w) { columns(b0, b1, w); });
-  executor_->for_rows(ny, nx, [&](int y0, int y1, int w) { inverse_rows(x, y0, y1, w); });
+  ex.for_rows(ny, nx, [&](int y0, int y1, int w) { forward_rows(x, y0, y1, w); });
+  ex.for_rows(blocks, 2 * kColumnBlock * ny, [&](int b0, int b1, int w) { columns(b0, b1, w); });
+  ex.for_rows(ny, nx, [&](int y0, int y1, int w) { inverse_rows(x, y0, y1, w); });
 }
 
 }  // namespace ardcell

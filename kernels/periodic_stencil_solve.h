@@ -133,8 +133,8 @@ class PeriodicStencilSolve {
 
  private:
   struct Scratch;  // one worker's FFTW buffers
-  // The whole transform on the calling thread with worker 0's scratch.
-  void solve_on_this_thread(FieldF& x);
+  // solve(x) on `ex`: the object's executor, or the serial one inside a task of solve_pair.
+  void transform(FieldF& x, RowExecutor& ex);
   struct Extremes {
     double min = 0, max = 0;  // of |1 - delta symbol| over one spectral column
   };

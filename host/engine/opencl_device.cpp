@@ -648,13 +648,12 @@ void OpenClDevice::explicit_rd(const FieldF& a, const FieldF& b, FieldF& a_out, 
 }
 
 void OpenClDevice::gray_scott9_steps(GrayScott9Blocked& blocked, FieldF& a, FieldF& b, int steps,
-                                     const GrayScott9Params& p, bool resume) {
+                                     const GrayScott9Params& p, bool /*resume*/) {
   say_fallback(DeviceOp::kGrayScott9Steps, "rd.scheme explicit9",
                "temporal blocking is the CPU's; the engine steps the 9-point twin here");
   host_in(a);
   host_in(b);
-  // The host copies may have come from the device since: every row is scanned.
-  (void)resume;
+  // The host copies may have come from the device since the last run: every row is scanned.
   cpu_.gray_scott9_steps(blocked, a, b, steps, p, false);
   host_wrote(a);
   host_wrote(b);
